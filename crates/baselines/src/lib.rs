@@ -1,0 +1,1 @@
+//! harmonic-baselines (being written)

@@ -1,0 +1,1 @@
+//! harmonic-fem (being written)

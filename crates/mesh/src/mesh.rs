@@ -1,0 +1,311 @@
+//! The triangle mesh of free space: vertices, counter-clockwise triangles, adjacency,
+//! tagged boundary edges and connected components.
+
+use nalgebra::{Point2, Vector2};
+use serde::{Deserialize, Serialize};
+
+use crate::MeshError;
+
+/// A point of the plane.
+pub type Point = Point2<f64>;
+/// A vector of the plane.
+pub type Vector = Vector2<f64>;
+
+/// Marks a triangle edge with no triangle on its other side (a boundary edge).
+pub const NO_NEIGHBOR: u32 = u32::MAX;
+
+/// What a boundary edge of free space lies on.
+///
+/// Obstacle and goal indices are the positions of the obstacle or goal in the input
+/// (before overlapping obstacles were merged), so per-obstacle boundary conditions keep
+/// their meaning.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum BoundaryTag {
+    /// The outer boundary of the workspace.
+    Wall,
+    /// The boundary of input obstacle `i`.
+    Obstacle(u32),
+    /// The boundary of input goal region `j`.
+    Goal(u32),
+}
+
+impl std::fmt::Display for BoundaryTag {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BoundaryTag::Wall => write!(f, "wall"),
+            BoundaryTag::Obstacle(i) => write!(f, "obstacle {i}"),
+            BoundaryTag::Goal(j) => write!(f, "goal {j}"),
+        }
+    }
+}
+
+/// One boundary edge of the mesh.
+///
+/// `vertices` are ordered counter-clockwise with respect to `triangle`, so free space lies to
+/// the left of `vertices[0] → vertices[1]` and the outward normal of free space (pointing
+/// into the wall, obstacle or goal) lies to the right.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryEdge {
+    pub vertices: [u32; 2],
+    pub triangle: u32,
+    /// The local index `k` of the edge in `triangle` (the edge opposite local vertex `k`).
+    pub local_edge: u8,
+    pub tag: BoundaryTag,
+}
+
+/// A triangulation of free space.
+///
+/// Invariants (checked by [`Mesh::from_parts`]): triangles are counter-clockwise with
+/// positive area; `neighbors[t][k]` is the triangle across the edge opposite local vertex `k`
+/// (the edge `triangles[t][(k+1)%3] → triangles[t][(k+2)%3]`) or [`NO_NEIGHBOR`]; every
+/// edge without a neighbour is exactly one [`BoundaryEdge`].
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Mesh {
+    vertices: Vec<Point>,
+    triangles: Vec<[u32; 3]>,
+    neighbors: Vec<[u32; 3]>,
+    /// For each triangle edge, the index into `boundary_edges`, or `NO_NEIGHBOR`.
+    edge_boundary: Vec<[u32; 3]>,
+    boundary_edges: Vec<BoundaryEdge>,
+    /// First boundary tag met at each vertex (goal before obstacle before wall), if any.
+    vertex_tags: Vec<Option<BoundaryTag>>,
+    /// Connected component (through shared edges) of each triangle.
+    triangle_component: Vec<u32>,
+    component_count: u32,
+}
+
+impl Mesh {
+    /// Builds a mesh from vertices, counter-clockwise triangles and tagged boundary edges
+    /// given as `(a, b, tag)` in any orientation. Computes adjacency, the boundary edge
+    /// table, per-vertex tags and connected components.
+    ///
+    /// Errors if a triangle is degenerate or clockwise, refers to a missing vertex, an edge
+    /// is shared by more than two triangles, or a boundary edge has no tag (or a tag is
+    /// given for an interior edge).
+    pub fn from_parts(
+        vertices: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+        boundary: &[(u32, u32, BoundaryTag)],
+    ) -> Result<Self, MeshError> {
+        let nv = vertices.len();
+        for (t, tri) in triangles.iter().enumerate() {
+            if tri.iter().any(|&v| v as usize >= nv) {
+                return Err(MeshError::InvalidMesh(format!(
+                    "triangle {t} refers to a vertex beyond the {nv} vertices"
+                )));
+            }
+            let [a, b, c] = tri.map(|v| vertices[v as usize]);
+            if crate::orient2d(a, b, c) <= 0.0 {
+                return Err(MeshError::InvalidMesh(format!(
+                    "triangle {t} is clockwise or degenerate"
+                )));
+            }
+        }
+        // Adjacency through a map from directed edge to (triangle, local edge).
+        let mut edge_map: std::collections::HashMap<(u32, u32), (u32, u8)> =
+            std::collections::HashMap::with_capacity(triangles.len() * 3);
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let a = tri[(k + 1) % 3];
+                let b = tri[(k + 2) % 3];
+                if edge_map.insert((a, b), (t as u32, k as u8)).is_some() {
+                    return Err(MeshError::InvalidMesh(format!(
+                        "edge ({a}, {b}) is used twice in the same direction (near triangle {t})"
+                    )));
+                }
+            }
+        }
+        let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
+        for (t, tri) in triangles.iter().enumerate() {
+            for (k, nb) in neighbors[t].iter_mut().enumerate() {
+                let a = tri[(k + 1) % 3];
+                let b = tri[(k + 2) % 3];
+                if let Some(&(u, _)) = edge_map.get(&(b, a)) {
+                    *nb = u;
+                }
+            }
+        }
+        let mut tag_of: std::collections::HashMap<(u32, u32), BoundaryTag> =
+            std::collections::HashMap::with_capacity(boundary.len());
+        for &(a, b, tag) in boundary {
+            tag_of.insert((a.min(b), a.max(b)), tag);
+        }
+        let mut edge_boundary = vec![[NO_NEIGHBOR; 3]; triangles.len()];
+        let mut boundary_edges = Vec::with_capacity(boundary.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                if neighbors[t][k] != NO_NEIGHBOR {
+                    continue;
+                }
+                let a = tri[(k + 1) % 3];
+                let b = tri[(k + 2) % 3];
+                let tag = tag_of.get(&(a.min(b), a.max(b))).copied().ok_or_else(|| {
+                    MeshError::InvalidMesh(format!(
+                        "boundary edge ({a}, {b}) of triangle {t} has no boundary tag"
+                    ))
+                })?;
+                edge_boundary[t][k] = boundary_edges.len() as u32;
+                boundary_edges.push(BoundaryEdge {
+                    vertices: [a, b],
+                    triangle: t as u32,
+                    local_edge: k as u8,
+                    tag,
+                });
+            }
+        }
+        if boundary_edges.len() != tag_of.len() {
+            return Err(MeshError::InvalidMesh(format!(
+                "{} tagged edges given but the mesh has {} boundary edges",
+                tag_of.len(),
+                boundary_edges.len()
+            )));
+        }
+        let mut vertex_tags: Vec<Option<BoundaryTag>> = vec![None; nv];
+        for e in &boundary_edges {
+            for &v in &e.vertices {
+                let slot = &mut vertex_tags[v as usize];
+                *slot = Some(match *slot {
+                    None => e.tag,
+                    Some(old) => tag_priority(old, e.tag),
+                });
+            }
+        }
+        let (triangle_component, component_count) = components(&neighbors);
+        Ok(Mesh {
+            vertices,
+            triangles,
+            neighbors,
+            edge_boundary,
+            boundary_edges,
+            vertex_tags,
+            triangle_component,
+            component_count,
+        })
+    }
+
+    /// The vertices.
+    pub fn vertices(&self) -> &[Point] {
+        &self.vertices
+    }
+    /// The counter-clockwise triangles, as vertex indices.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// `neighbors()[t][k]`: the triangle across the edge opposite local vertex `k`, or [`NO_NEIGHBOR`].
+    pub fn neighbors(&self) -> &[[u32; 3]] {
+        &self.neighbors
+    }
+    /// All boundary edges with their tags.
+    pub fn boundary_edges(&self) -> &[BoundaryEdge] {
+        &self.boundary_edges
+    }
+    /// The boundary edge on local edge `k` of triangle `t`, if that edge is on the boundary.
+    pub fn boundary_edge_of(&self, t: u32, k: usize) -> Option<&BoundaryEdge> {
+        let i = self.edge_boundary[t as usize][k];
+        (i != NO_NEIGHBOR).then(|| &self.boundary_edges[i as usize])
+    }
+    /// The boundary tag of each vertex (goal wins over obstacle, obstacle over wall), `None` inside.
+    pub fn vertex_tags(&self) -> &[Option<BoundaryTag>] {
+        &self.vertex_tags
+    }
+    /// The connected component of each triangle.
+    pub fn triangle_components(&self) -> &[u32] {
+        &self.triangle_component
+    }
+    /// The number of connected components of free space.
+    pub fn component_count(&self) -> u32 {
+        self.component_count
+    }
+    /// The three corner points of triangle `t`.
+    pub fn triangle_points(&self, t: u32) -> [Point; 3] {
+        self.triangles[t as usize].map(|v| self.vertices[v as usize])
+    }
+    /// The area of triangle `t`.
+    pub fn triangle_area(&self, t: u32) -> f64 {
+        let [a, b, c] = self.triangle_points(t);
+        0.5 * crate::orient2d(a, b, c)
+    }
+}
+
+fn tag_priority(a: BoundaryTag, b: BoundaryTag) -> BoundaryTag {
+    fn rank(t: BoundaryTag) -> u8 {
+        match t {
+            BoundaryTag::Goal(_) => 0,
+            BoundaryTag::Obstacle(_) => 1,
+            BoundaryTag::Wall => 2,
+        }
+    }
+    if rank(b) < rank(a) { b } else { a }
+}
+
+fn components(neighbors: &[[u32; 3]]) -> (Vec<u32>, u32) {
+    let mut comp = vec![NO_NEIGHBOR; neighbors.len()];
+    let mut count = 0;
+    let mut stack = Vec::new();
+    for seed in 0..neighbors.len() {
+        if comp[seed] != NO_NEIGHBOR {
+            continue;
+        }
+        comp[seed] = count;
+        stack.push(seed as u32);
+        while let Some(t) = stack.pop() {
+            for &n in &neighbors[t as usize] {
+                if n != NO_NEIGHBOR && comp[n as usize] == NO_NEIGHBOR {
+                    comp[n as usize] = count;
+                    stack.push(n);
+                }
+            }
+        }
+        count += 1;
+    }
+    (comp, count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_square() -> Mesh {
+        let v = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(1.0, 1.0),
+            Point::new(0.0, 1.0),
+        ];
+        let t = vec![[0, 1, 2], [0, 2, 3]];
+        let b = [
+            (0, 1, BoundaryTag::Wall),
+            (1, 2, BoundaryTag::Wall),
+            (2, 3, BoundaryTag::Goal(0)),
+            (3, 0, BoundaryTag::Wall),
+        ];
+        Mesh::from_parts(v, t, &b).expect("valid mesh")
+    }
+
+    #[test]
+    fn adjacency_and_boundary() {
+        let m = unit_square();
+        assert_eq!(m.neighbors()[0][1], 1); // edge (2,0) of triangle 0 is shared
+        assert_eq!(m.neighbors()[1][2], 0);
+        assert_eq!(m.boundary_edges().len(), 4);
+        let e = m
+            .boundary_edge_of(1, 0)
+            .expect("edge 2-3 is on the boundary");
+        assert_eq!(e.tag, BoundaryTag::Goal(0));
+        assert_eq!(e.vertices, [2, 3]);
+        assert_eq!(m.vertex_tags()[2], Some(BoundaryTag::Goal(0)));
+        assert_eq!(m.vertex_tags()[0], Some(BoundaryTag::Wall));
+        assert_eq!(m.component_count(), 1);
+    }
+
+    #[test]
+    fn rejects_clockwise_and_untagged() {
+        let v = vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(0.0, 1.0),
+        ];
+        assert!(Mesh::from_parts(v.clone(), vec![[0, 2, 1]], &[]).is_err());
+        assert!(Mesh::from_parts(v, vec![[0, 1, 2]], &[(0, 1, BoundaryTag::Wall)]).is_err());
+    }
+}

@@ -1,0 +1,1 @@
+//! harmonic-solver (being written)

@@ -1,0 +1,1 @@
+//! harmonic-trajectory (being written)

@@ -1,0 +1,1 @@
+//! harmonic-planner (being written)
