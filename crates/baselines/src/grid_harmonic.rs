@@ -1,0 +1,508 @@
+//! Connolly's grid harmonic planner: the 5-point Laplacian on an occupancy grid, relaxed by
+//! Gauss–Seidel or red–black SOR, then followed by its bilinear interpolant.
+
+use std::time::{Duration, Instant};
+
+use harmonic_mesh::{Point, Vector};
+
+use crate::{BaselineError, Cell, Raster};
+
+/// Which quantity the relaxation iterates on.
+///
+/// Far from the goal a Dirichlet potential becomes flat: `1 − φ` falls below the float
+/// spacing near 1 and `φ` rounds to exactly 1, leaving cells with no lower neighbour.
+/// Iterating on `ψ = 1 − φ` (goal 1, walls 0) keeps ψ's relative precision however small it
+/// gets, as the FEM solver does (DESIGN.md, "flat fields").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Unknown {
+    /// `ψ = 1 − φ`: goal cells 1, wall and obstacle cells 0 (the default).
+    #[default]
+    Psi,
+    /// Connolly's original `φ`: goal cells 0, wall and obstacle cells 1.
+    Phi,
+}
+
+/// The relaxation scheme.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Relaxation {
+    /// Lexicographic Gauss–Seidel (row by row, ω = 1).
+    GaussSeidel,
+    /// Successive over-relaxation with red–black ordering. `omega: None` picks the optimal
+    /// `ω = 2 / (1 + sin(π / n))` for an `n × n` grid.
+    RedBlackSor {
+        /// Relaxation factor in (0, 2), or `None` for the optimum.
+        omega: Option<f64>,
+    },
+}
+
+/// When the relaxation stops (besides `max_iterations`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StopRule {
+    /// Stop when no cell changed by more than this in a sweep.
+    MaxUpdate(f64),
+    /// Stop when the max-norm residual of the normalised 5-point equations (each divided by
+    /// its diagonal, so in units of the potential) is below this. Costs one more pass a sweep.
+    Residual(f64),
+}
+
+/// Options of [`GridHarmonic::solve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SorOptions {
+    /// The relaxation scheme.
+    pub relaxation: Relaxation,
+    /// The stopping rule.
+    pub stop: StopRule,
+    /// Give up after this many sweeps (the result then has `converged == false`).
+    pub max_iterations: usize,
+    /// Which quantity to iterate on.
+    pub unknown: Unknown,
+}
+
+impl Default for SorOptions {
+    /// Red–black SOR with the optimal ω, residual below 1e-10, at most 100 000 sweeps, on ψ.
+    fn default() -> Self {
+        SorOptions {
+            relaxation: Relaxation::RedBlackSor { omega: None },
+            stop: StopRule::Residual(1e-10),
+            max_iterations: 100_000,
+            unknown: Unknown::Psi,
+        }
+    }
+}
+
+/// How the relaxation went.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolveReport {
+    /// Sweeps done (one sweep updates every free cell once).
+    pub iterations: usize,
+    /// Final max-norm residual of the normalised equations.
+    pub residual: f64,
+    /// Largest change of a cell in the last sweep.
+    pub max_update: f64,
+    /// Whether the stopping rule was met within `max_iterations`.
+    pub converged: bool,
+    /// The relaxation factor used (1 for Gauss–Seidel).
+    pub omega: f64,
+    /// Wall-clock time of the relaxation.
+    pub time: Duration,
+}
+
+/// A harmonic potential on an occupancy grid (Connolly, Burns & Weiss 1990).
+///
+/// Free cells satisfy the 5-point Laplace equation; goal cells are held at the low value and
+/// wall and obstacle cells at the high value (as ψ: goal 1, walls 0). Between cell centres the
+/// potential is interpolated bilinearly.
+#[derive(Clone, Debug)]
+pub struct GridHarmonic {
+    raster: Raster,
+    values: Vec<f64>,
+    unknown: Unknown,
+    report: SolveReport,
+}
+
+/// Updates the cells in `order` in place; returns the largest change.
+#[inline]
+fn sweep(v: &mut [f64], order: &[u32], n: usize, cx: f64, cy: f64, omega: f64) -> f64 {
+    let mut max_change = 0.0f64;
+    for &k in order {
+        let k = k as usize;
+        let target = cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]);
+        let change = omega * (target - v[k]);
+        v[k] += change;
+        max_change = max_change.max(change.abs());
+    }
+    max_change
+}
+
+fn residual(v: &[f64], order: &[u32], n: usize, cx: f64, cy: f64) -> f64 {
+    order.iter().fold(0.0f64, |r, &k| {
+        let k = k as usize;
+        let target = cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]);
+        r.max((target - v[k]).abs())
+    })
+}
+
+impl GridHarmonic {
+    /// Relaxes the 5-point Laplace equation on `raster`'s free cells.
+    ///
+    /// Errors if ω is outside (0, 2), a tolerance is not positive and finite, or
+    /// `max_iterations` is 0. Not converging within `max_iterations` is not an error: check
+    /// [`SolveReport::converged`].
+    ///
+    /// ```
+    /// use harmonic_baselines::{GridHarmonic, Raster, SorOptions};
+    /// use harmonic_mesh::Point;
+    /// let ws = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::new(0.0, 1.0)];
+    /// let goal = vec![Point::new(0.8, 0.8), Point::new(0.9, 0.8), Point::new(0.9, 0.9), Point::new(0.8, 0.9)];
+    /// let raster = Raster::from_polygons(&ws, &[], &[goal], 32).unwrap();
+    /// let field = GridHarmonic::solve(raster, &SorOptions::default()).unwrap();
+    /// assert!(field.report().converged);
+    /// assert_eq!(field.flat_cells(), 0);
+    /// ```
+    pub fn solve(raster: Raster, options: &SorOptions) -> Result<Self, BaselineError> {
+        let n = raster.n();
+        let omega = match options.relaxation {
+            Relaxation::GaussSeidel => 1.0,
+            Relaxation::RedBlackSor { omega: None } => {
+                2.0 / (1.0 + (std::f64::consts::PI / n as f64).sin())
+            }
+            Relaxation::RedBlackSor { omega: Some(w) } => w,
+        };
+        if !(omega > 0.0 && omega < 2.0) {
+            return Err(BaselineError::InvalidParameter {
+                name: "omega",
+                value: omega,
+                reason: "SOR converges only for 0 < ω < 2",
+            });
+        }
+        let tol = match options.stop {
+            StopRule::MaxUpdate(t) | StopRule::Residual(t) => t,
+        };
+        if !(tol > 0.0 && tol.is_finite()) {
+            return Err(BaselineError::InvalidParameter {
+                name: "tolerance",
+                value: tol,
+                reason: "must be positive and finite",
+            });
+        }
+        if options.max_iterations == 0 {
+            return Err(BaselineError::InvalidParameter {
+                name: "max_iterations",
+                value: 0.0,
+                reason: "must be at least 1",
+            });
+        }
+        let (goal_value, wall_value) = match options.unknown {
+            Unknown::Psi => (1.0, 0.0),
+            Unknown::Phi => (0.0, 1.0),
+        };
+        let (hx, hy) = raster.cell_size();
+        let (wx, wy) = (1.0 / (hx * hx), 1.0 / (hy * hy));
+        let cx = wx / (2.0 * (wx + wy));
+        let cy = wy / (2.0 * (wx + wy));
+        // Free cells never touch the grid's edge (the outer ring is wall), so k ± 1 and
+        // k ± n stay in range.
+        let mut values = Vec::with_capacity(n * n);
+        let mut red = Vec::new();
+        let mut black = Vec::new();
+        for (k, cell) in raster.cells().iter().enumerate() {
+            values.push(match cell {
+                Cell::Goal(_) => goal_value,
+                _ => wall_value,
+            });
+            if *cell == Cell::Free {
+                if (k % n + k / n).is_multiple_of(2) {
+                    red.push(k as u32);
+                } else {
+                    black.push(k as u32);
+                }
+            }
+        }
+        let lexicographic: Vec<u32> = match options.relaxation {
+            Relaxation::GaussSeidel => {
+                let mut all: Vec<u32> = red.iter().chain(&black).copied().collect();
+                all.sort_unstable();
+                all
+            }
+            Relaxation::RedBlackSor { .. } => Vec::new(),
+        };
+        let start = Instant::now();
+        let mut iterations = 0;
+        let mut max_update = f64::INFINITY;
+        let mut converged = false;
+        while iterations < options.max_iterations {
+            iterations += 1;
+            max_update = match options.relaxation {
+                Relaxation::GaussSeidel => sweep(&mut values, &lexicographic, n, cx, cy, 1.0),
+                Relaxation::RedBlackSor { .. } => {
+                    let a = sweep(&mut values, &red, n, cx, cy, omega);
+                    a.max(sweep(&mut values, &black, n, cx, cy, omega))
+                }
+            };
+            let done = match options.stop {
+                StopRule::MaxUpdate(t) => max_update < t,
+                StopRule::Residual(t) => {
+                    residual(&values, &red, n, cx, cy).max(residual(&values, &black, n, cx, cy)) < t
+                }
+            };
+            if done {
+                converged = true;
+                break;
+            }
+        }
+        let residual = residual(&values, &red, n, cx, cy).max(residual(&values, &black, n, cx, cy));
+        let report = SolveReport {
+            iterations,
+            residual,
+            max_update,
+            converged,
+            omega,
+            time: start.elapsed(),
+        };
+        Ok(GridHarmonic {
+            raster,
+            values,
+            unknown: options.unknown,
+            report,
+        })
+    }
+
+    /// The occupancy grid the potential lives on.
+    pub fn raster(&self) -> &Raster {
+        &self.raster
+    }
+
+    /// Cell values (ψ or φ, see [`GridHarmonic::unknown`]), row by row.
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Which quantity [`GridHarmonic::values`] holds.
+    pub fn unknown(&self) -> Unknown {
+        self.unknown
+    }
+
+    /// How the relaxation went.
+    pub fn report(&self) -> &SolveReport {
+        &self.report
+    }
+
+    /// The cell values as a potential that decreases toward the goal: `φ` as iterated, or
+    /// `−ψ` (not `1 − ψ`, which would throw away ψ's small values).
+    fn descent_value(&self, k: usize) -> f64 {
+        match self.unknown {
+            Unknown::Psi => -self.values[k],
+            Unknown::Phi => self.values[k],
+        }
+    }
+
+    /// Connolly's flatness count: free cells none of whose four neighbours is strictly closer
+    /// to the goal (strictly lower in φ). Zero for a converged harmonic field in exact
+    /// arithmetic; positive where the field went numerically flat or has a local minimum.
+    pub fn flat_cells(&self) -> usize {
+        let n = self.raster.n();
+        self.raster
+            .cells()
+            .iter()
+            .enumerate()
+            .filter(|&(k, c)| {
+                *c == Cell::Free && {
+                    let v = self.descent_value(k);
+                    [k - 1, k + 1, k - n, k + n]
+                        .iter()
+                        .all(|&m| self.descent_value(m) >= v)
+                }
+            })
+            .count()
+    }
+
+    /// Bilinear interpolation of the descent potential (`φ`, or `−ψ`) at `p`, with its
+    /// gradient. `None` outside the span of cell centres.
+    pub fn value_and_gradient(&self, p: Point) -> Option<(f64, Vector)> {
+        let n = self.raster.n();
+        let o = self.raster.origin();
+        let (hx, hy) = self.raster.cell_size();
+        let u = (p.x - o.x) / hx - 0.5;
+        let v = (p.y - o.y) / hy - 0.5;
+        let last = (n - 1) as f64;
+        if !(u >= 0.0 && v >= 0.0 && u <= last && v <= last) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(n - 2);
+        let j = (v.floor() as usize).min(n - 2);
+        let (fu, fv) = (u - i as f64, v - j as f64);
+        let k = j * n + i;
+        let v00 = self.descent_value(k);
+        let v10 = self.descent_value(k + 1);
+        let v01 = self.descent_value(k + n);
+        let v11 = self.descent_value(k + n + 1);
+        let value = (1.0 - fv) * ((1.0 - fu) * v00 + fu * v10) + fv * ((1.0 - fu) * v01 + fu * v11);
+        let gx = ((1.0 - fv) * (v10 - v00) + fv * (v11 - v01)) / hx;
+        let gy = ((1.0 - fu) * (v01 - v00) + fu * (v11 - v10)) / hy;
+        Some((value, Vector::new(gx, gy)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {
+        vec![
+            Point::new(x0, y0),
+            Point::new(x1, y0),
+            Point::new(x1, y1),
+            Point::new(x0, y1),
+        ]
+    }
+
+    /// A one-cell-high corridor on an `n × n` grid of unit cells: row centre y = 5.5 is free
+    /// from x = 1.5 to x = n − 2.5, the goal is the cell at x = 0.5, the wall ring at the right.
+    fn corridor(n: usize) -> Raster {
+        let w = (n - 2) as f64;
+        Raster::from_polygons(
+            &rect(0.0, 0.0, w, w),
+            &[rect(0.0, 0.0, w, 5.0), rect(0.0, 6.0, w, w)],
+            &[rect(0.0, 5.0, 1.0, 6.0)],
+            n,
+        )
+        .unwrap()
+    }
+
+    fn tight(relaxation: Relaxation, unknown: Unknown) -> SorOptions {
+        SorOptions {
+            relaxation,
+            stop: StopRule::Residual(1e-14),
+            max_iterations: 200_000,
+            unknown,
+        }
+    }
+
+    #[test]
+    fn corridor_matches_the_exact_discrete_solution() {
+        // Along the corridor ψ_i = (ψ_{i-1} + ψ_{i+1}) / 4 (the cells above and below are
+        // obstacles at 0), with ψ = 1 at the goal and 0 at the far wall: the exact solution
+        // is ψ_i = sinh((m+1-i)θ) / sinh((m+1)θ) with cosh θ = 2.
+        let n = 12;
+        let raster = corridor(n);
+        assert_eq!(raster.counts().0, n - 3);
+        for relaxation in [
+            Relaxation::GaussSeidel,
+            Relaxation::RedBlackSor { omega: None },
+        ] {
+            let f = GridHarmonic::solve(raster.clone(), &tight(relaxation, Unknown::Psi)).unwrap();
+            assert!(f.report().converged);
+            let theta = 2.0f64.acosh();
+            let m1 = (n - 2) as f64;
+            for i in 1..n - 2 {
+                let k = 6 * n + 1 + i;
+                assert_eq!(f.raster().cells()[k], Cell::Free);
+                let exact = ((m1 - i as f64) * theta).sinh() / (m1 * theta).sinh();
+                assert!(
+                    (f.values()[k] - exact).abs() < 1e-12,
+                    "cell {i}: {} vs {exact}",
+                    f.values()[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn red_black_sor_needs_far_fewer_sweeps_than_gauss_seidel() {
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 10.0),
+            &[rect(3.0, 2.0, 4.0, 8.0)],
+            &[rect(8.0, 8.0, 9.0, 9.0)],
+            48,
+        )
+        .unwrap();
+        let opts = |relaxation| SorOptions {
+            relaxation,
+            stop: StopRule::Residual(1e-9),
+            ..SorOptions::default()
+        };
+        let gs = GridHarmonic::solve(raster.clone(), &opts(Relaxation::GaussSeidel)).unwrap();
+        let sor =
+            GridHarmonic::solve(raster, &opts(Relaxation::RedBlackSor { omega: None })).unwrap();
+        assert!(gs.report().converged && sor.report().converged);
+        assert!(
+            sor.report().iterations * 10 < gs.report().iterations,
+            "SOR {} vs GS {} sweeps",
+            sor.report().iterations,
+            gs.report().iterations
+        );
+        // Both converge to the same discrete solution.
+        let diff = gs
+            .values()
+            .iter()
+            .zip(sor.values())
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff < 1e-6, "GS and SOR differ by {diff}");
+    }
+
+    #[test]
+    fn converged_field_has_no_interior_local_minima() {
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 10.0),
+            &[
+                rect(2.0, 2.0, 3.0, 8.0),
+                vec![
+                    Point::new(4.0, 7.0),
+                    Point::new(7.0, 7.0),
+                    Point::new(6.0, 9.0),
+                ],
+                rect(5.0, 4.0, 9.0, 5.0),
+            ],
+            &[rect(8.2, 1.2, 8.8, 1.8)],
+            64,
+        )
+        .unwrap();
+        let f = GridHarmonic::solve(raster, &SorOptions::default()).unwrap();
+        assert!(f.report().converged);
+        assert!(f.report().residual < 1e-10);
+        assert_eq!(f.flat_cells(), 0);
+    }
+
+    #[test]
+    fn phi_goes_flat_in_a_long_corridor_where_psi_does_not() {
+        // ψ decays by 2 − √3 ≈ 0.27 a cell along the corridor: after ~28 cells 1 − ψ rounds
+        // to 1, so φ iterated directly is flat there while ψ keeps every cell distinct.
+        let raster = corridor(62);
+        let psi = GridHarmonic::solve(
+            raster.clone(),
+            &tight(Relaxation::GaussSeidel, Unknown::Psi),
+        )
+        .unwrap();
+        let phi =
+            GridHarmonic::solve(raster, &tight(Relaxation::GaussSeidel, Unknown::Phi)).unwrap();
+        assert_eq!(psi.flat_cells(), 0);
+        assert!(
+            phi.flat_cells() > 20,
+            "only {} flat cells",
+            phi.flat_cells()
+        );
+    }
+
+    #[test]
+    fn bilinear_interpolation_reproduces_cell_values_and_gradient_points_to_goal() {
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 10.0),
+            &[],
+            &[rect(8.0, 8.0, 9.0, 9.0)],
+            32,
+        )
+        .unwrap();
+        let f = GridHarmonic::solve(raster, &SorOptions::default()).unwrap();
+        let k = 10 * 32 + 7;
+        let (v, _) = f.value_and_gradient(f.raster().centre(k)).unwrap();
+        assert_eq!(v, -f.values()[k]);
+        let (_, g) = f.value_and_gradient(Point::new(2.0, 2.0)).unwrap();
+        // Descent direction −∇ points up and to the right, toward the goal.
+        assert!(g.x < 0.0 && g.y < 0.0, "gradient {g:?}");
+        assert!(f.value_and_gradient(Point::new(-5.0, 2.0)).is_none());
+    }
+
+    #[test]
+    fn rejects_bad_omega_and_tolerance() {
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 1.0, 1.0),
+            &[],
+            &[rect(0.4, 0.4, 0.6, 0.6)],
+            8,
+        )
+        .unwrap();
+        let bad = SorOptions {
+            relaxation: Relaxation::RedBlackSor { omega: Some(2.0) },
+            ..SorOptions::default()
+        };
+        assert!(matches!(
+            GridHarmonic::solve(raster.clone(), &bad),
+            Err(BaselineError::InvalidParameter { name: "omega", .. })
+        ));
+        let bad = SorOptions {
+            stop: StopRule::MaxUpdate(f64::NAN),
+            ..SorOptions::default()
+        };
+        assert!(GridHarmonic::solve(raster, &bad).is_err());
+    }
+}
