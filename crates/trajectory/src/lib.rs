@@ -1,1 +1,50 @@
-//! harmonic-trajectory (being written)
+//! # harmonic-trajectory
+//!
+//! Following a potential field from a start to a goal: the exact triangle-to-triangle
+//! gradient tracer for P1 (finite element) potentials, a smooth adaptive integrator, saddle
+//! escape, the non-holonomic car stepper of Garrido et al. (2010, §7), and path metrics.
+//!
+//! Everything here knows a field only through the small [`Field`] trait (locate a point,
+//! value, gradient), so the FEM potential ([`P1Field`], [`SmoothP1Field`], borrowing the mesh
+//! and nodal values without copying) and the baselines' grid or analytic fields are followed
+//! by the same code. A field's `value` decreases toward the goal; a potential that increases
+//! toward it (ψ = φ_wall − φ) is wrapped with [`P1Field::ascending`].
+
+mod field;
+mod path;
+
+pub use field::{Field, Locate, P1Field, Segment, SmoothP1Field};
+pub use path::{CarPath, Path, TraceStatus, polyline_length};
+
+/// Errors from building fields or from invalid tracer options.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TraceError {
+    /// A per-vertex slice does not have one entry per mesh vertex.
+    #[error("{what}: expected {expected} entries (one per mesh vertex), got {got}")]
+    LengthMismatch {
+        /// Which input.
+        what: &'static str,
+        /// The number of mesh vertices.
+        expected: usize,
+        /// The slice's length.
+        got: usize,
+    },
+    /// An input holds NaN or an infinity.
+    #[error("{what}[{index}] is not a finite number")]
+    NotFinite {
+        /// Which input.
+        what: &'static str,
+        /// The first offending index.
+        index: usize,
+    },
+    /// A tracer or car option is out of range.
+    #[error("option `{name}` = {value} is invalid: {reason}")]
+    InvalidOption {
+        /// The option's name.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is required.
+        reason: &'static str,
+    },
+}

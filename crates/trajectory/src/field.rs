@@ -1,0 +1,434 @@
+//! The [`Field`] trait that tracers and the car stepper follow, and its P1 (finite element)
+//! implementations [`P1Field`] and [`SmoothP1Field`], which borrow the mesh and the nodal
+//! values without copying them.
+
+use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point, Vector};
+
+use crate::TraceError;
+
+/// Where a point lies with respect to a field's free space.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Locate<C> {
+    /// Inside free space, in this cell (on its boundary counts as inside).
+    Inside(C),
+    /// Inside goal region `j` (reaching it ends a path).
+    Goal(u32),
+    /// Inside an obstacle (or any other region of the workspace that is not free space).
+    InObstacle,
+    /// Outside the workspace.
+    OutsideWorkspace,
+}
+
+/// Where a straight segment of motion ends (see [`Field::segment`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Segment<C> {
+    /// The whole segment stays in free space; its end lies in this cell.
+    Inside(C),
+    /// The segment enters goal region `j` before leaving free space in any other way.
+    Goal(u32),
+    /// The segment crosses a wall or an obstacle boundary.
+    Blocked,
+}
+
+/// A potential field over free space that a robot follows downhill.
+///
+/// `value` DECREASES toward the goal; the robot moves along `-gradient`. The FEM potential,
+/// the baselines' grid fields and analytic fields all implement it, so the same smooth tracer
+/// and car stepper follow every planner's field.
+pub trait Field {
+    /// A handle on the piece of the field holding a point (a triangle, a grid cell, ...).
+    type Cell: Copy + PartialEq + std::fmt::Debug;
+
+    /// Finds the cell holding `p`, starting the search from `hint` when given (the cell of a
+    /// nearby point: the previous position of a path).
+    fn locate(&self, p: Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
+
+    /// The potential at `p`, which lies in `cell`.
+    fn value(&self, cell: Self::Cell, p: Point) -> f64;
+
+    /// The gradient of the potential at `p`, which lies in `cell`.
+    fn gradient(&self, cell: Self::Cell, p: Point) -> Vector;
+
+    /// Follows the straight segment `from → to` (`from` lies in `cell`) and says whether it
+    /// stays in free space, enters a goal, or crosses a wall or an obstacle.
+    ///
+    /// The default only locates `to`, which is exact for convex free space and a good
+    /// approximation for short segments; fields that know their boundaries override it.
+    fn segment(&self, cell: Self::Cell, from: Point, to: Point) -> Segment<Self::Cell> {
+        let _ = from;
+        match self.locate(to, Some(cell)) {
+            Locate::Inside(c) => Segment::Inside(c),
+            Locate::Goal(j) => Segment::Goal(j),
+            Locate::InObstacle | Locate::OutsideWorkspace => Segment::Blocked,
+        }
+    }
+
+    /// Whether any goal can be reached from `cell` without leaving free space. A path from a
+    /// cell that cannot reach a goal ends as `Unreachable` at once. The default says yes.
+    fn goal_reachable(&self, cell: Self::Cell) -> bool {
+        let _ = cell;
+        true
+    }
+}
+
+/// Sign of the orientation of `a, b, c` (exact): positive when counter-clockwise.
+#[inline]
+pub(crate) fn orient(a: Point, b: Point, c: Point) -> f64 {
+    robust::orient2d(
+        robust::Coord { x: a.x, y: a.y },
+        robust::Coord { x: b.x, y: b.y },
+        robust::Coord { x: c.x, y: c.y },
+    )
+}
+
+/// A piecewise-linear (P1) potential on a triangle mesh: one value per vertex, linear inside
+/// each triangle, so the gradient is constant per triangle.
+///
+/// `value(p) = sign · Σ λᵢ(p) values[i]`. Use [`P1Field::descending`] for a potential that
+/// already decreases toward the goal (φ) and [`P1Field::ascending`] for one that increases
+/// toward it (ψ = φ_wall − φ): multiplying by −1 is exact, so ψ keeps its relative precision.
+#[derive(Clone, Copy, Debug)]
+pub struct P1Field<'a> {
+    mesh: &'a Mesh,
+    values: &'a [f64],
+    sign: f64,
+}
+
+impl<'a> P1Field<'a> {
+    /// A field whose nodal `values` decrease toward the goal (the robot descends them).
+    ///
+    /// Errors if there is not exactly one value per mesh vertex or a value is not finite.
+    ///
+    /// ```
+    /// use harmonic_mesh::{BoundaryTag, Mesh, Point};
+    /// use harmonic_trajectory::{Field, Locate, P1Field};
+    /// let mesh = Mesh::from_parts(
+    ///     vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(0.0, 1.0)],
+    ///     vec![[0, 1, 2]],
+    ///     &[(0, 1, BoundaryTag::Wall), (1, 2, BoundaryTag::Goal(0)), (2, 0, BoundaryTag::Wall)],
+    /// )?;
+    /// let values = [1.0, 0.0, 0.0];
+    /// let field = P1Field::descending(&mesh, &values)?;
+    /// let p = Point::new(0.25, 0.25);
+    /// let Locate::Inside(t) = field.locate(p, None) else { panic!("inside") };
+    /// assert!((field.value(t, p) - 0.5).abs() < 1e-15);
+    /// assert_eq!(field.gradient(t, p), harmonic_mesh::Vector::new(-1.0, -1.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn descending(mesh: &'a Mesh, values: &'a [f64]) -> Result<Self, TraceError> {
+        Self::new(mesh, values, 1.0)
+    }
+
+    /// A field whose nodal `values` increase toward the goal (ψ); the robot ascends them and
+    /// the field's `value` is `−values`.
+    ///
+    /// Errors if there is not exactly one value per mesh vertex or a value is not finite.
+    pub fn ascending(mesh: &'a Mesh, values: &'a [f64]) -> Result<Self, TraceError> {
+        Self::new(mesh, values, -1.0)
+    }
+
+    fn new(mesh: &'a Mesh, values: &'a [f64], sign: f64) -> Result<Self, TraceError> {
+        check_len("values", mesh.vertices().len(), values.len())?;
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(TraceError::NotFinite {
+                what: "values",
+                index: i,
+            });
+        }
+        Ok(P1Field { mesh, values, sign })
+    }
+
+    /// The mesh the field lives on.
+    pub fn mesh(&self) -> &'a Mesh {
+        self.mesh
+    }
+
+    /// The field's value at vertex `v` (sign applied).
+    #[inline]
+    pub fn vertex_value(&self, v: u32) -> f64 {
+        self.sign * self.values[v as usize]
+    }
+
+    /// The (constant) gradient of the field in triangle `t` (sign applied).
+    #[inline]
+    pub fn triangle_gradient(&self, t: u32) -> Vector {
+        let tri = self.mesh.triangles()[t as usize];
+        let v = self.mesh.vertices();
+        let [a, b, c] = tri.map(|i| v[i as usize]);
+        let [fa, fb, fc] = tri.map(|i| self.values[i as usize]);
+        let twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        let gx = fa * (b.y - c.y) + fb * (c.y - a.y) + fc * (a.y - b.y);
+        let gy = fa * (c.x - b.x) + fb * (a.x - c.x) + fc * (b.x - a.x);
+        Vector::new(gx, gy) * (self.sign / twice_area)
+    }
+
+    /// Barycentric coordinates of `p` in triangle `t` (they sum to one; negative outside).
+    #[inline]
+    pub(crate) fn barycentric(&self, t: u32, p: Point) -> [f64; 3] {
+        let [a, b, c] = self.mesh.triangle_points(t);
+        let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        let la = ((b.x - p.x) * (c.y - p.y) - (b.y - p.y) * (c.x - p.x)) / area;
+        let lb = ((c.x - p.x) * (a.y - p.y) - (c.y - p.y) * (a.x - p.x)) / area;
+        [la, lb, 1.0 - la - lb]
+    }
+
+    /// Whether triangle `t` holds `p` (closed triangle, exact predicates).
+    #[inline]
+    pub(crate) fn contains(&self, t: u32, p: Point) -> bool {
+        let [a, b, c] = self.mesh.triangle_points(t);
+        orient(a, b, p) >= 0.0 && orient(b, c, p) >= 0.0 && orient(c, a, p) >= 0.0
+    }
+
+    /// Visibility walk from `start` toward `p`; `None` if the walk would leave the mesh or
+    /// runs too long (non-Delaunay meshes can make visibility walks cycle).
+    fn walk(&self, p: Point, start: u32) -> Option<u32> {
+        let mesh = self.mesh;
+        let tris = mesh.triangles();
+        let verts = mesh.vertices();
+        let mut t = start;
+        let cap = tris.len() + 3;
+        for step in 0..cap {
+            let tri = tris[t as usize];
+            let mut moved = false;
+            for r in 0..3 {
+                let k = (step + r) % 3;
+                let a = verts[tri[(k + 1) % 3] as usize];
+                let b = verts[tri[(k + 2) % 3] as usize];
+                if orient(a, b, p) < 0.0 {
+                    let n = mesh.neighbors()[t as usize][k];
+                    if n == NO_NEIGHBOR {
+                        return None;
+                    }
+                    t = n;
+                    moved = true;
+                    break;
+                }
+            }
+            if !moved {
+                return Some(t);
+            }
+        }
+        None
+    }
+
+    /// Classifies a point that no triangle holds: the first boundary edge met by the ray
+    /// going right from `p` separates it from free space, and its tag says what lies there.
+    fn classify_outside(&self, p: Point) -> Locate<u32> {
+        let verts = self.mesh.vertices();
+        let mut best = f64::INFINITY;
+        let mut tag = None;
+        for e in self.mesh.boundary_edges() {
+            let a = verts[e.vertices[0] as usize];
+            let b = verts[e.vertices[1] as usize];
+            if (a.y > p.y) == (b.y > p.y) {
+                continue;
+            }
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if x >= p.x && x < best {
+                best = x;
+                tag = Some(e.tag);
+            }
+        }
+        match tag {
+            Some(BoundaryTag::Goal(j)) => Locate::Goal(j),
+            Some(BoundaryTag::Obstacle(_)) => Locate::InObstacle,
+            Some(BoundaryTag::Wall) | None => Locate::OutsideWorkspace,
+        }
+    }
+
+    /// Straight walk along `from → to` starting in `t` (which holds `from`).
+    fn segment_walk(&self, mut t: u32, from: Point, to: Point) -> Segment<u32> {
+        let mesh = self.mesh;
+        let tris = mesh.triangles();
+        let verts = mesh.vertices();
+        let mut nudged = false;
+        for _ in 0..tris.len() + 3 {
+            if self.contains(t, to) {
+                return Segment::Inside(t);
+            }
+            let tri = tris[t as usize];
+            // Vertices on the line count as lying to its right: a consistent symbolic
+            // perturbation, so consecutive triangles agree on the crossed edges.
+            let left = tri.map(|v| orient(from, to, verts[v as usize]) > 0.0);
+            let exit = (0..3).find(|&k| !left[(k + 1) % 3] && left[(k + 2) % 3]);
+            let Some(k) = exit else {
+                // The perturbed line (shifted a hair to the left) misses this triangle:
+                // `from` sits on a vertex or an edge of it. Restart from the triangle
+                // holding a point a hair ahead of `from` and to the left of the line.
+                if nudged {
+                    return Segment::Blocked;
+                }
+                nudged = true;
+                let d = (to - from) * 1e-9;
+                let probe = from + d + Vector::new(-d.y, d.x);
+                match self.walk(probe, t) {
+                    Some(u) => {
+                        t = u;
+                        continue;
+                    }
+                    None => return Segment::Blocked,
+                }
+            };
+            let n = mesh.neighbors()[t as usize][k];
+            if n == NO_NEIGHBOR {
+                return match mesh.boundary_edge_of(t, k).map(|e| e.tag) {
+                    Some(BoundaryTag::Goal(j)) => Segment::Goal(j),
+                    _ => Segment::Blocked,
+                };
+            }
+            t = n;
+        }
+        Segment::Blocked
+    }
+
+    /// Whether some goal edge lies in the same connected component as triangle `t`.
+    fn component_has_goal(&self, t: u32) -> bool {
+        let comps = self.mesh.triangle_components();
+        let c = comps[t as usize];
+        self.mesh
+            .boundary_edges()
+            .iter()
+            .any(|e| matches!(e.tag, BoundaryTag::Goal(_)) && comps[e.triangle as usize] == c)
+    }
+}
+
+fn check_len(what: &'static str, expected: usize, got: usize) -> Result<(), TraceError> {
+    if expected == got {
+        Ok(())
+    } else {
+        Err(TraceError::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    }
+}
+
+impl Field for P1Field<'_> {
+    type Cell = u32;
+
+    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+        let n = self.mesh.triangles().len();
+        if n == 0 || !p.x.is_finite() || !p.y.is_finite() {
+            return Locate::OutsideWorkspace;
+        }
+        let start = hint.filter(|&t| (t as usize) < n).unwrap_or(0);
+        if let Some(t) = self.walk(p, start) {
+            return Locate::Inside(t);
+        }
+        if let Some(t) = (0..n as u32).find(|&t| self.contains(t, p)) {
+            return Locate::Inside(t);
+        }
+        self.classify_outside(p)
+    }
+
+    #[inline]
+    fn value(&self, cell: u32, p: Point) -> f64 {
+        let tri = self.mesh.triangles()[cell as usize];
+        let l = self.barycentric(cell, p);
+        self.sign
+            * (l[0] * self.values[tri[0] as usize]
+                + l[1] * self.values[tri[1] as usize]
+                + l[2] * self.values[tri[2] as usize])
+    }
+
+    #[inline]
+    fn gradient(&self, cell: u32, _p: Point) -> Vector {
+        self.triangle_gradient(cell)
+    }
+
+    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+        if (cell as usize) >= self.mesh.triangles().len() || !to.x.is_finite() || !to.y.is_finite()
+        {
+            return Segment::Blocked;
+        }
+        self.segment_walk(cell, from, to)
+    }
+
+    fn goal_reachable(&self, cell: u32) -> bool {
+        self.component_has_goal(cell)
+    }
+}
+
+/// A P1 potential whose gradient is the recovered nodal gradient interpolated linearly
+/// (barycentrically) inside each triangle: continuous, so integrated paths are smooth.
+/// Values, location and free-space checks are those of the underlying [`P1Field`].
+#[derive(Clone, Copy, Debug)]
+pub struct SmoothP1Field<'a> {
+    p1: P1Field<'a>,
+    gradients: &'a [Vector],
+}
+
+impl<'a> SmoothP1Field<'a> {
+    /// A smooth field from values decreasing toward the goal and their recovered nodal
+    /// gradients (one per vertex, gradients of `values`).
+    ///
+    /// Errors if a slice does not have one entry per vertex or holds a non-finite number.
+    pub fn descending(
+        mesh: &'a Mesh,
+        values: &'a [f64],
+        gradients: &'a [Vector],
+    ) -> Result<Self, TraceError> {
+        Self::new(P1Field::descending(mesh, values)?, gradients)
+    }
+
+    /// A smooth field from values increasing toward the goal (ψ) and their recovered nodal
+    /// gradients (gradients of ψ; the sign is applied here).
+    ///
+    /// Errors if a slice does not have one entry per vertex or holds a non-finite number.
+    pub fn ascending(
+        mesh: &'a Mesh,
+        values: &'a [f64],
+        gradients: &'a [Vector],
+    ) -> Result<Self, TraceError> {
+        Self::new(P1Field::ascending(mesh, values)?, gradients)
+    }
+
+    fn new(p1: P1Field<'a>, gradients: &'a [Vector]) -> Result<Self, TraceError> {
+        check_len("gradients", p1.mesh.vertices().len(), gradients.len())?;
+        if let Some(i) = gradients
+            .iter()
+            .position(|g| !g.x.is_finite() || !g.y.is_finite())
+        {
+            return Err(TraceError::NotFinite {
+                what: "gradients",
+                index: i,
+            });
+        }
+        Ok(SmoothP1Field { p1, gradients })
+    }
+
+    /// The underlying piecewise-linear field (what the exact tracer follows).
+    pub fn p1(&self) -> &P1Field<'a> {
+        &self.p1
+    }
+}
+
+impl Field for SmoothP1Field<'_> {
+    type Cell = u32;
+
+    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+        self.p1.locate(p, hint)
+    }
+
+    fn value(&self, cell: u32, p: Point) -> f64 {
+        self.p1.value(cell, p)
+    }
+
+    fn gradient(&self, cell: u32, p: Point) -> Vector {
+        let tri = self.p1.mesh.triangles()[cell as usize];
+        let l = self.p1.barycentric(cell, p).map(|x| x.clamp(0.0, 1.0));
+        let g = self.gradients[tri[0] as usize] * l[0]
+            + self.gradients[tri[1] as usize] * l[1]
+            + self.gradients[tri[2] as usize] * l[2];
+        g * (self.p1.sign / (l[0] + l[1] + l[2]))
+    }
+
+    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+        self.p1.segment(cell, from, to)
+    }
+
+    fn goal_reachable(&self, cell: u32) -> bool {
+        self.p1.goal_reachable(cell)
+    }
+}
