@@ -4,8 +4,10 @@
 use std::time::{Duration, Instant};
 
 use harmonic_mesh::{Point, Vector};
+use harmonic_trajectory::{Field, Locate, Segment};
 
-use crate::{BaselineError, Cell, Raster};
+use crate::raster::UNREACHED;
+use crate::{BaselineError, Cell, Connectivity, Raster};
 
 /// Which quantity the relaxation iterates on.
 ///
@@ -98,6 +100,8 @@ pub struct GridHarmonic {
     values: Vec<f64>,
     unknown: Unknown,
     report: SolveReport,
+    /// Whether each cell is 4-connected to a goal cell through traversable cells.
+    reaches_goal: Vec<bool>,
 }
 
 /// Updates the cells in `order` in place; returns the largest change.
@@ -239,11 +243,17 @@ impl GridHarmonic {
             omega,
             time: start.elapsed(),
         };
+        let reaches_goal = raster
+            .goal_distances(Connectivity::Four)
+            .into_iter()
+            .map(|d| d != UNREACHED)
+            .collect();
         Ok(GridHarmonic {
             raster,
             values,
             unknown: options.unknown,
             report,
+            reaches_goal,
         })
     }
 
@@ -320,6 +330,54 @@ impl GridHarmonic {
         let gx = ((1.0 - fv) * (v10 - v00) + fv * (v11 - v01)) / hx;
         let gy = ((1.0 - fu) * (v01 - v00) + fu * (v11 - v10)) / hy;
         Some((value, Vector::new(gx, gy)))
+    }
+}
+
+/// The grid potential as a [`Field`] for the shared tracer: cells are flat grid indices,
+/// values and gradients the bilinear interpolant of the descent potential (`−ψ` or `φ`),
+/// goal regions the goal cells, and obstacles the obstacle and wall cells.
+impl Field for GridHarmonic {
+    type Cell = usize;
+
+    fn locate(&self, p: Point, _hint: Option<usize>) -> Locate<usize> {
+        match self.raster.index_of(p) {
+            None => Locate::OutsideWorkspace,
+            Some(k) => match self.raster.cells()[k] {
+                Cell::Free => Locate::Inside(k),
+                Cell::Goal(j) => Locate::Goal(j),
+                Cell::Obstacle(_) => Locate::InObstacle,
+                Cell::Wall => Locate::OutsideWorkspace,
+            },
+        }
+    }
+
+    fn value(&self, _cell: usize, p: Point) -> f64 {
+        self.value_and_gradient(p).map_or(f64::INFINITY, |(v, _)| v)
+    }
+
+    fn gradient(&self, _cell: usize, p: Point) -> Vector {
+        self.value_and_gradient(p)
+            .map_or(Vector::zeros(), |(_, g)| g)
+    }
+
+    /// Samples the segment every quarter cell, so it cannot jump over a blocked cell.
+    fn segment(&self, cell: usize, from: Point, to: Point) -> Segment<usize> {
+        let (hx, hy) = self.raster.cell_size();
+        let steps = ((to - from).norm() / (0.25 * hx.min(hy))).ceil().max(1.0) as usize;
+        let mut last = cell;
+        for s in 1..=steps {
+            let p = from + (to - from) * (s as f64 / steps as f64);
+            match self.locate(p, Some(last)) {
+                Locate::Inside(c) => last = c,
+                Locate::Goal(j) => return Segment::Goal(j),
+                Locate::InObstacle | Locate::OutsideWorkspace => return Segment::Blocked,
+            }
+        }
+        Segment::Inside(last)
+    }
+
+    fn goal_reachable(&self, cell: usize) -> bool {
+        self.reaches_goal[cell]
     }
 }
 

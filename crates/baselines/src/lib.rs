@@ -5,12 +5,23 @@
 //!
 //! - [`grid_harmonic`]: Connolly, Burns & Weiss (1990), *Path planning using Laplace's
 //!   equation*: the 5-point Laplacian on an occupancy grid ([`Raster`]), relaxed by
-//!   Gauss–Seidel or red–black SOR, followed by bilinear interpolation.
+//!   Gauss–Seidel or red–black SOR, followed by bilinear interpolation. [`GridHarmonic`]
+//!   implements the shared [`harmonic_trajectory::Field`] trait, so the same tracer follows it.
+//! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
+//!   a brushfire of move counts from the goal over the grid, 4- or 8-connected, and descent to
+//!   the lowest neighbour.
+//!
+//! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
+//! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
 
 mod error;
 pub mod grid_harmonic;
+mod plan;
 mod raster;
+pub mod wavefront;
 
 pub use error::BaselineError;
 pub use grid_harmonic::{GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown};
-pub use raster::{Cell, MIN_GRID, Raster};
+pub use plan::PlanResult;
+pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};
+pub use wavefront::Wavefront;

@@ -333,3 +333,73 @@ mod tests {
         );
     }
 }
+
+/// Which neighbours of a grid cell count as adjacent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Connectivity {
+    /// The 4 edge neighbours.
+    #[default]
+    Four,
+    /// The 8 edge and corner neighbours; a diagonal move needs both cells it cuts past to be
+    /// traversable, so paths never squeeze between two blocked cells touching at a corner.
+    Eight,
+}
+
+/// Marks a cell that no wavefront reached.
+pub const UNREACHED: u32 = u32::MAX;
+
+impl Raster {
+    /// The traversable neighbours of cell `k` (an interior cell) under `connectivity`, edge
+    /// neighbours first.
+    pub(crate) fn neighbours(&self, k: usize, connectivity: Connectivity) -> ([usize; 8], usize) {
+        let n = self.n;
+        let mut out = [0; 8];
+        let mut len = 0;
+        let ok = |m: usize| self.cells[m].is_traversable();
+        for m in [k - 1, k + 1, k - n, k + n] {
+            if ok(m) {
+                out[len] = m;
+                len += 1;
+            }
+        }
+        if connectivity == Connectivity::Eight {
+            for (dx, dy) in [
+                (k - 1, k - n),
+                (k + 1, k - n),
+                (k - 1, k + n),
+                (k + 1, k + n),
+            ] {
+                let diagonal = dy + dx - k;
+                if ok(dx) && ok(dy) && ok(diagonal) {
+                    out[len] = diagonal;
+                    len += 1;
+                }
+            }
+        }
+        (out, len)
+    }
+
+    /// Brushfire from the goal cells: the number of moves from every traversable cell to the
+    /// nearest goal cell ([`UNREACHED`] for cells cut off from every goal and for blocked
+    /// cells). Goal cells get 0.
+    pub fn goal_distances(&self, connectivity: Connectivity) -> Vec<u32> {
+        let mut dist = vec![UNREACHED; self.cells.len()];
+        let mut queue = std::collections::VecDeque::new();
+        for (k, c) in self.cells.iter().enumerate() {
+            if matches!(c, Cell::Goal(_)) {
+                dist[k] = 0;
+                queue.push_back(k);
+            }
+        }
+        while let Some(k) = queue.pop_front() {
+            let (nb, len) = self.neighbours(k, connectivity);
+            for &m in &nb[..len] {
+                if dist[m] == UNREACHED {
+                    dist[m] = dist[k] + 1;
+                    queue.push_back(m);
+                }
+            }
+        }
+        dist
+    }
+}
