@@ -10,8 +10,11 @@
 //! by the same code. A field's `value` decreases toward the goal; a potential that increases
 //! toward it (ψ = φ_wall − φ) is wrapped with [`P1Field::ascending`].
 
+mod exact;
 mod field;
 mod path;
+
+pub use exact::{ExactOptions, trace_exact};
 
 pub use field::{Field, Locate, P1Field, Segment, SmoothP1Field};
 pub use path::{CarPath, Path, TraceStatus, polyline_length};
