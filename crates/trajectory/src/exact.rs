@@ -11,7 +11,7 @@
 use harmonic_mesh::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
 
 use crate::field::{P1Field, orient};
-use crate::{Field, Locate, Path, Segment, TraceStatus};
+use crate::{Fallback, Field, Locate, Path, Segment, TraceStatus};
 
 /// Options of the exact tracer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,6 +96,38 @@ pub fn trace_exact(field: &P1Field<'_>, start: Point, opts: &ExactOptions) -> Pa
     Path::new(tracer.points, status, tracer.min_gradient, tracer.crossed)
 }
 
+/// One move of the exact tracer from `p` in triangle `t`: what the smooth tracer falls back
+/// on when its steps keep being rejected (against a wall, at a stagnation point).
+pub(crate) fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32> {
+    let mut tracer = Tracer {
+        field,
+        points: vec![p],
+        min_gradient: f64::INFINITY,
+        crossed: 0,
+        last_face: t,
+        star: Vec::new(),
+    };
+    let mut at = classify(field, t, p);
+    let mut perturbations = 0;
+    // A move that does not change the point (entering a triangle from an edge) is followed
+    // by the next one; a handful always suffices.
+    for _ in 0..16 {
+        match tracer.advance(at, &mut perturbations, 2) {
+            Ok(a) => at = a,
+            Err(TraceStatus::ReachedGoal(j)) => return Fallback::Goal(j),
+            Err(_) => return Fallback::Stuck,
+        }
+        if tracer.points.len() > 1 {
+            let cell = match at {
+                At::Face { t, .. } | At::Edge { t, .. } | At::Vertex { t, .. } => t,
+            };
+            let q = *tracer.points.last().unwrap_or(&p);
+            return Fallback::Moved(q, cell);
+        }
+    }
+    Fallback::Stuck
+}
+
 /// The state of a point `p` lying in the closed triangle `t`: on a vertex, on an edge, or inside.
 fn classify(field: &P1Field<'_>, t: u32, p: Point) -> At {
     let mesh = field.mesh();
@@ -149,28 +181,41 @@ impl Tracer<'_, '_> {
     fn run(&mut self, mut at: At, opts: &ExactOptions) -> TraceStatus {
         let mut perturbations = 0;
         for _ in 0..opts.max_steps {
-            let next = match at {
-                At::Face { t, p, g } => self.face(t, p, g),
-                At::Edge { t, k, mu } => self.edge(t, k, mu),
-                At::Vertex { v, t } => self.vertex(v, t),
-            };
-            at = match next {
-                Next::Go(a) => a,
-                Next::Done(s) => return s,
-                Next::Stuck(p, t) => {
-                    if perturbations >= opts.max_perturbations {
-                        return TraceStatus::Stalled { at: p };
-                    }
-                    perturbations += 1;
-                    match self.perturb(p, t) {
-                        Some(Next::Go(a)) => a,
-                        Some(Next::Done(s)) => return s,
-                        _ => return TraceStatus::Stalled { at: p },
-                    }
-                }
+            at = match self.advance(at, &mut perturbations, opts.max_perturbations) {
+                Ok(a) => a,
+                Err(s) => return s,
             };
         }
         TraceStatus::MaxSteps
+    }
+
+    /// One move of the tracer (escaping a stagnation point by a perturbation if needed).
+    fn advance(
+        &mut self,
+        at: At,
+        perturbations: &mut usize,
+        max_perturbations: usize,
+    ) -> Result<At, TraceStatus> {
+        let next = match at {
+            At::Face { t, p, g } => self.face(t, p, g),
+            At::Edge { t, k, mu } => self.edge(t, k, mu),
+            At::Vertex { v, t } => self.vertex(v, t),
+        };
+        match next {
+            Next::Go(a) => Ok(a),
+            Next::Done(s) => Err(s),
+            Next::Stuck(p, t) => {
+                if *perturbations >= max_perturbations {
+                    return Err(TraceStatus::Stalled { at: p });
+                }
+                *perturbations += 1;
+                match self.perturb(p, t) {
+                    Some(Next::Go(a)) => Ok(a),
+                    Some(Next::Done(s)) => Err(s),
+                    _ => Err(TraceStatus::Stalled { at: p }),
+                }
+            }
+        }
     }
 
     /// Descends through triangle `t` from `p` along `-g` to the exit edge or vertex.

@@ -30,6 +30,17 @@ pub enum Segment<C> {
     Blocked,
 }
 
+/// The outcome of [`Field::fallback_step`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fallback<C> {
+    /// Moved downhill to this point, in this cell.
+    Moved(Point, C),
+    /// Reached goal region `j`.
+    Goal(u32),
+    /// No guaranteed move is available here.
+    Stuck,
+}
+
 /// A potential field over free space that a robot follows downhill.
 ///
 /// `value` DECREASES toward the goal; the robot moves along `-gradient`. The FEM potential,
@@ -61,6 +72,15 @@ pub trait Field {
             Locate::Goal(j) => Segment::Goal(j),
             Locate::InObstacle | Locate::OutsideWorkspace => Segment::Blocked,
         }
+    }
+
+    /// One guaranteed downhill move from `p` (in `cell`) that stays in free space, for when
+    /// an integrator cannot make progress (its steps keep leaving free space, or the
+    /// direction flips at a stagnation point). P1 fields make one move of the exact tracer.
+    /// The default has none.
+    fn fallback_step(&self, cell: Self::Cell, p: Point) -> Fallback<Self::Cell> {
+        let _ = (cell, p);
+        Fallback::Stuck
     }
 
     /// Whether any goal can be reached from `cell` without leaving free space. A path from a
@@ -348,6 +368,13 @@ impl Field for P1Field<'_> {
     fn goal_reachable(&self, cell: u32) -> bool {
         self.component_has_goal(cell)
     }
+
+    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
+        if (cell as usize) >= self.mesh.triangles().len() {
+            return Fallback::Stuck;
+        }
+        crate::exact::exact_move(self, cell, p)
+    }
 }
 
 /// A P1 potential whose gradient is the recovered nodal gradient interpolated linearly
@@ -430,5 +457,9 @@ impl Field for SmoothP1Field<'_> {
 
     fn goal_reachable(&self, cell: u32) -> bool {
         self.p1.goal_reachable(cell)
+    }
+
+    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
+        self.p1.fallback_step(cell, p)
     }
 }

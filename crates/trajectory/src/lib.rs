@@ -13,11 +13,13 @@
 mod exact;
 mod field;
 mod path;
+mod smooth;
 
 pub use exact::{ExactOptions, trace_exact};
 
-pub use field::{Field, Locate, P1Field, Segment, SmoothP1Field};
+pub use field::{Fallback, Field, Locate, P1Field, Segment, SmoothP1Field};
 pub use path::{CarPath, Path, TraceStatus, polyline_length};
+pub use smooth::{SmoothOptions, trace_smooth};
 
 /// Errors from building fields or from invalid tracer options.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

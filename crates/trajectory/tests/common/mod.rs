@@ -221,3 +221,24 @@ impl Grid {
         out
     }
 }
+
+/// Recovered nodal gradients of `values`: area-weighted averages of the triangle gradients.
+pub fn nodal_gradients(mesh: &Mesh, values: &[f64]) -> Vec<harmonic_mesh::Vector> {
+    let mut g = vec![harmonic_mesh::Vector::zeros(); mesh.vertices().len()];
+    let mut w = vec![0.0; mesh.vertices().len()];
+    for (t, tri) in mesh.triangles().iter().enumerate() {
+        let [a, b, c] = mesh.triangle_points(t as u32);
+        let [fa, fb, fc] = tri.map(|v| values[v as usize]);
+        let area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        let gx = (fa * (b.y - c.y) + fb * (c.y - a.y) + fc * (a.y - b.y)) / area2;
+        let gy = (fa * (c.x - b.x) + fb * (a.x - c.x) + fc * (b.x - a.x)) / area2;
+        for &v in tri {
+            g[v as usize] += harmonic_mesh::Vector::new(gx, gy) * area2;
+            w[v as usize] += area2;
+        }
+    }
+    g.iter()
+        .zip(w)
+        .map(|(g, w)| if w > 0.0 { g / w } else { *g })
+        .collect()
+}
