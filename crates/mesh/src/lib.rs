@@ -5,10 +5,63 @@
 //! (spade) and refined to a minimum angle and maximum area. Every boundary edge knows what it
 //! lies on ([`BoundaryTag`]: wall, obstacle `i`, goal `j`), triangles know their neighbours,
 //! and points can be located by walking.
+//!
+//! The pipeline is [`DomainSpec`] → [`Domain::new`] (validation, circle discretisation,
+//! robot-radius offsetting, polygon booleans with geo/i_overlay, snapping, boundary tags) →
+//! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, Hilbert vertex order) →
+//! [`Mesh`] (adjacency, tags, components, point location, quality report).
+//!
+//! ```
+//! use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
+//!
+//! let spec = DomainSpec {
+//!     workspace: vec![Point::new(0.0, 0.0), Point::new(4.0, 0.0), Point::new(4.0, 4.0), Point::new(0.0, 4.0)],
+//!     obstacles: vec![Shape::Circle { center: Point::new(2.0, 2.0), radius: 0.5 }],
+//!     goals: vec![GoalShape::Point(Point::new(3.5, 3.5))],
+//!     robot_radius: 0.0,
+//! };
+//! let opts = MeshOptions { max_area: Some(0.05), ..MeshOptions::default() };
+//! let domain = Domain::new(&spec, &opts)?;
+//! let (mesh, report) = domain.mesh(&opts)?;
+//! assert!(report.refinement_complete);
+//! let q = mesh.quality();
+//! assert!(q.min_angle_deg >= 29.9);
+//! assert_eq!(q.holes, 2); // the obstacle and the goal
+//! assert!(mesh.locate(Point::new(0.5, 0.5), None).is_some());
+//! assert!(mesh.locate(Point::new(2.0, 2.0), None).is_none()); // inside the obstacle
+//! # Ok::<(), harmonic_mesh::MeshError>(())
+//! ```
 
+mod domain;
+mod geom;
+pub mod io;
 mod mesh;
+mod triangulate;
 
-pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, Vector};
+pub use domain::{Domain, DomainSpec, GoalShape, Shape, TaggedRing};
+pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
+pub use triangulate::{MAX_MIN_ANGLE_DEG, MeshOptions, MeshReport};
+
+/// A part of the input scene, used to say where an input error is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    /// The workspace polygon.
+    Workspace,
+    /// Input obstacle `i` (position in [`DomainSpec::obstacles`]).
+    Obstacle(usize),
+    /// Input goal `j` (position in [`DomainSpec::goals`]).
+    Goal(usize),
+}
+
+impl std::fmt::Display for Part {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Part::Workspace => write!(f, "workspace"),
+            Part::Obstacle(i) => write!(f, "obstacle {i}"),
+            Part::Goal(j) => write!(f, "goal {j}"),
+        }
+    }
+}
 
 /// Everything that can go wrong while building a domain or a mesh.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -16,6 +69,64 @@ pub enum MeshError {
     /// Mesh data handed to [`Mesh::from_parts`] (or read from a file) is inconsistent.
     #[error("invalid mesh: {0}")]
     InvalidMesh(String),
+    /// A coordinate (or radius) is NaN or infinite.
+    #[error("{part}: vertex {vertex} has a non-finite coordinate")]
+    NonFinite { part: Part, vertex: usize },
+    /// Fewer than three distinct, non-collinear vertices.
+    #[error("{part}: polygon has {count} distinct non-collinear vertices, at least 3 are needed")]
+    TooFewVertices { part: Part, count: usize },
+    /// Two non-adjacent edges of a polygon touch or cross (edge `k` runs from input vertex `k`).
+    #[error("{part}: polygon self-intersects (edges {} and {})", edges.0, edges.1)]
+    SelfIntersection { part: Part, edges: (usize, usize) },
+    /// The polygon encloses no area.
+    #[error("{part}: polygon has zero area")]
+    ZeroArea { part: Part },
+    /// A circle radius that is not positive and finite.
+    #[error("{part}: circle radius {radius} must be positive and finite")]
+    InvalidRadius { part: Part, radius: f64 },
+    /// An obstacle or goal lies entirely outside the workspace.
+    #[error("{part}: lies outside the workspace")]
+    OutsideWorkspace { part: Part },
+    /// A goal lies entirely inside obstacles (inflated by the robot radius, if any).
+    #[error(
+        "goal {goal}: lies inside obstacle {obstacle} (after inflating obstacles by the robot radius)"
+    )]
+    GoalInObstacle { goal: usize, obstacle: usize },
+    /// The robot radius is negative or not finite.
+    #[error("robot radius {0} must be finite and non-negative")]
+    InvalidRobotRadius(f64),
+    /// Nothing of the workspace is left once obstacles (and goals) are removed.
+    #[error(
+        "no free space is left: obstacles inflated by the robot radius {robot_radius} cover the workspace"
+    )]
+    NoFreeSpace { robot_radius: f64 },
+    /// A goal does not touch the free space left for a robot of the given radius.
+    #[error(
+        "goal {goal}: not reachable by a robot of radius {robot_radius} (it touches no free space)"
+    )]
+    GoalNotInFreeSpace { goal: usize, robot_radius: f64 },
+    /// An option has a value outside its allowed range.
+    #[error("mesh option {name} = {value}: {reason}")]
+    InvalidOption {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    /// The requested mesh would exceed the triangle budget.
+    #[error(
+        "mesh would need about {estimated} triangles, more than the limit of {limit} (raise max_area or max_triangles)"
+    )]
+    TooManyTriangles { estimated: usize, limit: usize },
+    /// The triangulation library failed on the (already validated) boundary.
+    #[error("triangulation failed: {0}")]
+    Triangulation(String),
+    /// A Triangle `.node/.ele/.poly` file could not be read or written.
+    #[error("{file}: line {line}: {message}")]
+    Io {
+        file: String,
+        line: usize,
+        message: String,
+    },
 }
 
 /// Twice the signed area of the triangle `a, b, c`: positive when counter-clockwise.

@@ -72,6 +72,114 @@ pub struct Mesh {
     /// Connected component (through shared edges) of each triangle.
     triangle_component: Vec<u32>,
     component_count: u32,
+    /// Bucket grid for point location, built on first use.
+    #[serde(skip)]
+    locator: std::sync::OnceLock<Locator>,
+}
+
+/// Mesh statistics, including the conditions under which the P1 stiffness matrix is an
+/// M-matrix (no non-Delaunay interior edge, no obtuse angle opposite a boundary edge).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct QualityReport {
+    pub vertices: usize,
+    pub triangles: usize,
+    /// Smallest interior angle of any triangle, degrees.
+    pub min_angle_deg: f64,
+    /// Largest interior angle of any triangle, degrees.
+    pub max_angle_deg: f64,
+    /// Total area of the triangles.
+    pub area: f64,
+    /// Holes: boundary loops minus connected components.
+    pub holes: usize,
+    /// Connected components.
+    pub components: usize,
+    /// Interior edges whose two opposite angles sum to more than π (+1e-9).
+    pub non_delaunay_edges: usize,
+    /// Boundary edges whose opposite angle exceeds π/2 (+1e-9).
+    pub obtuse_boundary_edges: usize,
+}
+
+/// A uniform bucket grid of triangle bounding boxes (compressed rows).
+#[derive(Clone, Debug)]
+struct Locator {
+    lo: Point,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Locator {
+    fn new(vertices: &[Point], triangles: &[[u32; 3]]) -> Self {
+        let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
+        let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for p in vertices {
+            lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        let w = (hi.x - lo.x).max(f64::MIN_POSITIVE);
+        let h = (hi.y - lo.y).max(f64::MIN_POSITIVE);
+        let target = (triangles.len() / 2).max(1) as f64;
+        let cell = (w * h / target).sqrt().max(w.max(h) / 4096.0);
+        let nx = ((w / cell).ceil() as usize).max(1);
+        let ny = ((h / cell).ceil() as usize).max(1);
+        let range = |t: &[u32; 3]| {
+            let ps = t.map(|v| vertices[v as usize]);
+            let fx = |x: f64| (((x - lo.x) / cell).floor().max(0.0) as usize).min(nx - 1);
+            let fy = |y: f64| (((y - lo.y) / cell).floor().max(0.0) as usize).min(ny - 1);
+            let x0 = fx(ps[0].x.min(ps[1].x).min(ps[2].x));
+            let x1 = fx(ps[0].x.max(ps[1].x).max(ps[2].x));
+            let y0 = fy(ps[0].y.min(ps[1].y).min(ps[2].y));
+            let y1 = fy(ps[0].y.max(ps[1].y).max(ps[2].y));
+            (x0, x1, y0, y1)
+        };
+        let mut count = vec![0u32; nx * ny + 1];
+        for t in triangles {
+            let (x0, x1, y0, y1) = range(t);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    count[y * nx + x + 1] += 1;
+                }
+            }
+        }
+        for i in 1..count.len() {
+            count[i] += count[i - 1];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; count[nx * ny] as usize];
+        for (ti, t) in triangles.iter().enumerate() {
+            let (x0, x1, y0, y1) = range(t);
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let c = y * nx + x;
+                    items[fill[c] as usize] = ti as u32;
+                    fill[c] += 1;
+                }
+            }
+        }
+        Locator {
+            lo,
+            cell,
+            nx,
+            ny,
+            start: count,
+            items,
+        }
+    }
+
+    fn candidates(&self, p: Point) -> &[u32] {
+        let x = (p.x - self.lo.x) / self.cell;
+        let y = (p.y - self.lo.y) / self.cell;
+        // A point just outside the box may still be on a boundary edge (tolerance).
+        if x < -1e-9 || y < -1e-9 || x > self.nx as f64 + 1e-9 || y > self.ny as f64 + 1e-9 {
+            return &[];
+        }
+        let cx = (x.floor().max(0.0) as usize).min(self.nx - 1);
+        let cy = (y.floor().max(0.0) as usize).min(self.ny - 1);
+        let c = cy * self.nx + cx;
+        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
 }
 
 impl Mesh {
@@ -180,7 +288,164 @@ impl Mesh {
             vertex_tags,
             triangle_component,
             component_count,
+            locator: std::sync::OnceLock::new(),
         })
+    }
+
+    /// Whether the closed triangle `t` contains `p` (with a relative tolerance of 1e-12 of
+    /// the edge length, so points on shared edges are found from both sides).
+    pub fn triangle_contains(&self, t: u32, p: Point) -> bool {
+        let [a, b, c] = self.triangle_points(t);
+        [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(u, v)| crate::orient2d(u, v, p) >= -1e-12 * (v - u).norm_squared())
+    }
+
+    /// The triangle containing `p` (closed triangles), or `None` if `p` is outside free space.
+    ///
+    /// Walks from `hint` (a triangle index, e.g. the last answer) towards `p`; if the walk
+    /// meets the boundary or takes too long, falls back to a bucket grid built on first use,
+    /// so it always terminates and is exact.
+    pub fn locate(&self, p: Point, hint: Option<u32>) -> Option<u32> {
+        if !p.x.is_finite() || !p.y.is_finite() || self.triangles.is_empty() {
+            return None;
+        }
+        if let Some(mut t) = hint.filter(|&h| (h as usize) < self.triangles.len()) {
+            let mut found = false;
+            for step in 0..256usize {
+                let tri = self.triangles[t as usize];
+                let mut next = None;
+                for i in 0..3 {
+                    let k = (i + step) % 3;
+                    let u = self.vertices[tri[(k + 1) % 3] as usize];
+                    let v = self.vertices[tri[(k + 2) % 3] as usize];
+                    if crate::orient2d(u, v, p) < -1e-12 * (v - u).norm_squared() {
+                        next = Some(self.neighbors[t as usize][k]);
+                        break;
+                    }
+                }
+                match next {
+                    None => {
+                        found = true;
+                        break;
+                    }
+                    Some(NO_NEIGHBOR) => break,
+                    Some(n) => t = n,
+                }
+            }
+            if found {
+                return Some(t);
+            }
+        }
+        let locator = self
+            .locator
+            .get_or_init(|| Locator::new(&self.vertices, &self.triangles));
+        locator
+            .candidates(p)
+            .iter()
+            .copied()
+            .find(|&t| self.triangle_contains(t, p))
+    }
+
+    /// The three interior angles of triangle `t` (radians; angle `k` at local vertex `k`).
+    pub fn triangle_angles(&self, t: u32) -> [f64; 3] {
+        let p = self.triangle_points(t);
+        std::array::from_fn(|k| {
+            let u = p[(k + 1) % 3] - p[k];
+            let v = p[(k + 2) % 3] - p[k];
+            (u.x * v.y - u.y * v.x).abs().atan2(u.dot(&v))
+        })
+    }
+
+    /// Angles, area, topology and the M-matrix conditions of the mesh.
+    pub fn quality(&self) -> QualityReport {
+        let tol = 1e-9;
+        let mut min_angle = f64::INFINITY;
+        let mut max_angle: f64 = 0.0;
+        let mut area = 0.0;
+        let angles: Vec<[f64; 3]> = (0..self.triangles.len() as u32)
+            .map(|t| self.triangle_angles(t))
+            .collect();
+        let mut non_delaunay = 0;
+        let mut obtuse_boundary = 0;
+        for (t, ang) in angles.iter().enumerate() {
+            area += self.triangle_area(t as u32);
+            for (k, &a) in ang.iter().enumerate() {
+                min_angle = min_angle.min(a);
+                max_angle = max_angle.max(a);
+                let u = self.neighbors[t][k];
+                if u == NO_NEIGHBOR {
+                    if a > std::f64::consts::FRAC_PI_2 + tol {
+                        obtuse_boundary += 1;
+                    }
+                } else if (t as u32) < u {
+                    let Some(k2) = self.neighbors[u as usize]
+                        .iter()
+                        .position(|&x| x == t as u32)
+                    else {
+                        continue;
+                    };
+                    if a + angles[u as usize][k2] > std::f64::consts::PI + tol {
+                        non_delaunay += 1;
+                    }
+                }
+            }
+        }
+        let loops = self.boundary_loops();
+        QualityReport {
+            vertices: self.vertices.len(),
+            triangles: self.triangles.len(),
+            min_angle_deg: if min_angle.is_finite() {
+                min_angle.to_degrees()
+            } else {
+                0.0
+            },
+            max_angle_deg: max_angle.to_degrees(),
+            area,
+            holes: loops.saturating_sub(self.component_count as usize),
+            components: self.component_count as usize,
+            non_delaunay_edges: non_delaunay,
+            obtuse_boundary_edges: obtuse_boundary,
+        }
+    }
+
+    /// The number of closed boundary loops (a vertex where two loops touch is walked around
+    /// through its triangle fan, so touching loops count separately).
+    pub fn boundary_loops(&self) -> usize {
+        let mut seen = vec![false; self.boundary_edges.len()];
+        let mut loops = 0;
+        for start in 0..self.boundary_edges.len() {
+            if seen[start] {
+                continue;
+            }
+            loops += 1;
+            let mut e = start;
+            while !seen[e] {
+                seen[e] = true;
+                e = self.next_boundary_edge(e);
+            }
+        }
+        loops
+    }
+
+    /// The boundary edge that follows boundary edge `e` (starting at its end vertex), found by
+    /// turning around that vertex through the triangles of free space.
+    fn next_boundary_edge(&self, e: usize) -> usize {
+        let be = &self.boundary_edges[e];
+        let b = be.vertices[1];
+        let mut t = be.triangle as usize;
+        // Edge b -> c of t is opposite the local vertex that precedes b.
+        let mut j = (be.local_edge as usize + 1) % 3;
+        for _ in 0..=self.triangles.len() {
+            let n = self.neighbors[t][j];
+            if n == NO_NEIGHBOR {
+                return self.edge_boundary[t][j] as usize;
+            }
+            t = n as usize;
+            let pb = self.triangles[t].iter().position(|&v| v == b).unwrap_or(0);
+            j = (pb + 2) % 3;
+        }
+        e
     }
 
     /// The vertices.

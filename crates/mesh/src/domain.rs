@@ -1,0 +1,722 @@
+//! The free space of a scene: validated input shapes, merged obstacles, tagged boundary rings,
+//! and exact clearance queries.
+
+use std::collections::HashMap;
+
+use geo::{
+    Area, BooleanOps, Buffer, Coord, Intersects, LineString, MultiPolygon, Polygon,
+    buffer::{BufferStyle, LineJoin},
+    unary_union,
+};
+use serde::{Deserialize, Serialize};
+
+use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
+use crate::triangulate::MeshOptions;
+use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
+
+/// An obstacle shape, in workspace coordinates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shape {
+    /// A simple polygon, either orientation, not closed (the last vertex is not repeated).
+    Polygon(Vec<Point>),
+    /// A disc, meshed as a regular polygon whose edges are at most the target edge length.
+    Circle { center: Point, radius: f64 },
+}
+
+/// A goal region, in workspace coordinates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GoalShape {
+    /// A simple polygon, either orientation.
+    Polygon(Vec<Point>),
+    /// A disc.
+    Circle { center: Point, radius: f64 },
+    /// A point; it becomes a small disc of radius twice the target edge length (at most half
+    /// the distance to the nearest wall or obstacle).
+    Point(Point),
+}
+
+/// The input of [`Domain::new`]: a workspace polygon, obstacles, goals and a robot radius.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DomainSpec {
+    /// The outer boundary, a simple polygon (either orientation).
+    pub workspace: Vec<Point>,
+    /// Obstacles; they may overlap each other and cross the workspace boundary.
+    pub obstacles: Vec<Shape>,
+    /// Goal regions; they become holes of free space whose boundary is tagged `Goal(j)`.
+    pub goals: Vec<GoalShape>,
+    /// Radius of a disc robot: obstacles are inflated and the workspace shrunk by it (0: point robot).
+    #[serde(default)]
+    pub robot_radius: f64,
+}
+
+/// A closed boundary ring of free space with a tag per edge.
+///
+/// Edge `k` runs from `points[k]` to `points[(k + 1) % n]` and carries `tags[k]`. Outer rings
+/// are counter-clockwise and holes clockwise, so free space is always on the left.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TaggedRing {
+    pub points: Vec<Point>,
+    pub tags: Vec<BoundaryTag>,
+}
+
+/// A merged region (obstacles after union, goals, or the workspace after shrinking).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Region {
+    /// Counter-clockwise exterior ring.
+    pub exterior: Vec<Point>,
+    /// Clockwise holes.
+    pub holes: Vec<Vec<Point>>,
+    /// Input indices (obstacles or goals) that make up this region.
+    pub sources: Vec<u32>,
+}
+
+/// The validated free space of a scene, ready to mesh.
+#[derive(Clone, Debug)]
+pub struct Domain {
+    free: Vec<TaggedRing>,
+    workspace: Vec<Region>,
+    obstacles: Vec<Region>,
+    goals: Vec<Region>,
+    free_area: f64,
+    scale: f64,
+    bbox: (Point, Point),
+    target_edge: f64,
+    robot_radius: f64,
+    /// Every free-space boundary edge (for the even-odd inside test).
+    boundary_index: SegmentIndex,
+    /// Free-space boundary edges on walls and obstacles (not goals), for clearance.
+    wall_index: SegmentIndex,
+}
+
+/// The target edge length of an equilateral triangle of area `max_area`.
+pub(crate) fn edge_for_area(max_area: f64) -> f64 {
+    (4.0 * max_area / 3f64.sqrt()).sqrt()
+}
+
+fn ring_area(points: &[Point]) -> f64 {
+    let n = points.len();
+    let mut s = 0.0;
+    for i in 0..n {
+        let a = points[i];
+        let b = points[(i + 1) % n];
+        s += a.x * b.y - b.x * a.y;
+    }
+    0.5 * s
+}
+
+fn bbox_of(points: &[Point]) -> (Point, Point) {
+    let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
+    let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for p in points {
+        lo.x = lo.x.min(p.x);
+        lo.y = lo.y.min(p.y);
+        hi.x = hi.x.max(p.x);
+        hi.y = hi.y.max(p.y);
+    }
+    (lo, hi)
+}
+
+/// Validates a user polygon and returns it counter-clockwise without duplicate or collinear
+/// vertices.
+fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
+    for (vertex, p) in input.iter().enumerate() {
+        if !p.x.is_finite() || !p.y.is_finite() {
+            return Err(MeshError::NonFinite { part, vertex });
+        }
+    }
+    // (point, index of the input vertex it came from)
+    let mut ring: Vec<(Point, usize)> = Vec::with_capacity(input.len());
+    for (i, &p) in input.iter().enumerate() {
+        if ring.last().is_none_or(|&(q, _)| q != p) {
+            ring.push((p, i));
+        }
+    }
+    while ring.len() > 1 && ring[0].0 == ring[ring.len() - 1].0 {
+        ring.pop();
+    }
+    // Drop collinear vertices (including spikes) until none is left.
+    loop {
+        let n = ring.len();
+        if n < 3 {
+            break;
+        }
+        let mut removed = false;
+        let mut i = 0;
+        while i < ring.len() && ring.len() >= 3 {
+            let n = ring.len();
+            let a = ring[(i + n - 1) % n].0;
+            let b = ring[i].0;
+            let c = ring[(i + 1) % n].0;
+            let o = orient2d(a, b, c);
+            if o.abs() <= 1e-13 * (b - a).norm() * (c - b).norm() {
+                ring.remove(i);
+                removed = true;
+            } else {
+                i += 1;
+            }
+        }
+        if !removed {
+            break;
+        }
+    }
+    if ring.len() < 3 {
+        return Err(MeshError::TooFewVertices {
+            part,
+            count: ring.len(),
+        });
+    }
+    let n = ring.len();
+    let boxes: Vec<(Point, Point)> = (0..n)
+        .map(|i| bbox_of(&[ring[i].0, ring[(i + 1) % n].0]))
+        .collect();
+    for i in 0..n {
+        for j in i + 1..n {
+            if j == i + 1 || (i == 0 && j == n - 1) {
+                continue;
+            }
+            let (lo1, hi1) = boxes[i];
+            let (lo2, hi2) = boxes[j];
+            if lo1.x > hi2.x || lo2.x > hi1.x || lo1.y > hi2.y || lo2.y > hi1.y {
+                continue;
+            }
+            if segments_intersect(
+                ring[i].0,
+                ring[(i + 1) % n].0,
+                ring[j].0,
+                ring[(j + 1) % n].0,
+            ) {
+                return Err(MeshError::SelfIntersection {
+                    part,
+                    edges: (ring[i].1, ring[j].1),
+                });
+            }
+        }
+    }
+    let mut points: Vec<Point> = ring.into_iter().map(|(p, _)| p).collect();
+    let area = ring_area(&points);
+    let (lo, hi) = bbox_of(&points);
+    if area.abs() <= 1e-14 * (hi - lo).norm_squared() {
+        return Err(MeshError::ZeroArea { part });
+    }
+    if area < 0.0 {
+        points.reverse();
+    }
+    Ok(points)
+}
+
+/// A regular polygon inscribed in the circle, counter-clockwise, vertex `k` at angle
+/// `2πk/n`, with `n` chosen so that each chord is at most `h` (at least 12, at most 4096
+/// vertices). The chord error (sagitta) is then at most `h²/(8r)`.
+pub(crate) fn circle_polygon(
+    part: Part,
+    center: Point,
+    radius: f64,
+    h: f64,
+) -> Result<Vec<Point>, MeshError> {
+    if !center.x.is_finite() || !center.y.is_finite() {
+        return Err(MeshError::NonFinite { part, vertex: 0 });
+    }
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(MeshError::InvalidRadius { part, radius });
+    }
+    let n = ((std::f64::consts::TAU * radius / h).ceil() as usize).clamp(12, 4096);
+    Ok((0..n)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            Point::new(center.x + radius * t.cos(), center.y + radius * t.sin())
+        })
+        .collect())
+}
+
+fn to_geo(points: &[Point]) -> Polygon<f64> {
+    Polygon::new(
+        LineString::from(
+            points
+                .iter()
+                .map(|p| Coord { x: p.x, y: p.y })
+                .collect::<Vec<_>>(),
+        ),
+        vec![],
+    )
+}
+
+fn from_ls(ls: &LineString<f64>) -> Vec<Point> {
+    let mut v: Vec<Point> = ls.0.iter().map(|c| Point::new(c.x, c.y)).collect();
+    if v.len() > 1 && v[0] == v[v.len() - 1] {
+        v.pop();
+    }
+    v
+}
+
+fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region> {
+    mp.0.iter()
+        .map(|poly| {
+            let mut exterior = from_ls(poly.exterior());
+            if ring_area(&exterior) < 0.0 {
+                exterior.reverse();
+            }
+            let holes = poly
+                .interiors()
+                .iter()
+                .map(|r| {
+                    let mut h = from_ls(r);
+                    if ring_area(&h) > 0.0 {
+                        h.reverse();
+                    }
+                    h
+                })
+                .collect();
+            let sources = parts
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.intersects(poly))
+                .map(|(i, _)| i as u32)
+                .collect();
+            Region {
+                exterior,
+                holes,
+                sources,
+            }
+        })
+        .collect()
+}
+
+/// Snaps boolean-operation output: back onto an input vertex when within `tol`, otherwise to a
+/// power-of-two grid of about `1e-9 × scale`.
+struct Snapper {
+    tol: f64,
+    grid: f64,
+    cells: HashMap<(i64, i64), Vec<Point>>,
+}
+
+impl Snapper {
+    fn new(scale: f64, inputs: impl Iterator<Item = Point>) -> Self {
+        let tol = 1e-7 * scale;
+        let grid = 2f64.powi((1e-9 * scale).log2().round() as i32);
+        let mut cells: HashMap<(i64, i64), Vec<Point>> = HashMap::new();
+        for p in inputs {
+            cells
+                .entry(((p.x / tol).floor() as i64, (p.y / tol).floor() as i64))
+                .or_default()
+                .push(p);
+        }
+        Snapper { tol, grid, cells }
+    }
+
+    fn snap(&self, p: Point) -> Point {
+        let cx = (p.x / self.tol).floor() as i64;
+        let cy = (p.y / self.tol).floor() as i64;
+        let mut best: Option<(f64, Point)> = None;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(list) = self.cells.get(&(cx + dx, cy + dy)) {
+                    for &q in list {
+                        let d = (q - p).norm();
+                        if d <= self.tol && best.is_none_or(|(bd, _)| d < bd) {
+                            best = Some((d, q));
+                        }
+                    }
+                }
+            }
+        }
+        match best {
+            Some((_, q)) => q,
+            None => Point::new(
+                (p.x / self.grid).round() * self.grid,
+                (p.y / self.grid).round() * self.grid,
+            ),
+        }
+    }
+}
+
+fn tag_rank(tag: BoundaryTag) -> (u8, u32) {
+    match tag {
+        BoundaryTag::Goal(j) => (0, j),
+        BoundaryTag::Obstacle(i) => (1, i),
+        BoundaryTag::Wall => (2, 0),
+    }
+}
+
+impl Domain {
+    /// Validates the scene and builds its free space.
+    ///
+    /// Circles are discretised with edges no longer than the target edge length of `opts`
+    /// (from `max_area`, or the default area workspace/20000). Overlapping obstacles are merged,
+    /// obstacles crossing the workspace boundary are cut out of it, goals are removed from free
+    /// space, and every boundary edge is tagged with the input it lies on.
+    pub fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
+        opts.validate()?;
+        let rr = spec.robot_radius;
+        if !(rr.is_finite() && rr >= 0.0) {
+            return Err(MeshError::InvalidRobotRadius(rr));
+        }
+        let ws = clean_ring(Part::Workspace, &spec.workspace)?;
+        let ws_area = ring_area(&ws);
+        let (ws_lo, ws_hi) = bbox_of(&ws);
+        let scale = (ws_hi - ws_lo).norm();
+        let h = edge_for_area(opts.max_area.unwrap_or(ws_area / 20000.0));
+        let ws_geo = to_geo(&ws);
+
+        // Obstacles: validated, discretised and inflated, one multipolygon per input.
+        let join_angle = (h / rr.max(1e-300)).clamp(0.05, 0.3);
+        let mut sources: Vec<(Point, Point, BoundaryTag)> = Vec::new();
+        let mut snap_inputs: Vec<Point> = ws.clone();
+        let mut obstacle_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.obstacles.len());
+        for (i, shape) in spec.obstacles.iter().enumerate() {
+            let part = Part::Obstacle(i);
+            let mp = match shape {
+                Shape::Polygon(pts) => {
+                    let ring = clean_ring(part, pts)?;
+                    if rr > 0.0 {
+                        to_geo(&ring).buffer_with_style(
+                            BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
+                        )
+                    } else {
+                        MultiPolygon(vec![to_geo(&ring)])
+                    }
+                }
+                Shape::Circle { center, radius } => {
+                    if !(radius.is_finite() && *radius > 0.0) {
+                        return Err(MeshError::InvalidRadius {
+                            part,
+                            radius: *radius,
+                        });
+                    }
+                    MultiPolygon(vec![to_geo(&circle_polygon(
+                        part,
+                        *center,
+                        radius + rr,
+                        h,
+                    )?)])
+                }
+            };
+            if mp.intersection(&ws_geo).unsigned_area() <= 0.0 {
+                return Err(MeshError::OutsideWorkspace { part });
+            }
+            for poly in &mp.0 {
+                for ls in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+                    let pts = from_ls(ls);
+                    snap_inputs.extend_from_slice(&pts);
+                    let n = pts.len();
+                    for k in 0..n {
+                        sources.push((pts[k], pts[(k + 1) % n], BoundaryTag::Obstacle(i as u32)));
+                    }
+                }
+            }
+            obstacle_geo.push(mp);
+        }
+        let clearance_index = SegmentIndex::new(
+            sources
+                .iter()
+                .map(|&(a, b, _)| (a, b, 0))
+                .chain((0..ws.len()).map(|k| (ws[k], ws[(k + 1) % ws.len()], 0))),
+        );
+        let mut goal_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.goals.len());
+        for (j, goal) in spec.goals.iter().enumerate() {
+            let part = Part::Goal(j);
+            let ring = match goal {
+                GoalShape::Polygon(pts) => clean_ring(part, pts)?,
+                GoalShape::Circle { center, radius } => circle_polygon(part, *center, *radius, h)?,
+                GoalShape::Point(p) => {
+                    // Twice the target edge length, but at most half the way to the nearest
+                    // wall or obstacle so the disc stays in free space.
+                    let d = clearance_index.distance(*p);
+                    let r = if d > 0.0 {
+                        (2.0 * h).min(0.5 * d)
+                    } else {
+                        2.0 * h
+                    };
+                    circle_polygon(part, *p, r, h)?
+                }
+            };
+            let poly = to_geo(&ring);
+            if poly.intersection(&ws_geo).unsigned_area() <= 0.0 {
+                return Err(MeshError::OutsideWorkspace { part });
+            }
+            snap_inputs.extend_from_slice(&ring);
+            let n = ring.len();
+            for k in 0..n {
+                sources.push((ring[k], ring[(k + 1) % n], BoundaryTag::Goal(j as u32)));
+            }
+            goal_geo.push(MultiPolygon(vec![poly]));
+        }
+
+        // The workspace, shrunk by the robot radius.
+        let ws_mp = if rr > 0.0 {
+            ws_geo.buffer_with_style(BufferStyle::new(-rr).line_join(LineJoin::Round(join_angle)))
+        } else {
+            MultiPolygon(vec![ws_geo.clone()])
+        };
+        if ws_mp.unsigned_area() <= 0.0 {
+            return Err(MeshError::NoFreeSpace { robot_radius: rr });
+        }
+        for poly in &ws_mp.0 {
+            for ls in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+                let pts = from_ls(ls);
+                snap_inputs.extend_from_slice(&pts);
+                let n = pts.len();
+                for k in 0..n {
+                    sources.push((pts[k], pts[(k + 1) % n], BoundaryTag::Wall));
+                }
+            }
+        }
+
+        let obstacle_union = unary_union(obstacle_geo.iter());
+        let goal_union = unary_union(goal_geo.iter());
+        let free0 = if obstacle_geo.is_empty() {
+            ws_mp.clone()
+        } else {
+            ws_mp.difference(&obstacle_union)
+        };
+        if free0.unsigned_area() <= 0.0 {
+            return Err(MeshError::NoFreeSpace { robot_radius: rr });
+        }
+        for (j, g) in goal_geo.iter().enumerate() {
+            if g.intersection(&free0).unsigned_area() <= 0.0 {
+                let uncovered = g.intersection(&ws_geo).difference(&obstacle_union);
+                if uncovered.unsigned_area() <= 0.0 {
+                    let obstacle = obstacle_geo
+                        .iter()
+                        .position(|o| o.intersects(g))
+                        .unwrap_or(0);
+                    return Err(MeshError::GoalInObstacle { goal: j, obstacle });
+                }
+                return Err(MeshError::GoalNotInFreeSpace {
+                    goal: j,
+                    robot_radius: rr,
+                });
+            }
+        }
+        let free_mp = if goal_geo.is_empty() {
+            free0
+        } else {
+            free0.difference(&goal_union)
+        };
+        if free_mp.unsigned_area() <= 0.0 {
+            return Err(MeshError::NoFreeSpace { robot_radius: rr });
+        }
+
+        // Snap, orient and tag the free-space rings.
+        let snapper = Snapper::new(scale, snap_inputs.into_iter());
+        let source_index = SegmentIndex::new(
+            sources
+                .iter()
+                .enumerate()
+                .map(|(k, &(a, b, _))| (a, b, k as u32)),
+        );
+        let tol = 1e-7 * scale;
+        let mut free = Vec::new();
+        for poly in &free_mp.0 {
+            for (r, ls) in std::iter::once(poly.exterior())
+                .chain(poly.interiors())
+                .enumerate()
+            {
+                let mut pts: Vec<Point> =
+                    from_ls(ls).into_iter().map(|p| snapper.snap(p)).collect();
+                pts.dedup();
+                while pts.len() > 1 && pts[0] == pts[pts.len() - 1] {
+                    pts.pop();
+                }
+                if pts.len() < 3 || ring_area(&pts) == 0.0 {
+                    continue;
+                }
+                let ccw = ring_area(&pts) > 0.0;
+                if (r == 0) != ccw {
+                    pts.reverse();
+                }
+                free.push(tag_ring(&pts, &sources, &source_index, tol));
+            }
+        }
+        let free_area: f64 = free.iter().map(|r| ring_area(&r.points)).sum();
+        let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {
+            let n = r.points.len();
+            (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
+        }));
+        let wall_index = SegmentIndex::new(free.iter().flat_map(|r| {
+            let n = r.points.len();
+            (0..n)
+                .filter(|&k| !matches!(r.tags[k], BoundaryTag::Goal(_)))
+                .map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
+        }));
+        let obstacle_regions = if obstacle_geo.is_empty() {
+            Vec::new()
+        } else {
+            regions_of(&obstacle_union.intersection(&ws_geo), &obstacle_geo)
+        };
+        let goal_regions = if goal_geo.is_empty() {
+            Vec::new()
+        } else {
+            regions_of(&goal_union, &goal_geo)
+        };
+        Ok(Domain {
+            free,
+            workspace: regions_of(&ws_mp, &[]),
+            obstacles: obstacle_regions,
+            goals: goal_regions,
+            free_area,
+            scale,
+            bbox: (ws_lo, ws_hi),
+            target_edge: h,
+            robot_radius: rr,
+            boundary_index,
+            wall_index,
+        })
+    }
+
+    /// The boundary rings of free space (outer rings counter-clockwise, holes clockwise), with
+    /// a tag per edge. These are the constraint edges of the triangulation.
+    pub fn free_rings(&self) -> &[TaggedRing] {
+        &self.free
+    }
+    /// The workspace after shrinking by the robot radius (one region unless the shrink split it).
+    pub fn workspace_rings(&self) -> &[Region] {
+        &self.workspace
+    }
+    /// The obstacles after inflation by the robot radius, merging and clipping to the workspace.
+    pub fn obstacle_polygons(&self) -> &[Region] {
+        &self.obstacles
+    }
+    /// The goal regions after merging (point goals as their small discs).
+    pub fn goal_polygons(&self) -> &[Region] {
+        &self.goals
+    }
+    /// The exact area of free space (of the polygons that are meshed).
+    pub fn free_area(&self) -> f64 {
+        self.free_area
+    }
+    /// The diagonal of the workspace bounding box.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+    /// The workspace bounding box `(min, max)`.
+    pub fn bounding_box(&self) -> (Point, Point) {
+        self.bbox
+    }
+    /// The target edge length used to discretise circles.
+    pub fn target_edge_length(&self) -> f64 {
+        self.target_edge
+    }
+    /// The robot radius the domain was built with.
+    pub fn robot_radius(&self) -> f64 {
+        self.robot_radius
+    }
+
+    /// Whether `p` lies in free space (closed set: boundary points count as free).
+    pub fn contains_free(&self, p: Point) -> bool {
+        if !p.x.is_finite() || !p.y.is_finite() {
+            return false;
+        }
+        if self.boundary_index.distance(p) == 0.0 {
+            return true;
+        }
+        self.boundary_index.ray_parity(p, self.bbox.1.x)
+    }
+
+    /// Exact distance from `p` to the nearest wall or obstacle boundary segment of free space
+    /// (goal boundaries excluded), whether `p` is inside free space or not. For a disc robot
+    /// the boundaries are those of the inflated obstacles. Infinity if there are none.
+    pub fn distance_to_obstacles(&self, p: Point) -> f64 {
+        self.wall_index.distance(p)
+    }
+
+    /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
+    /// crosses one). A segment fully inside an obstacle also has a positive value: check
+    /// [`Domain::contains_free`] on an end point as well.
+    pub fn segment_clearance(&self, a: Point, b: Point) -> f64 {
+        if self.wall_index.is_empty() {
+            return f64::INFINITY;
+        }
+        self.wall_index.segment_distance(a, b)
+    }
+}
+
+/// Splits each edge of `pts` at the input vertices lying on it and tags every piece with the
+/// input segment it lies on (goal before obstacle before wall, lowest index first).
+fn tag_ring(
+    pts: &[Point],
+    sources: &[(Point, Point, BoundaryTag)],
+    index: &SegmentIndex,
+    tol: f64,
+) -> TaggedRing {
+    let n = pts.len();
+    let tol2 = tol * tol;
+    let mut points = Vec::with_capacity(n);
+    let mut tags = Vec::with_capacity(n);
+    for k in 0..n {
+        let p = pts[k];
+        let q = pts[(k + 1) % n];
+        let lo = Point::new(p.x.min(q.x) - tol, p.y.min(q.y) - tol);
+        let hi = Point::new(p.x.max(q.x) + tol, p.y.max(q.y) + tol);
+        let cands: Vec<usize> = index
+            .in_box(lo, hi)
+            .map(|(_, _, s)| s as usize)
+            .filter(|&s| {
+                let (a, b, _) = sources[s];
+                // Collinear with pq and overlapping it.
+                let on_a = point_segment_dist2(a, p, q) <= tol2;
+                let on_b = point_segment_dist2(b, p, q) <= tol2;
+                let p_on = point_segment_dist2(p, a, b) <= tol2;
+                let q_on = point_segment_dist2(q, a, b) <= tol2;
+                (on_a as u8 + on_b as u8 + p_on as u8 + q_on as u8) >= 2
+            })
+            .collect();
+        let pq = q - p;
+        let len2 = pq.norm_squared();
+        let mut cuts: Vec<(f64, Point)> = Vec::new();
+        for &s in &cands {
+            let (a, b, _) = sources[s];
+            for c in [a, b] {
+                let t = (c - p).dot(&pq) / len2;
+                if point_segment_dist2(c, p, q) <= tol2
+                    && (c - p).norm_squared() > tol2
+                    && (c - q).norm_squared() > tol2
+                {
+                    cuts.push((t, c));
+                }
+            }
+        }
+        cuts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        cuts.dedup_by(|x, y| (x.1 - y.1).norm_squared() <= tol2);
+        let mut stops = vec![p];
+        stops.extend(cuts.into_iter().map(|(_, c)| c));
+        stops.push(q);
+        for w in stops.windows(2) {
+            let m = Point::new(0.5 * (w[0].x + w[1].x), 0.5 * (w[0].y + w[1].y));
+            let mut best: Option<(BoundaryTag, f64)> = None;
+            for &s in &cands {
+                let (a, b, tag) = sources[s];
+                if point_segment_dist2(m, a, b) <= tol2
+                    && best.is_none_or(|(bt, _)| tag_rank(tag) < tag_rank(bt))
+                {
+                    best = Some((tag, 0.0));
+                }
+            }
+            let tag = match best {
+                Some((t, _)) => t,
+                None => nearest_tag(m, sources, index),
+            };
+            points.push(w[0]);
+            tags.push(tag);
+        }
+    }
+    TaggedRing { points, tags }
+}
+
+/// The tag of the input segment nearest to `m` (fallback when nothing lies within tolerance).
+fn nearest_tag(
+    m: Point,
+    sources: &[(Point, Point, BoundaryTag)],
+    index: &SegmentIndex,
+) -> BoundaryTag {
+    let d = index.distance(m);
+    let r = d * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+    index
+        .in_box(Point::new(m.x - r, m.y - r), Point::new(m.x + r, m.y + r))
+        .map(|(_, _, s)| sources[s as usize])
+        .filter(|&(a, b, _)| point_segment_dist2(m, a, b).sqrt() <= r)
+        .map(|(_, _, t)| t)
+        .min_by_key(|&t| tag_rank(t))
+        .unwrap_or(BoundaryTag::Wall)
+}

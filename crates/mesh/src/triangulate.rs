@@ -1,0 +1,321 @@
+//! Constrained Delaunay triangulation and Ruppert refinement of a [`Domain`] with spade.
+
+use std::collections::{HashMap, HashSet};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use serde::{Deserialize, Serialize};
+use spade::handles::FixedFaceHandle;
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
+
+use crate::geom::SegmentIndex;
+use crate::{BoundaryTag, Domain, Mesh, MeshError, Point};
+
+/// The largest minimum angle accepted: Delaunay refinement does not terminate reliably above it.
+pub const MAX_MIN_ANGLE_DEG: f64 = 33.0;
+
+/// Meshing parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MeshOptions {
+    /// Largest triangle area; `None` chooses free area / 20000.
+    pub max_area: Option<f64>,
+    /// Smallest angle wanted in the refined mesh, in degrees (0 to 33; default 30). Input
+    /// corners sharper than this stay as they are.
+    pub min_angle_deg: f64,
+    /// Budget: a mesh estimated to need more triangles is refused at once (default 20 M).
+    pub max_triangles: usize,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions {
+            max_area: None,
+            min_angle_deg: 30.0,
+            max_triangles: 20_000_000,
+        }
+    }
+}
+
+impl MeshOptions {
+    /// Checks the ranges of the options.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        if !(self.min_angle_deg.is_finite() && self.min_angle_deg >= 0.0) {
+            return Err(MeshError::InvalidOption {
+                name: "min_angle_deg",
+                value: self.min_angle_deg,
+                reason: "must be a finite angle of at least 0 degrees",
+            });
+        }
+        if self.min_angle_deg > MAX_MIN_ANGLE_DEG {
+            return Err(MeshError::InvalidOption {
+                name: "min_angle_deg",
+                value: self.min_angle_deg,
+                reason: "must be at most 33 degrees (Delaunay refinement does not terminate above)",
+            });
+        }
+        if let Some(a) = self.max_area
+            && !(a.is_finite() && a > 0.0)
+        {
+            return Err(MeshError::InvalidOption {
+                name: "max_area",
+                value: a,
+                reason: "must be positive and finite",
+            });
+        }
+        if self.max_triangles == 0 {
+            return Err(MeshError::InvalidOption {
+                name: "max_triangles",
+                value: 0.0,
+                reason: "must be at least 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// What happened while meshing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshReport {
+    /// False if refinement stopped at its vertex cap before meeting angle and area bounds.
+    pub refinement_complete: bool,
+    /// Vertices of the boundary rings handed to the triangulator.
+    pub input_vertices: usize,
+    /// Steiner vertices added by refinement.
+    pub added_vertices: usize,
+    /// The area bound used.
+    pub max_area: f64,
+    /// The angle bound used, in degrees.
+    pub min_angle_deg: f64,
+    /// The triangle count estimated before meshing (checked against the budget).
+    pub estimated_triangles: usize,
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+fn panic_message(e: Box<dyn std::any::Any + Send>) -> String {
+    if let Some(s) = e.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = e.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "spade panicked".to_string()
+    }
+}
+
+/// Position of `(x, y)` (each in `0..2^16`) along a Hilbert curve.
+fn hilbert(mut x: u32, mut y: u32) -> u64 {
+    let mut d: u64 = 0;
+    let mut s: u32 = 1 << 15;
+    while s > 0 {
+        let rx = u32::from(x & s > 0);
+        let ry = u32::from(y & s > 0);
+        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        if ry == 0 {
+            if rx == 1 {
+                x = 0xffff - x;
+                y = 0xffff - y;
+            }
+            std::mem::swap(&mut x, &mut y);
+        }
+        s /= 2;
+    }
+    d
+}
+
+impl Domain {
+    /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
+    /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
+    /// curve. Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
+    pub fn mesh(&self, opts: &MeshOptions) -> Result<(Mesh, MeshReport), MeshError> {
+        opts.validate()?;
+        let max_area = opts.max_area.unwrap_or(self.free_area() / 20000.0);
+        let rings = self.free_rings();
+        let n_ring: usize = rings.iter().map(|r| r.points.len()).sum();
+        // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
+        let est = 1.6 * self.free_area() / max_area + 2.0 * n_ring as f64;
+        let estimated = if est.is_finite() && est < 1e18 {
+            est.ceil() as usize
+        } else {
+            usize::MAX
+        };
+        if estimated > opts.max_triangles {
+            return Err(MeshError::TooManyTriangles {
+                estimated,
+                limit: opts.max_triangles,
+            });
+        }
+
+        // Constraint vertices (deduplicated: rings may touch) and edges.
+        let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
+        let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
+        let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n_ring);
+        let mut seg_tags: Vec<(Point, Point, BoundaryTag)> = Vec::with_capacity(n_ring);
+        for ring in rings {
+            let n = ring.points.len();
+            let idx: Vec<usize> = ring
+                .points
+                .iter()
+                .map(|p| {
+                    *ids.entry((p.x.to_bits(), p.y.to_bits()))
+                        .or_insert_with(|| {
+                            verts.push(Point2::new(p.x, p.y));
+                            verts.len() - 1
+                        })
+                })
+                .collect();
+            for k in 0..n {
+                edges.push([idx[k], idx[(k + 1) % n]]);
+                seg_tags.push((ring.points[k], ring.points[(k + 1) % n], ring.tags[k]));
+            }
+        }
+        let input_vertices = verts.len();
+        let mut conflicts = Vec::new();
+        let cdt = catch_unwind(AssertUnwindSafe(|| {
+            Cdt::try_bulk_load_cdt(verts, edges, |e| conflicts.push(e))
+        }))
+        .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+        if let Some(&[a, _]) = conflicts.first() {
+            let p = cdt
+                .vertices()
+                .nth(a)
+                .map(|v| v.position())
+                .unwrap_or(Point2::new(f64::NAN, f64::NAN));
+            return Err(MeshError::Triangulation(format!(
+                "{} boundary segments cross or overlap, first near ({}, {})",
+                conflicts.len(),
+                p.x,
+                p.y
+            )));
+        }
+        let mut cdt = cdt;
+        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
+        let params = RefinementParameters::<f64>::new()
+            .exclude_outer_faces(true)
+            .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
+            .with_max_allowed_area(max_area)
+            .with_max_additional_vertices(cap);
+        let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(params)))
+            .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
+        let excluded: HashSet<FixedFaceHandle<spade::handles::InnerTag>> =
+            result.excluded_faces.iter().copied().collect();
+
+        // Free faces, their vertices and boundary edges.
+        let mut tri_raw: Vec<[usize; 3]> = Vec::new();
+        let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
+        for face in cdt.inner_faces() {
+            if excluded.contains(&face.fix()) {
+                continue;
+            }
+            let v = face.vertices().map(|v| v.fix().index());
+            tri_raw.push(v);
+            for e in face.adjacent_edges() {
+                let other = e.rev().face();
+                let outside = match other.as_inner() {
+                    None => true,
+                    Some(f) => excluded.contains(&f.fix()),
+                };
+                if outside {
+                    bnd_raw.push((e.from().fix().index(), e.to().fix().index()));
+                }
+            }
+        }
+        let positions: Vec<Point> = cdt
+            .vertices()
+            .map(|v| {
+                let p = v.position();
+                Point::new(p.x, p.y)
+            })
+            .collect();
+        // Renumber used vertices along a Hilbert curve.
+        let mut used = vec![false; positions.len()];
+        for t in &tri_raw {
+            for &v in t {
+                used[v] = true;
+            }
+        }
+        let (lo, hi) = self.bounding_box();
+        let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
+        let mut order: Vec<(u64, usize)> = (0..positions.len())
+            .filter(|&v| used[v])
+            .map(|v| {
+                let p = positions[v];
+                let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
+                (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v)
+            })
+            .collect();
+        order.sort_unstable();
+        let mut new_id = vec![u32::MAX; positions.len()];
+        let mut vertices = Vec::with_capacity(order.len());
+        for (i, &(_, v)) in order.iter().enumerate() {
+            new_id[v] = i as u32;
+            vertices.push(positions[v]);
+        }
+        let mut triangles: Vec<[u32; 3]> = tri_raw
+            .iter()
+            .map(|t| {
+                let t = t.map(|v| new_id[v]);
+                // Rotate so the smallest index comes first (keeps orientation).
+                let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+                [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+            })
+            .collect();
+        triangles.sort_unstable();
+        let seg_index = SegmentIndex::new(
+            seg_tags
+                .iter()
+                .enumerate()
+                .map(|(k, &(a, b, _))| (a, b, k as u32)),
+        );
+        let mut boundary = Vec::with_capacity(bnd_raw.len());
+        for &(a, b) in &bnd_raw {
+            let pa = positions[a];
+            let pb = positions[b];
+            let m = Point::new(0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
+            let (_, s) = seg_index.nearest(m).ok_or_else(|| {
+                MeshError::Triangulation("free space has no boundary segments".to_string())
+            })?;
+            boundary.push((new_id[a], new_id[b], seg_tags[s as usize].2));
+        }
+        let added_vertices = positions.len() - input_vertices;
+        let mesh = Mesh::from_parts(vertices, triangles, &boundary)?;
+        Ok((
+            mesh,
+            MeshReport {
+                refinement_complete: result.refinement_complete,
+                input_vertices,
+                added_vertices,
+                max_area,
+                min_angle_deg: opts.min_angle_deg,
+                estimated_triangles: estimated,
+            },
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hilbert;
+
+    #[test]
+    fn hilbert_is_a_bijection_on_a_small_grid() {
+        let mut seen = std::collections::HashSet::new();
+        for x in 0..64 {
+            for y in 0..64 {
+                assert!(seen.insert(hilbert(x << 10, y << 10)));
+            }
+        }
+        // Consecutive cells along the curve are grid neighbours at the finest level.
+        let mut cells: Vec<(u64, (i64, i64))> = (0..256u32)
+            .flat_map(|x| (0..256u32).map(move |y| (x, y)))
+            .map(|(x, y)| (hilbert(x, y), (x as i64, y as i64)))
+            .collect();
+        cells.sort_unstable();
+        for w in cells.windows(2) {
+            let (a, b) = (w[0].1, w[1].1);
+            assert_eq!((a.0 - b.0).abs() + (a.1 - b.1).abs(), 1, "{a:?} {b:?}");
+        }
+    }
+}
