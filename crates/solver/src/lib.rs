@@ -1,1 +1,36 @@
-//! harmonic-solver (being written)
+//! Sparse symmetric positive definite solves for the harmonic planner, behind one small API and
+//! with no mesh types.
+//!
+//! * [`SymmetricCsc`]: the matrix (full symmetric pattern, validated once).
+//! * Direct: [`SymbolicCholesky::analyze`] (fill-reducing [`Ordering`] + faer's supernodal symbolic
+//!   factorisation, done once per pattern), [`SymbolicCholesky::factor`] (numeric `L Lᵀ`, redone
+//!   whenever only the values change), [`Cholesky::solve`]; [`solve_direct`] does all three.
+//! * Iterative: [`pcg`] with [`Preconditioner::Jacobi`] or [`Preconditioner::IncompleteCholesky`],
+//!   for systems whose factor will not fit in memory.
+//! * [`gallery`]: FEM-like test matrices.
+//!
+//! Everything runs single-threaded.
+//!
+//! ```
+//! use harmonic_solver::{gallery, solve_direct};
+//! let (a, _coords) = gallery::triangulated_grid_laplacian(10, 10);
+//! let b = vec![1.0; a.n()];
+//! let x = solve_direct(&a, &b)?;
+//! let mut ax = vec![0.0; a.n()];
+//! a.mul_vec(&x, &mut ax);
+//! assert!(ax.iter().zip(&b).all(|(l, r)| (l - r).abs() < 1e-12));
+//! # Ok::<(), harmonic_solver::SolverError>(())
+//! ```
+
+mod csc;
+mod direct;
+mod error;
+pub mod gallery;
+mod ordering;
+mod pcg;
+
+pub use csc::SymmetricCsc;
+pub use direct::{Cholesky, SymbolicCholesky, solve_direct};
+pub use error::{SolverError, StructureIssue};
+pub use ordering::Ordering;
+pub use pcg::{PcgOptions, PcgReport, Preconditioner, pcg};

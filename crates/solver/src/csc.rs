@@ -1,0 +1,168 @@
+//! The symmetric sparse matrix type every solver of this crate takes.
+
+use crate::error::{SolverError, StructureIssue};
+
+/// Symmetric sparse matrix in compressed sparse column form with the FULL pattern stored
+/// (both triangles), row indices sorted and unique within each column.
+///
+/// The structure (and the symmetry of the pattern) is validated once by [`SymmetricCsc::try_new`];
+/// the values may then be changed freely through [`SymmetricCsc::values_mut`] (for example new Robin
+/// weights) without touching the pattern. The values are expected to be symmetric: the direct
+/// solvers read the lower triangle, the iterative ones the whole matrix.
+///
+/// ```
+/// use harmonic_solver::SymmetricCsc;
+/// // [ 2 -1 ]
+/// // [-1  2 ]
+/// let a = SymmetricCsc::try_new(2, vec![0, 2, 4], vec![0, 1, 0, 1], vec![2.0, -1.0, -1.0, 2.0])?;
+/// let mut y = [0.0; 2];
+/// a.mul_vec(&[1.0, 1.0], &mut y);
+/// assert_eq!(y, [1.0, 1.0]);
+/// # Ok::<(), harmonic_solver::SolverError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymmetricCsc {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SymmetricCsc {
+    /// Builds the matrix after checking the structure: `col_ptr` has `n + 1` non-decreasing entries
+    /// starting at 0 and ending at `row_idx.len() == values.len()`, row indices are `< n`, strictly
+    /// increasing within each column, and every stored `(i, j)` has its mirror `(j, i)` stored.
+    /// Values are not checked here (the solvers check them for finiteness).
+    pub fn try_new(
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Result<Self, SolverError> {
+        let bad = |column, issue| Err(SolverError::InvalidStructure { column, issue });
+        if col_ptr.len() != n + 1 {
+            return bad(
+                0,
+                StructureIssue::ColPtrLength {
+                    expected: n + 1,
+                    found: col_ptr.len(),
+                },
+            );
+        }
+        if col_ptr[0] != 0 {
+            return bad(0, StructureIssue::ColPtrStart);
+        }
+        for j in 0..n {
+            if col_ptr[j + 1] < col_ptr[j] {
+                return bad(j, StructureIssue::ColPtrDecreasing);
+            }
+        }
+        if col_ptr[n] != row_idx.len() || col_ptr[n] != values.len() {
+            return bad(
+                n,
+                StructureIssue::NnzMismatch {
+                    col_ptr_end: col_ptr[n],
+                    row_idx_len: row_idx.len(),
+                    values_len: values.len(),
+                },
+            );
+        }
+        for j in 0..n {
+            let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            for (k, &i) in rows.iter().enumerate() {
+                if i >= n {
+                    return bad(j, StructureIssue::RowOutOfBounds { row: i });
+                }
+                if k > 0 && rows[k - 1] >= i {
+                    return bad(j, StructureIssue::UnsortedOrDuplicate { row: i });
+                }
+            }
+        }
+        for j in 0..n {
+            for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
+                if i != j
+                    && row_idx[col_ptr[i]..col_ptr[i + 1]]
+                        .binary_search(&j)
+                        .is_err()
+                {
+                    return bad(j, StructureIssue::MissingMirror { row: i });
+                }
+            }
+        }
+        Ok(Self {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        })
+    }
+
+    /// Number of rows (= columns).
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored entries (both triangles).
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Column pointers (`n + 1` entries).
+    pub fn col_ptr(&self) -> &[usize] {
+        &self.col_ptr
+    }
+
+    /// Row indices, column by column, sorted within each column.
+    pub fn row_idx(&self) -> &[usize] {
+        &self.row_idx
+    }
+
+    /// Values, parallel to [`SymmetricCsc::row_idx`].
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Mutable values (the pattern cannot change). Keep them symmetric.
+    pub fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
+    }
+
+    /// Rows of column `j` and their values.
+    pub fn column(&self, j: usize) -> (&[usize], &[f64]) {
+        let r = self.col_ptr[j]..self.col_ptr[j + 1];
+        (&self.row_idx[r.clone()], &self.values[r])
+    }
+
+    /// `y = A x`.
+    ///
+    /// # Panics
+    /// If `x` or `y` does not have length `n` (a caller bug, not a data error).
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        assert_eq!(x.len(), self.n, "mul_vec: x has the wrong length");
+        assert_eq!(y.len(), self.n, "mul_vec: y has the wrong length");
+        // A is symmetric, so row i of A is column i: a gather loop (no scattered writes).
+        for (i, yi) in y.iter_mut().enumerate() {
+            let r = self.col_ptr[i]..self.col_ptr[i + 1];
+            let mut s = 0.0;
+            for (&k, &v) in self.row_idx[r.clone()].iter().zip(&self.values[r]) {
+                s += v * x[k];
+            }
+            *yi = s;
+        }
+    }
+
+    /// The diagonal (0 where no diagonal entry is stored).
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n)
+            .map(|j| {
+                let (rows, vals) = self.column(j);
+                rows.binary_search(&j).map_or(0.0, |k| vals[k])
+            })
+            .collect()
+    }
+
+    /// Index of the first non-finite value, if any.
+    pub(crate) fn first_non_finite(&self) -> Option<usize> {
+        self.values.iter().position(|v| !v.is_finite())
+    }
+}

@@ -1,0 +1,269 @@
+//! Direct solves: faer's sparse (supernodal) Cholesky with the symbolic analysis kept for reuse.
+
+use std::sync::Arc;
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky as FaerSymbolic, SymbolicCholeskyRaw,
+    SymmetricOrdering, factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side, Spec};
+
+use crate::csc::SymmetricCsc;
+use crate::error::SolverError;
+use crate::ordering::{Ordering, nested_dissection};
+
+#[derive(Debug)]
+struct SymbolicInner {
+    faer: FaerSymbolic<usize>,
+    /// `perm[new] = old`: the fill-reducing ordering, to report errors in the caller's numbering.
+    perm: Vec<usize>,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+}
+
+/// Symbolic Cholesky analysis of a sparsity pattern: the fill-reducing ordering and faer's
+/// supernodal (or simplicial, for very sparse factors) structure. Analyse once, then
+/// [`factor`](SymbolicCholesky::factor) every matrix with the same pattern (new Robin weights,
+/// new Dirichlet values) without redoing it. Cloning is cheap (shared [`Arc`]).
+///
+/// ```
+/// use harmonic_solver::{gallery, Ordering, SymbolicCholesky};
+/// let (mut a, coords) = gallery::triangulated_grid_laplacian(20, 20);
+/// let symbolic = SymbolicCholesky::analyze(&a, Ordering::NestedDissection { coords })?;
+/// let b = vec![1.0; a.n()];
+/// let x1 = symbolic.factor(&a)?.solve(&b)?;
+/// // New values, same pattern: only the numeric factorisation is redone.
+/// for v in a.values_mut() { *v *= 2.0; }
+/// let x2 = symbolic.factor(&a)?.solve(&b)?;
+/// assert!((x1[7] - 2.0 * x2[7]).abs() < 1e-12 * x1[7].abs());
+/// # Ok::<(), harmonic_solver::SolverError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct SymbolicCholesky {
+    inner: Arc<SymbolicInner>,
+}
+
+impl SymbolicCholesky {
+    /// Computes the ordering and the symbolic factorisation of `a`'s pattern (values unused).
+    pub fn analyze(a: &SymmetricCsc, ordering: Ordering) -> Result<Self, SolverError> {
+        let n = a.n();
+        let perm: Vec<usize> = match &ordering {
+            Ordering::Amd => Vec::new(),
+            Ordering::Natural => (0..n).collect(),
+            Ordering::NestedDissection { coords } => nested_dissection(a, coords)?,
+        };
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, a.col_ptr(), None, a.row_idx());
+        let faer = if perm.is_empty() {
+            factorize_symbolic_cholesky(
+                pattern,
+                Side::Lower,
+                SymmetricOrdering::Amd,
+                CholeskySymbolicParams::default(),
+            )
+        } else {
+            let mut inv = vec![0; n];
+            for (new, &old) in perm.iter().enumerate() {
+                inv[old] = new;
+            }
+            let p = faer::perm::PermRef::new_checked(&perm, &inv, n);
+            factorize_symbolic_cholesky(
+                pattern,
+                Side::Lower,
+                SymmetricOrdering::Custom(p),
+                CholeskySymbolicParams::default(),
+            )
+        }
+        .map_err(|e| SolverError::Backend(format!("symbolic Cholesky: {e:?}")))?;
+        let perm = match faer.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        Ok(Self {
+            inner: Arc::new(SymbolicInner {
+                faer,
+                perm,
+                col_ptr: a.col_ptr().to_vec(),
+                row_idx: a.row_idx().to_vec(),
+            }),
+        })
+    }
+
+    /// Number of unknowns.
+    pub fn n(&self) -> usize {
+        self.inner.col_ptr.len() - 1
+    }
+
+    /// Number of stored values of the Cholesky factor (a measure of fill; supernodal storage
+    /// counts the dense blocks).
+    pub fn factor_len(&self) -> usize {
+        self.inner.faer.len_val()
+    }
+
+    /// The fill-reducing permutation, `perm[new] = old`.
+    pub fn permutation(&self) -> &[usize] {
+        &self.inner.perm
+    }
+
+    /// Numeric Cholesky factorisation `A = L Lᵀ` of `a`, which must have the analysed pattern.
+    pub fn factor(&self, a: &SymmetricCsc) -> Result<Cholesky, SolverError> {
+        let mut chol = Cholesky {
+            symbolic: self.clone(),
+            l_values: Vec::new(),
+        };
+        chol.refactor(a)?;
+        Ok(chol)
+    }
+
+    fn check_pattern(&self, a: &SymmetricCsc) -> Result<(), SolverError> {
+        let s = &self.inner;
+        if a.n() != self.n() {
+            return Err(SolverError::PatternMismatch {
+                column: a.n().min(self.n()),
+            });
+        }
+        if a.col_ptr() == s.col_ptr.as_slice() && a.row_idx() == s.row_idx.as_slice() {
+            return Ok(());
+        }
+        let column = (0..a.n())
+            .find(|&j| {
+                a.col_ptr()[j + 1] != s.col_ptr[j + 1]
+                    || a.row_idx()[a.col_ptr()[j]..a.col_ptr()[j + 1]]
+                        != s.row_idx[s.col_ptr[j]..s.col_ptr[j + 1]]
+            })
+            .unwrap_or(a.n());
+        Err(SolverError::PatternMismatch { column })
+    }
+}
+
+/// Numeric Cholesky factor `A = L Lᵀ`, ready to solve.
+#[derive(Debug, Clone)]
+pub struct Cholesky {
+    symbolic: SymbolicCholesky,
+    l_values: Vec<f64>,
+}
+
+impl Cholesky {
+    /// The symbolic analysis this factor was computed with.
+    pub fn symbolic(&self) -> &SymbolicCholesky {
+        &self.symbolic
+    }
+
+    /// Recomputes the factor in place for new values of `a` (same pattern), reusing the storage.
+    /// On error the factor is left unusable for solving until a later refactor succeeds.
+    pub fn refactor(&mut self, a: &SymmetricCsc) -> Result<(), SolverError> {
+        self.symbolic.check_pattern(a)?;
+        if let Some(index) = a.first_non_finite() {
+            return Err(SolverError::NonFinite {
+                what: "matrix values",
+                index,
+            });
+        }
+        let inner = &self.symbolic.inner;
+        let n = a.n();
+        // An empty column means a zero row and column: singular, whatever the ordering.
+        if let Some(column) = (0..n).find(|&j| a.col_ptr()[j] == a.col_ptr()[j + 1]) {
+            self.l_values.clear();
+            return Err(SolverError::Singular { column });
+        }
+        let mat = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(n, n, a.col_ptr(), None, a.row_idx()),
+            a.values(),
+        );
+        self.l_values.clear();
+        self.l_values.resize(inner.faer.len_val(), 0.0);
+        let req = inner
+            .faer
+            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
+        let mut mem = MemBuffer::try_new(req).map_err(|_| {
+            SolverError::Backend("out of memory for factorisation workspace".into())
+        })?;
+        let result = inner.faer.factorize_numeric_llt(
+            &mut self.l_values,
+            mat,
+            Side::Lower,
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut mem),
+            Spec::default(),
+        );
+        match result {
+            Ok(_) => Ok(()),
+            Err(LltError::NonPositivePivot { index }) => {
+                self.l_values.clear();
+                // faer 0.24 reports the simplicial pivot 1-based and the supernodal one 0-based.
+                let pivot = match inner.faer.raw() {
+                    SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
+                    SymbolicCholeskyRaw::Supernodal(_) => index,
+                };
+                let column = inner.perm[pivot.min(n.saturating_sub(1))];
+                Err(SolverError::NotPositiveDefinite { column })
+            }
+        }
+    }
+
+    /// Solves `A x = b`.
+    pub fn solve(&self, b: &[f64]) -> Result<Vec<f64>, SolverError> {
+        let mut x = b.to_vec();
+        self.solve_in_place(&mut x)?;
+        Ok(x)
+    }
+
+    /// Solves `A x = b` in place: `x` holds `b` on entry and the solution on return.
+    pub fn solve_in_place(&self, x: &mut [f64]) -> Result<(), SolverError> {
+        let inner = &self.symbolic.inner;
+        let n = self.symbolic.n();
+        if x.len() != n {
+            return Err(SolverError::DimensionMismatch {
+                what: "right-hand side",
+                expected: n,
+                found: x.len(),
+            });
+        }
+        if self.l_values.len() != inner.faer.len_val() {
+            return Err(SolverError::Backend(
+                "factor unusable after a failed refactor".into(),
+            ));
+        }
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                what: "right-hand side",
+                index,
+            });
+        }
+        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(1, Par::Seq);
+        let mut mem = MemBuffer::try_new(req)
+            .map_err(|_| SolverError::Backend("out of memory for solve workspace".into()))?;
+        LltRef::new(&inner.faer, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+        Ok(())
+    }
+}
+
+/// Convenience: analyse with [`Ordering::Amd`], factor and solve `A x = b` once.
+///
+/// ```
+/// use harmonic_solver::{solve_direct, SymmetricCsc};
+/// let a = SymmetricCsc::try_new(2, vec![0, 2, 4], vec![0, 1, 0, 1], vec![2.0, -1.0, -1.0, 2.0])?;
+/// let x = solve_direct(&a, &[1.0, 1.0])?;
+/// assert!((x[0] - 1.0).abs() < 1e-14 && (x[1] - 1.0).abs() < 1e-14);
+/// # Ok::<(), harmonic_solver::SolverError>(())
+/// ```
+pub fn solve_direct(a: &SymmetricCsc, b: &[f64]) -> Result<Vec<f64>, SolverError> {
+    if b.len() != a.n() {
+        return Err(SolverError::DimensionMismatch {
+            what: "right-hand side",
+            expected: a.n(),
+            found: b.len(),
+        });
+    }
+    SymbolicCholesky::analyze(a, Ordering::default())?
+        .factor(a)?
+        .solve(b)
+}

@@ -1,0 +1,127 @@
+//! Fill-reducing orderings: faer's AMD, or a geometric nested dissection from coordinates.
+
+use crate::csc::SymmetricCsc;
+use crate::error::SolverError;
+
+/// Fill-reducing ordering used by the direct Cholesky factorisation.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Ordering {
+    /// Approximate minimum degree (faer's AMD). Needs nothing but the pattern, so it is the default.
+    #[default]
+    Amd,
+    /// Geometric nested dissection: recursively bisects the unknowns at the median of the longer
+    /// bounding-box axis and numbers the vertices on the cut (a vertex separator of the matrix
+    /// graph) last. `coords[i]` is the position of unknown `i` (for the FEM, its mesh vertex).
+    /// On 2D meshes this gives less fill and a faster factorisation than AMD (see the crate
+    /// documentation for figures), but needs the coordinates.
+    NestedDissection {
+        /// One 2D position per unknown.
+        coords: Vec<[f64; 2]>,
+    },
+    /// The caller's numbering, no reordering (for tests and already-ordered systems).
+    Natural,
+}
+
+/// Below this many unknowns a nested-dissection piece is numbered as it comes.
+const ND_LEAF: usize = 64;
+
+/// Nested-dissection permutation `perm[new] = old` of the unknowns of `a` from their coordinates.
+pub(crate) fn nested_dissection(
+    a: &SymmetricCsc,
+    coords: &[[f64; 2]],
+) -> Result<Vec<usize>, SolverError> {
+    let n = a.n();
+    if coords.len() != n {
+        return Err(SolverError::DimensionMismatch {
+            what: "nested-dissection coordinates",
+            expected: n,
+            found: coords.len(),
+        });
+    }
+    if let Some(index) = coords
+        .iter()
+        .position(|c| !(c[0].is_finite() && c[1].is_finite()))
+    {
+        return Err(SolverError::NonFinite {
+            what: "nested-dissection coordinates",
+            index,
+        });
+    }
+    let mut nd = Dissector {
+        a,
+        coords,
+        stamp: vec![0; n],
+        next_stamp: 0,
+        perm: vec![0; n],
+    };
+    let mut all: Vec<usize> = (0..n).collect();
+    nd.dissect(&mut all, 0);
+    Ok(nd.perm)
+}
+
+struct Dissector<'a> {
+    a: &'a SymmetricCsc,
+    coords: &'a [[f64; 2]],
+    /// `stamp[v] == current stamp` marks the second half of the piece being cut.
+    stamp: Vec<u32>,
+    next_stamp: u32,
+    perm: Vec<usize>,
+}
+
+impl Dissector<'_> {
+    /// Numbers the unknowns of `piece` into `perm[start..start + piece.len()]`.
+    fn dissect(&mut self, piece: &mut [usize], start: usize) {
+        let len = piece.len();
+        if len <= ND_LEAF {
+            piece.sort_unstable();
+            self.perm[start..start + len].copy_from_slice(piece);
+            return;
+        }
+        // Median split along the longer side of the bounding box.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for &v in piece.iter() {
+            for d in 0..2 {
+                lo[d] = lo[d].min(self.coords[v][d]);
+                hi[d] = hi[d].max(self.coords[v][d]);
+            }
+        }
+        let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
+        let half = len / 2;
+        let coords = self.coords;
+        piece.select_nth_unstable_by(half, |&u, &v| {
+            coords[u][axis].total_cmp(&coords[v][axis]).then(u.cmp(&v))
+        });
+        self.next_stamp += 1;
+        let stamp = self.next_stamp;
+        for &v in &piece[half..] {
+            self.stamp[v] = stamp;
+        }
+        // Separator: vertices of the first half that touch the second half. Move them to the end
+        // of the first half, then rotate them to the end of the piece.
+        let (first, _) = piece.split_at_mut(half);
+        let mut keep = 0;
+        for k in 0..first.len() {
+            let v = first[k];
+            let rows = self.a.column(v).0;
+            if !rows.iter().any(|&u| self.stamp[u] == stamp) {
+                first.swap(keep, k);
+                keep += 1;
+            }
+        }
+        let sep = half - keep;
+        piece[keep..].rotate_left(sep);
+        let (a_part, rest) = piece.split_at_mut(keep);
+        let (b_part, separator) = rest.split_at_mut(len - half);
+        if a_part.is_empty() || b_part.is_empty() {
+            // Degenerate cut (e.g. a dense block): stop dissecting this piece.
+            piece.sort_unstable();
+            self.perm[start..start + len].copy_from_slice(piece);
+            return;
+        }
+        separator.sort_unstable();
+        self.perm[start + len - sep..start + len].copy_from_slice(separator);
+        let b_start = start + a_part.len();
+        self.dissect(a_part, start);
+        self.dissect(b_part, b_start);
+    }
+}
