@@ -10,14 +10,18 @@
 //! by the same code. A field's `value` decreases toward the goal; a potential that increases
 //! toward it (ψ = φ_wall − φ) is wrapped with [`P1Field::ascending`].
 
+mod car;
 mod exact;
 mod field;
+mod metrics;
 mod path;
 mod smooth;
 
+pub use car::{CarOptions, CarSpeed, CarTarget, Collision, Footprint, drive};
 pub use exact::{ExactOptions, trace_exact};
 
 pub use field::{Fallback, Field, Locate, P1Field, Segment, SmoothP1Field};
+pub use metrics::{PathMetrics, max_curvature, max_pose_curvature, path_metrics};
 pub use path::{CarPath, Path, TraceStatus, polyline_length};
 pub use smooth::{SmoothOptions, trace_smooth};
 

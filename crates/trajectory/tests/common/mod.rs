@@ -242,3 +242,22 @@ pub fn nodal_gradients(mesh: &Mesh, values: &[f64]) -> Vec<harmonic_mesh::Vector
         .map(|(g, w)| if w > 0.0 { g / w } else { *g })
         .collect()
 }
+
+impl Grid {
+    /// Distance from `p` to the nearest obstacle cell or the outer wall.
+    pub fn clearance(&self, p: Point) -> f64 {
+        let (w, hgt) = (self.nx as f64 * self.h, self.ny as f64 * self.h);
+        let mut d = p.x.min(w - p.x).min(p.y).min(hgt - p.y);
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                if let Cell::Obstacle(_) = self.cells[j * self.nx + i] {
+                    let (x0, y0) = (i as f64 * self.h, j as f64 * self.h);
+                    let dx = (x0 - p.x).max(p.x - x0 - self.h).max(0.0);
+                    let dy = (y0 - p.y).max(p.y - y0 - self.h).max(0.0);
+                    d = d.min(dx.hypot(dy));
+                }
+            }
+        }
+        d
+    }
+}
