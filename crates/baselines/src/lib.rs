@@ -10,18 +10,25 @@
 //! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
 //!   a brushfire of move counts from the goal over the grid, 4- or 8-connected, and descent to
 //!   the lowest neighbour.
+//! - [`potential_field`]: Khatib's attractive/repulsive potentials (1986) in the form of Choset
+//!   et al., §4.1–4.2 (conic/parabolic attraction with threshold d*, repulsion within Q* of
+//!   each obstacle polygon), descended with a fixed step; they can get trapped in local
+//!   minima, which the descent reports as `Stalled`.
 //!
 //! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
 //! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
 
 mod error;
+mod geometry;
 pub mod grid_harmonic;
 mod plan;
+pub mod potential_field;
 mod raster;
 pub mod wavefront;
 
 pub use error::BaselineError;
 pub use grid_harmonic::{GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown};
 pub use plan::PlanResult;
+pub use potential_field::{PotentialField, PotentialFieldOptions};
 pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};
 pub use wavefront::Wavefront;

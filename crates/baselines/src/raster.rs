@@ -4,6 +4,7 @@
 use harmonic_mesh::Point;
 
 use crate::BaselineError;
+use crate::geometry::check_polygon;
 
 /// What a grid cell holds, decided at its centre.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -45,26 +46,6 @@ pub struct Raster {
 
 /// Smallest accepted number of cells a side (the wall ring plus a 2 × 2 interior).
 pub const MIN_GRID: usize = 4;
-
-fn check_polygon(what: impl Fn() -> String, poly: &[Point]) -> Result<(), BaselineError> {
-    if poly.len() < 3 {
-        return Err(BaselineError::TooFewVertices {
-            what: what(),
-            count: poly.len(),
-        });
-    }
-    for p in poly {
-        for v in [p.x, p.y] {
-            if !v.is_finite() {
-                return Err(BaselineError::NonFinite {
-                    what: what(),
-                    value: v,
-                });
-            }
-        }
-    }
-    Ok(())
-}
 
 impl Raster {
     /// Rasterises a workspace polygon with obstacle and goal polygons (any orientation) on an
