@@ -40,8 +40,13 @@ const SNAP: f64 = 1e-12;
 enum At {
     /// At `p` in the closed triangle `t`, about to descend through `t` with gradient `g`.
     Face { t: u32, p: Point, g: Vector },
-    /// On edge `k` of triangle `t`, at `a + mu (b - a)`.
-    Edge { t: u32, k: usize, mu: f64 },
+    /// On edge `k` of triangle `t`, at `a + mu (b - a)`; `g` is the gradient in `t`.
+    Edge {
+        t: u32,
+        k: usize,
+        mu: f64,
+        g: Vector,
+    },
     /// At vertex `v`, with `t` one of its triangles.
     Vertex { v: u32, t: u32 },
 }
@@ -143,7 +148,12 @@ fn classify(field: &P1Field<'_>, t: u32, p: Point) -> At {
                 let a = pts[(k + 1) % 3];
                 let e = pts[(k + 2) % 3] - a;
                 let mu = ((p - a).dot(&e) / e.norm_squared()).clamp(0.0, 1.0);
-                At::Edge { t, k, mu }
+                At::Edge {
+                    t,
+                    k,
+                    mu,
+                    g: field.triangle_gradient(t),
+                }
             }
             None => At::Face {
                 t,
@@ -198,7 +208,7 @@ impl Tracer<'_, '_> {
     ) -> Result<At, TraceStatus> {
         let next = match at {
             At::Face { t, p, g } => self.face(t, p, g),
-            At::Edge { t, k, mu } => self.edge(t, k, mu),
+            At::Edge { t, k, mu, g } => self.edge(t, k, mu, g),
             At::Vertex { v, t } => self.vertex(v, t),
         };
         match next {
@@ -269,11 +279,11 @@ impl Tracer<'_, '_> {
             return Next::Go(At::Vertex { v: tri[ib], t });
         }
         self.push(pts[ia] + (pts[ib] - pts[ia]) * mu);
-        Next::Go(At::Edge { t, k, mu })
+        Next::Go(At::Edge { t, k, mu, g })
     }
 
     /// At a point of edge `k` of `t`: cross, descend into `t`, slide, or stop at a goal.
-    fn edge(&mut self, t: u32, k: usize, mu: f64) -> Next {
+    fn edge(&mut self, t: u32, k: usize, mu: f64, gt: Vector) -> Next {
         let field = self.field;
         let mesh = field.mesh();
         let tri = mesh.triangles()[t as usize];
@@ -284,7 +294,6 @@ impl Tracer<'_, '_> {
         let p = a + e * mu;
         // Outward normal of `t` on this edge (not normalised).
         let nu = Vector::new(e.y, -e.x);
-        let gt = field.triangle_gradient(t);
         let into_t = (-gt).dot(&nu) < 0.0;
         let n = mesh.neighbors()[t as usize][k];
         let choice = if n == NO_NEIGHBOR {

@@ -1,0 +1,98 @@
+//! Triangles crossed per second by the exact and smooth tracers on a 1M-triangle mesh: a
+//! structured 1000 × 500 grid (cells split into two triangles along alternating diagonals)
+//! with a square goal hole, carrying the harmonic log potential of the goal.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use harmonic_mesh::{BoundaryTag, Mesh, Point};
+use harmonic_trajectory::{ExactOptions, P1Field, SmoothOptions, trace_exact, trace_smooth};
+
+const NX: usize = 1000;
+const NY: usize = 500;
+const GOAL: (usize, usize) = (900, 250);
+
+fn grid_mesh() -> Mesh {
+    let vid = |i: usize, j: usize| (j * (NX + 1) + i) as u32;
+    let vertices = (0..=NY)
+        .flat_map(|j| (0..=NX).map(move |i| Point::new(i as f64, j as f64)))
+        .collect();
+    let is_goal = |i: usize, j: usize| i.abs_diff(GOAL.0) <= 1 && j.abs_diff(GOAL.1) <= 1;
+    let mut triangles = Vec::with_capacity(2 * NX * NY);
+    let mut boundary = Vec::new();
+    for j in 0..NY {
+        for i in 0..NX {
+            if is_goal(i, j) {
+                continue;
+            }
+            let (a, b, c, d) = (vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1));
+            if (i + j) % 2 == 0 {
+                triangles.extend([[a, b, c], [a, c, d]]);
+            } else {
+                triangles.extend([[a, b, d], [b, c, d]]);
+            }
+            let sides = [
+                ((a, b), j == 0, j > 0 && is_goal(i, j - 1)),
+                ((b, c), i + 1 == NX, i + 1 < NX && is_goal(i + 1, j)),
+                ((c, d), j + 1 == NY, j + 1 < NY && is_goal(i, j + 1)),
+                ((d, a), i == 0, i > 0 && is_goal(i - 1, j)),
+            ];
+            for ((u, v), wall, goal) in sides {
+                if wall {
+                    boundary.push((u, v, BoundaryTag::Wall));
+                } else if goal {
+                    boundary.push((u, v, BoundaryTag::Goal(0)));
+                }
+            }
+        }
+    }
+    Mesh::from_parts(vertices, triangles, &boundary).expect("the benchmark grid is a valid mesh")
+}
+
+fn bench(c: &mut Criterion) {
+    let mesh = grid_mesh();
+    let g = Point::new(GOAL.0 as f64 + 0.5, GOAL.1 as f64 + 0.5);
+    // ψ = 1 − ln(r / r₀) / ln(R / r₀): harmonic, 1 on the goal, increasing toward it.
+    let (r0, big_r) = (1.5f64, 1200.0f64);
+    let psi: Vec<f64> = mesh
+        .vertices()
+        .iter()
+        .map(|p| 1.0 - ((p - g).norm().max(r0) / r0).ln() / (big_r / r0).ln())
+        .collect();
+    let field = P1Field::ascending(&mesh, &psi).expect("one value per vertex");
+    let starts: Vec<Point> = (0..16)
+        .map(|k| Point::new(10.3 + 37.1 * k as f64, 5.7 + 30.9 * k as f64))
+        .collect();
+    let opts = ExactOptions::default();
+    let crossed: usize = starts
+        .iter()
+        .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+        .sum();
+    let mut group = c.benchmark_group("trace");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(crossed as u64));
+    group.bench_function("exact_1M_triangles", |b| {
+        b.iter(|| {
+            starts
+                .iter()
+                .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+                .sum::<usize>()
+        })
+    });
+    let sopts = SmoothOptions::for_scale(1000.0);
+    let smooth_crossed: usize = starts
+        .iter()
+        .map(|&s| trace_smooth(&field, s, &sopts).map_or(0, |p| p.points.len()))
+        .sum();
+    group.throughput(Throughput::Elements(smooth_crossed as u64));
+    group.bench_function("smooth_1M_triangles_steps", |b| {
+        b.iter(|| {
+            starts
+                .iter()
+                .map(|&s| trace_smooth(&field, s, &sopts).map_or(0, |p| p.points.len()))
+                .sum::<usize>()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
