@@ -303,7 +303,8 @@ pub fn trace_smooth<F: Field>(
     Ok(Path::new(points, status, min_gradient, crossed))
 }
 
-/// A point just inside the goal on the segment `a → b` (which enters it), by bisection.
+/// The last free point before the goal on the segment `a → b` (which enters it), found by
+/// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary.
 fn goal_crossing<F: Field>(field: &F, cell: F::Cell, a: Point, b: Point) -> Point {
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..40 {
@@ -313,5 +314,5 @@ fn goal_crossing<F: Field>(field: &F, cell: F::Cell, a: Point, b: Point) -> Poin
             _ => lo = mid,
         }
     }
-    a + (b - a) * hi
+    a + (b - a) * lo
 }
