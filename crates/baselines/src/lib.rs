@@ -14,6 +14,10 @@
 //!   et al., §4.1–4.2 (conic/parabolic attraction with threshold d*, repulsion within Q* of
 //!   each obstacle polygon), descended with a fixed step; they can get trapped in local
 //!   minima, which the descent reports as `Stalled`.
+//! - [`panel`]: Kim & Khosla (1992), *Real-time obstacle avoidance using harmonic potential
+//!   functions*: uniform stream + goal sink + constant-strength source panels on every
+//!   obstacle edge, strengths from the linear system `P λ = q` for prescribed normal
+//!   velocities, and the closed-form panel velocity field.
 //!
 //! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
 //! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
@@ -21,6 +25,7 @@
 mod error;
 mod geometry;
 pub mod grid_harmonic;
+pub mod panel;
 mod plan;
 pub mod potential_field;
 mod raster;
@@ -28,6 +33,7 @@ pub mod wavefront;
 
 pub use error::BaselineError;
 pub use grid_harmonic::{GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown};
+pub use panel::{Panel, PanelField, PanelOptions, PanelPlanner};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};
 pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};

@@ -1,0 +1,484 @@
+//! The panel method of Kim & Khosla (1992), *Real-time obstacle avoidance using harmonic
+//! potential functions*: a uniform flow, a sink at the goal and a constant-strength source
+//! panel on every obstacle edge. The panel strengths `λ` solve `P λ = q` so that the normal
+//! velocity at each panel's midpoint equals the desired `V_i` (their eqs. 29–35); the
+//! velocity anywhere is the closed form of constant-strength source panels (eqs. 36–37, as in
+//! Katz & Plotkin §10.2.1). The robot follows the velocity, which is the negative gradient of
+//! a harmonic potential in the unbounded plane outside the obstacles.
+
+use std::f64::consts::PI;
+use std::time::Instant;
+
+use harmonic_mesh::{Point, Vector};
+use harmonic_trajectory::TraceStatus;
+use nalgebra::{DMatrix, DVector};
+
+use crate::geometry::{check_point, check_polygon, check_positive, contains};
+use crate::{BaselineError, PlanResult};
+
+/// A straight source panel from `start` to `end`; its normal points to the right of
+/// `start → end` (the outside of a counter-clockwise obstacle).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Panel {
+    /// First end point.
+    pub start: Point,
+    /// Second end point.
+    pub end: Point,
+}
+
+impl Panel {
+    /// Unit tangent `start → end`.
+    pub fn tangent(&self) -> Vector {
+        (self.end - self.start).normalize()
+    }
+
+    /// Unit normal, to the right of the tangent.
+    pub fn normal(&self) -> Vector {
+        let t = self.tangent();
+        Vector::new(t.y, -t.x)
+    }
+
+    /// The control point (midpoint).
+    pub fn midpoint(&self) -> Point {
+        nalgebra::center(&self.start, &self.end)
+    }
+
+    /// Velocity induced at `p` (not on the panel) by a unit-strength source distribution on
+    /// the panel (per unit length `1/(2π)·r/|r|²`): in panel coordinates `(x, z)` with the
+    /// panel on `0 ≤ x ≤ L`, `u = ln(r₁²/r₂²)/(4π)` and `w = (θ₂ − θ₁)/(2π)`. Across the
+    /// panel the normal part jumps from −½ to +½.
+    fn unit_velocity(&self, p: Point) -> Vector {
+        let t = self.tangent();
+        let n = Vector::new(t.y, -t.x);
+        let len = (self.end - self.start).norm();
+        let d = p - self.start;
+        let (x, z) = (d.dot(&t), d.dot(&n));
+        let r1 = x * x + z * z;
+        let r2 = (x - len) * (x - len) + z * z;
+        let u = (r1 / r2).ln() / (4.0 * PI);
+        let w = (z.atan2(x - len) - z.atan2(x)) / (2.0 * PI);
+        t * u + n * w
+    }
+}
+
+/// The flow of [`PanelField::solve`]: a uniform stream, an optional point sink, and source
+/// panels whose strengths give each panel's midpoint a prescribed normal velocity.
+#[derive(Clone, Debug)]
+pub struct PanelField {
+    panels: Vec<Panel>,
+    strengths: Vec<f64>,
+    uniform: Vector,
+    sink: Option<(Point, f64)>,
+}
+
+impl PanelField {
+    /// Solves for the panel strengths: `Σ_j λ_j (v_j(c_i) · n_i) = V_i − (U + v_sink(c_i)) · n_i`
+    /// at each midpoint `c_i`, where `v_j` is panel `j`'s unit-strength velocity (its own
+    /// normal part at its midpoint is ½). `sink` is `(point, Q)`, adding `−Q/(2π)·r/|r|²`.
+    ///
+    /// Errors if the numbers of panels and velocities differ, a panel has zero length or a
+    /// non-finite end, or the system is singular (overlapping panels).
+    ///
+    /// ```
+    /// use harmonic_baselines::{Panel, PanelField};
+    /// use harmonic_mesh::{Point, Vector};
+    /// // An impermeable panel across a uniform stream: the flow stops just in front of it.
+    /// let panel = Panel { start: Point::new(0.0, 0.5), end: Point::new(0.0, -0.5) };
+    /// let field = PanelField::solve(vec![panel], &[0.0], Vector::new(1.0, 0.0), None).unwrap();
+    /// assert!((field.strengths()[0] - 2.0).abs() < 1e-12);
+    /// assert!(field.velocity(Point::new(-1e-9, 0.0)).x.abs() < 1e-6);
+    /// ```
+    pub fn solve(
+        panels: Vec<Panel>,
+        normal_velocities: &[f64],
+        uniform: Vector,
+        sink: Option<(Point, f64)>,
+    ) -> Result<Self, BaselineError> {
+        if panels.len() != normal_velocities.len() {
+            return Err(BaselineError::InvalidParameter {
+                name: "normal_velocities",
+                value: normal_velocities.len() as f64,
+                reason: "needs one desired normal velocity per panel",
+            });
+        }
+        for (i, p) in panels.iter().enumerate() {
+            check_point(|| format!("panel {i}"), p.start)?;
+            check_point(|| format!("panel {i}"), p.end)?;
+            if p.start == p.end {
+                return Err(BaselineError::SingularPanels { panel: i });
+            }
+        }
+        let mut field = PanelField {
+            strengths: vec![0.0; panels.len()],
+            panels,
+            uniform,
+            sink,
+        };
+        let m = field.panels.len();
+        let mut a = DMatrix::zeros(m, m);
+        let mut rhs = DVector::zeros(m);
+        for (i, pi) in field.panels.iter().enumerate() {
+            let (c, n) = (pi.midpoint(), pi.normal());
+            for (j, pj) in field.panels.iter().enumerate() {
+                // A panel's own normal velocity at its midpoint, on its normal's side, is ½
+                // (computed, z could round to either side of the cut).
+                a[(i, j)] = if i == j {
+                    0.5
+                } else {
+                    pj.unit_velocity(c).dot(&n)
+                };
+            }
+            rhs[i] = normal_velocities[i] - field.background(c).dot(&n);
+        }
+        let lu = a.lu();
+        let lambda = lu
+            .solve(&rhs)
+            .ok_or(BaselineError::SingularPanels { panel: 0 })?;
+        if lambda.iter().any(|v| !v.is_finite()) {
+            return Err(BaselineError::SingularPanels { panel: 0 });
+        }
+        field.strengths = lambda.iter().copied().collect();
+        Ok(field)
+    }
+
+    /// The uniform stream plus the sink at `p`.
+    fn background(&self, p: Point) -> Vector {
+        let mut v = self.uniform;
+        if let Some((g, q)) = self.sink {
+            let r = p - g;
+            v -= r * (q / (2.0 * PI * r.norm_squared()));
+        }
+        v
+    }
+
+    /// The panels.
+    pub fn panels(&self) -> &[Panel] {
+        &self.panels
+    }
+
+    /// The source strength per unit length of each panel.
+    pub fn strengths(&self) -> &[f64] {
+        &self.strengths
+    }
+
+    /// The flow velocity at `p` (off the panels).
+    pub fn velocity(&self, p: Point) -> Vector {
+        self.panels
+            .iter()
+            .zip(&self.strengths)
+            .fold(self.background(p), |v, (panel, &s)| {
+                v + panel.unit_velocity(p) * s
+            })
+    }
+}
+
+/// Settings of [`PanelPlanner`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PanelOptions {
+    /// Speed `U` of the uniform stream, which flows from the start toward the goal.
+    pub uniform_speed: f64,
+    /// Strength `Q` of the goal sink (flux it swallows).
+    pub sink_strength: f64,
+    /// Desired outward normal velocity `V` at every panel midpoint (0: impermeable; larger
+    /// values push the flow, and the robot, further off the obstacles).
+    pub normal_velocity: f64,
+    /// Also put panels on the workspace boundary (normals pointing inward).
+    pub include_walls: bool,
+    /// Length of each step along the flow direction.
+    pub step: f64,
+    /// The goal counts as reached within this distance.
+    pub goal_tolerance: f64,
+    /// Give up after this many steps.
+    pub max_steps: usize,
+    /// Stalled when the flow speed falls below this (a stagnation point).
+    pub stall_speed: f64,
+}
+
+impl Default for PanelOptions {
+    fn default() -> Self {
+        PanelOptions {
+            uniform_speed: 1.0,
+            sink_strength: 10.0,
+            normal_velocity: 0.5,
+            include_walls: true,
+            step: 0.02,
+            goal_tolerance: 0.05,
+            max_steps: 100_000,
+            stall_speed: 1e-9,
+        }
+    }
+}
+
+/// Kim & Khosla's planner: panels on obstacle (and wall) edges, a sink at the goal and a
+/// uniform stream from the start toward the goal; the point robot follows the flow. The
+/// strengths depend on the stream's direction, so they are solved per query.
+#[derive(Clone, Debug)]
+pub struct PanelPlanner {
+    workspace: Vec<Point>,
+    obstacles: Vec<Vec<Point>>,
+    goal: Point,
+    options: PanelOptions,
+}
+
+/// Twice the signed area of a polygon: positive when counter-clockwise.
+fn signed_area2(poly: &[Point]) -> f64 {
+    (0..poly.len())
+        .map(|k| {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            a.x * b.y - a.y * b.x
+        })
+        .sum()
+}
+
+/// Panels on the edges of `poly` with normals pointing out of it (`outward`) or into it.
+fn edge_panels(poly: &[Point], outward: bool, panels: &mut Vec<Panel>) {
+    let ccw = signed_area2(poly) > 0.0;
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        if a == b {
+            continue;
+        }
+        // The right-hand normal of a counter-clockwise edge points out of the polygon.
+        panels.push(if ccw == outward {
+            Panel { start: a, end: b }
+        } else {
+            Panel { start: b, end: a }
+        });
+    }
+}
+
+impl PanelPlanner {
+    /// Builds the planner. Errors on polygons with fewer than three vertices, non-finite
+    /// coordinates, or a non-positive step, tolerance or stall speed.
+    ///
+    /// ```
+    /// use harmonic_baselines::{PanelOptions, PanelPlanner};
+    /// use harmonic_mesh::Point;
+    /// let ws = vec![Point::new(0.0, 0.0), Point::new(10.0, 0.0), Point::new(10.0, 10.0), Point::new(0.0, 10.0)];
+    /// let block = vec![Point::new(4.0, 4.0), Point::new(6.0, 4.0), Point::new(6.0, 6.0), Point::new(4.0, 6.0)];
+    /// let planner = PanelPlanner::new(&ws, &[block], Point::new(9.0, 5.2), PanelOptions::default()).unwrap();
+    /// let plan = planner.plan(Point::new(1.0, 5.0)).unwrap();
+    /// assert!(plan.status.reached_goal());
+    /// ```
+    pub fn new(
+        workspace: &[Point],
+        obstacles: &[Vec<Point>],
+        goal: Point,
+        options: PanelOptions,
+    ) -> Result<Self, BaselineError> {
+        check_polygon(|| "workspace".to_string(), workspace)?;
+        for (i, o) in obstacles.iter().enumerate() {
+            check_polygon(|| format!("obstacle {i}"), o)?;
+        }
+        check_point(|| "goal".to_string(), goal)?;
+        check_positive("step", options.step)?;
+        check_positive("goal_tolerance", options.goal_tolerance)?;
+        check_positive("stall_speed", options.stall_speed)?;
+        for (name, v) in [
+            ("uniform_speed", options.uniform_speed),
+            ("sink_strength", options.sink_strength),
+            ("normal_velocity", options.normal_velocity),
+        ] {
+            if !v.is_finite() {
+                return Err(BaselineError::NonFinite {
+                    what: name.to_string(),
+                    value: v,
+                });
+            }
+        }
+        Ok(PanelPlanner {
+            workspace: workspace.to_vec(),
+            obstacles: obstacles.to_vec(),
+            goal,
+            options,
+        })
+    }
+
+    /// The flow for a query from `start`: the stream runs from `start` toward the goal.
+    pub fn field(&self, start: Point) -> Result<PanelField, BaselineError> {
+        let mut panels = Vec::new();
+        for o in &self.obstacles {
+            edge_panels(o, true, &mut panels);
+        }
+        if self.options.include_walls {
+            edge_panels(&self.workspace, false, &mut panels);
+        }
+        let dir = self.goal - start;
+        let uniform = if dir.norm() > 0.0 {
+            dir.normalize() * self.options.uniform_speed
+        } else {
+            Vector::zeros()
+        };
+        let velocities = vec![self.options.normal_velocity; panels.len()];
+        PanelField::solve(
+            panels,
+            &velocities,
+            uniform,
+            Some((self.goal, self.options.sink_strength)),
+        )
+    }
+
+    fn is_free(&self, p: Point) -> bool {
+        contains(&self.workspace, p) && !self.obstacles.iter().any(|o| contains(o, p))
+    }
+
+    /// Follows the flow from `start` in fixed-length steps along the velocity direction.
+    /// Errors only if the panel system is singular.
+    pub fn plan(&self, start: Point) -> Result<PlanResult, BaselineError> {
+        let clock = Instant::now();
+        let o = &self.options;
+        let mut points = vec![start];
+        let status = if !contains(&self.workspace, start) {
+            TraceStatus::OutsideWorkspace
+        } else if !self.is_free(start) {
+            TraceStatus::StartInObstacle
+        } else {
+            let field = self.field(start)?;
+            let mut q = start;
+            let mut status = TraceStatus::MaxSteps;
+            for _ in 0..o.max_steps {
+                if (q - self.goal).norm() < o.goal_tolerance {
+                    status = TraceStatus::ReachedGoal(0);
+                    break;
+                }
+                let v = field.velocity(q);
+                if v.norm() < o.stall_speed || !v.norm().is_finite() {
+                    status = TraceStatus::Stalled { at: q };
+                    break;
+                }
+                let h = o.step.min((q - self.goal).norm());
+                let next = q + v.normalize() * h;
+                if !self.is_free(next) {
+                    status = TraceStatus::Collision {
+                        at: [q.x, q.y, v.y.atan2(v.x)],
+                    };
+                    break;
+                }
+                q = next;
+                points.push(q);
+            }
+            status
+        };
+        Ok(PlanResult::new(points, status, clock.elapsed()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Where the flow on the x-axis in front of a single panel of length `len` on the y-axis
+    /// (normal facing −x, into a unit stream in +x) comes to rest, found by bisection.
+    fn stagnation(len: f64, vn: f64) -> f64 {
+        let panel = Panel {
+            start: Point::new(0.0, len / 2.0),
+            end: Point::new(0.0, -len / 2.0),
+        };
+        let field = PanelField::solve(vec![panel], &[vn], Vector::new(1.0, 0.0), None).unwrap();
+        // λ/2 − U = V at the midpoint.
+        assert!((field.strengths()[0] - 2.0 * (1.0 + vn)).abs() < 1e-12);
+        let u = |x: f64| field.velocity(Point::new(x, 0.0)).x;
+        let (mut lo, mut hi) = (-100.0, -1e-12);
+        assert!(u(lo) > 0.0);
+        if u(hi) >= 0.0 {
+            return hi;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if u(mid) > 0.0 { lo = mid } else { hi = mid }
+        }
+        0.5 * (lo + hi)
+    }
+
+    #[test]
+    fn single_panel_stagnation_points() {
+        // On the axis u(x) = U + (λ/π) arctan(L/(2x)) and λ = 2(U + V), so the flow stops at
+        // x* = −(L/2) cot(π / (2(1 + V/U))): 0⁻, −L/2, −(√3/2)L for V = 0, 1, 2. The quoted
+        // values 0⁻, −1, −√3 are these for L = 2 (a half-length of 1).
+        let sqrt3 = 3f64.sqrt();
+        for (len, expected) in [(2.0, [0.0, -1.0, -sqrt3]), (1.0, [0.0, -0.5, -sqrt3 / 2.0])] {
+            for (vn, x) in expected.iter().enumerate() {
+                let got = stagnation(len, vn as f64);
+                let closed = -(len / 2.0) / (PI / (2.0 * (1.0 + vn as f64))).tan();
+                assert!((got - x).abs() < 1e-6, "L = {len}, V = {vn}: {got} vs {x}");
+                assert!((closed - x).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn impermeable_panels_have_zero_normal_flow_at_every_midpoint() {
+        // A square obstacle in a diagonal stream.
+        let sq = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(1.0, 1.0),
+            Point::new(0.0, 1.0),
+        ];
+        let mut panels = Vec::new();
+        edge_panels(&sq, true, &mut panels);
+        let field = PanelField::solve(
+            panels,
+            &[0.0; 4],
+            Vector::new(1.0, 0.5),
+            Some((Point::new(5.0, 5.0), 2.0)),
+        )
+        .unwrap();
+        for p in field.panels() {
+            // Just outside the midpoint, the normal velocity tends to 0.
+            let c = p.midpoint() + p.normal() * 1e-9;
+            assert!(field.velocity(c).dot(&p.normal()).abs() < 1e-6);
+        }
+        // Outward normals of the counter-clockwise square.
+        assert_eq!(field.panels()[0].normal(), Vector::new(0.0, -1.0));
+    }
+
+    #[test]
+    fn plans_around_a_block_without_collision() {
+        let ws = vec![
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let block = vec![
+            Point::new(4.0, 3.0),
+            Point::new(6.0, 3.0),
+            Point::new(6.0, 6.5),
+            Point::new(4.0, 6.5),
+        ];
+        let planner =
+            PanelPlanner::new(&ws, &[block], Point::new(9.0, 5.0), PanelOptions::default())
+                .unwrap();
+        for start in [
+            Point::new(1.0, 5.0),
+            Point::new(1.0, 8.0),
+            Point::new(2.0, 1.0),
+        ] {
+            let plan = planner.plan(start).unwrap();
+            assert!(
+                plan.status.reached_goal(),
+                "from {start}: {:?}",
+                plan.status
+            );
+            assert!(plan.points.iter().all(|&p| planner.is_free(p)));
+        }
+        assert_eq!(
+            planner.plan(Point::new(5.0, 5.0)).unwrap().status,
+            TraceStatus::StartInObstacle
+        );
+    }
+
+    #[test]
+    fn rejects_degenerate_panels() {
+        let p = Panel {
+            start: Point::new(1.0, 1.0),
+            end: Point::new(1.0, 1.0),
+        };
+        assert_eq!(
+            PanelField::solve(vec![p], &[0.0], Vector::zeros(), None).unwrap_err(),
+            BaselineError::SingularPanels { panel: 0 }
+        );
+        assert!(PanelField::solve(vec![], &[0.0], Vector::zeros(), None).is_err());
+    }
+}
