@@ -231,19 +231,6 @@ impl<'a> P1Field<'a> {
         None
     }
 
-    /// Of about a hundred triangles spread through the mesh, the one whose first vertex is
-    /// closest to `p`: where a walk without a hint starts (jump-and-walk).
-    fn nearest_sample(&self, p: Point) -> u32 {
-        let tris = self.mesh.triangles();
-        let verts = self.mesh.vertices();
-        let stride = (tris.len() / 100).max(1);
-        (0..tris.len())
-            .step_by(stride)
-            .map(|t| (t, (verts[tris[t][0] as usize] - p).norm_squared()))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(0, |(t, _)| t as u32)
-    }
-
     /// Classifies a point that no triangle holds: the first boundary edge met by the ray
     /// going right from `p` separates it from free space, and its tag says what lies there.
     fn classify_outside(&self, p: Point) -> Locate<u32> {
@@ -345,13 +332,15 @@ impl Field for P1Field<'_> {
         if n == 0 || !p.x.is_finite() || !p.y.is_finite() {
             return Locate::OutsideWorkspace;
         }
-        let start = hint
+        if let Some(t) = hint
             .filter(|&t| (t as usize) < n)
-            .unwrap_or_else(|| self.nearest_sample(p));
-        if let Some(t) = self.walk(p, start) {
+            .and_then(|h| self.walk(p, h))
+        {
             return Locate::Inside(t);
         }
-        if let Some(t) = (0..n as u32).find(|&t| self.contains(t, p)) {
+        // No hint, or the walk met the boundary (non-convex free space): the mesh's own
+        // bucket-grid location.
+        if let Some(t) = self.mesh.locate(p, None) {
             return Locate::Inside(t);
         }
         self.classify_outside(p)
