@@ -18,6 +18,9 @@
 //!   functions*: uniform stream + goal sink + constant-strength source panels on every
 //!   obstacle edge, strengths from the linear system `P λ = q` for prescribed normal
 //!   velocities, and the closed-form panel velocity field.
+//! - [`navigation`]: Rimon & Koditschek (1992), *Exact robot navigation using artificial
+//!   potential functions*: the sphere-world navigation function
+//!   `φ = γ / (γ^κ + β)^{1/κ}` with tunable κ, descended along its gradient.
 //!
 //! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
 //! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
@@ -25,6 +28,7 @@
 mod error;
 mod geometry;
 pub mod grid_harmonic;
+pub mod navigation;
 pub mod panel;
 mod plan;
 pub mod potential_field;
@@ -33,6 +37,7 @@ pub mod wavefront;
 
 pub use error::BaselineError;
 pub use grid_harmonic::{GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown};
+pub use navigation::{Disc, NavigationFunction, NavigationOptions};
 pub use panel::{Panel, PanelField, PanelOptions, PanelPlanner};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};
