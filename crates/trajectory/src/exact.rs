@@ -10,7 +10,7 @@
 
 use harmonic_mesh::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
 
-use crate::field::{P1Field, orient};
+use crate::field::{P1Field, goal_crossing, orient};
 use crate::{Fallback, Field, Locate, Path, Segment, TraceStatus};
 
 /// Options of the exact tracer.
@@ -326,6 +326,14 @@ impl Tracer<'_, '_> {
             self.push(a);
             Next::Go(At::Vertex { v: va, t })
         } else {
+            // A level edge: free to move along it, and worth it if it leads to a goal.
+            let tags = mesh.vertex_tags();
+            for (v, q) in [(va, a), (vb, b)] {
+                if let Some(BoundaryTag::Goal(_)) = tags[v as usize] {
+                    self.push(q);
+                    return Next::Go(At::Vertex { v, t });
+                }
+            }
             Next::Stuck(p, t)
         }
     }
@@ -439,8 +447,14 @@ impl Tracer<'_, '_> {
                 let q = p + Vector::new(ang.cos(), ang.sin()) * (r0 * scale);
                 match field.segment(t, p, q) {
                     Segment::Goal(j) => {
-                        self.push(q);
-                        return Some(Next::Done(TraceStatus::ReachedGoal(j)));
+                        // Stop on the goal's boundary, if that is lower.
+                        let c = goal_crossing(field, t, p, q);
+                        if let Segment::Inside(u) = field.segment(t, p, c)
+                            && field.value(u, c) < f0
+                        {
+                            self.push(c);
+                            return Some(Next::Done(TraceStatus::ReachedGoal(j)));
+                        }
                     }
                     Segment::Inside(u) => {
                         let f = field.value(u, q);

@@ -467,3 +467,17 @@ impl Field for SmoothP1Field<'_> {
         self.p1.fallback_step(cell, p)
     }
 }
+
+/// The last free point before the goal on the segment `a → b` (which enters it), found by
+/// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary.
+pub(crate) fn goal_crossing<F: Field>(field: &F, cell: F::Cell, a: Point, b: Point) -> Point {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        match field.segment(cell, a, a + (b - a) * mid) {
+            Segment::Goal(_) => hi = mid,
+            _ => lo = mid,
+        }
+    }
+    a + (b - a) * lo
+}

@@ -252,7 +252,7 @@ pub fn trace_smooth<F: Field>(
                     // direction enters it, the path ends there.
                     let q = x + first * h;
                     if let Segment::Goal(g) = field.segment(cell, x, q) {
-                        points.push(goal_crossing(field, cell, x, q));
+                        points.push(crate::field::goal_crossing(field, cell, x, q));
                         break 'outer TraceStatus::ReachedGoal(g);
                     }
                     h *= 0.5;
@@ -301,18 +301,4 @@ pub fn trace_smooth<F: Field>(
         h = (h * grow.clamp(0.2, 5.0)).min(opts.max_step);
     };
     Ok(Path::new(points, status, min_gradient, crossed))
-}
-
-/// The last free point before the goal on the segment `a → b` (which enters it), found by
-/// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary.
-fn goal_crossing<F: Field>(field: &F, cell: F::Cell, a: Point, b: Point) -> Point {
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        match field.segment(cell, a, a + (b - a) * mid) {
-            Segment::Goal(_) => hi = mid,
-            _ => lo = mid,
-        }
-    }
-    a + (b - a) * lo
 }
