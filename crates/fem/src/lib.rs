@@ -1,1 +1,177 @@
-//! harmonic-fem (being written)
+//! # harmonic-fem
+//!
+//! P1 (piecewise linear) finite elements for Laplace's equation on a triangulated free space,
+//! the numerical core of the harmonic planner: stiffness by the cotangent formula assembled
+//! straight into compressed sparse storage, Robin boundary mass and load, Neumann load and
+//! Dirichlet lifting; the solution as a [`Potential`] with point values, element gradients,
+//! recovered nodal gradients and an error indicator.
+//!
+//! ## The ψ convention
+//! Far from the goal a Dirichlet potential φ is within 1e-17 of the wall value, so a float φ
+//! loses every digit there. This crate therefore solves for **ψ = c − φ**, where `c` is the
+//! reference "high" value (the largest Dirichlet value or Robin equilibrium value `g/b`; 1 for
+//! the defaults), and keeps ψ's relative precision however small it becomes. Each condition
+//! is transformed exactly: Dirichlet `v` → ψ = c − v; Neumann `g` → ∂ψ/∂n = −g; Robin
+//! `a∂φ/∂n + bφ = g` → `a∂ψ/∂n + bψ = b·c − g`. The robot ascends ψ (descends φ).
+//!
+//! ## Flow
+//! [`Assembler::new`] computes the sparsity pattern and the Dirichlet map once for a mesh and
+//! the *kinds* of its boundary conditions; [`Assembler::assemble`] fills values for any
+//! conditions of the same kinds; [`Solver`] keeps the symbolic Cholesky factorisation so a
+//! replan with new values only refactors numerically.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use harmonic_fem::{BoundaryConditions, solve_potential};
+//! use harmonic_mesh::{BoundaryTag, Mesh, Point};
+//!
+//! // A unit square in two triangles plus a centre vertex; the goal is the bottom side.
+//! let vertices = vec![
+//!     Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0),
+//!     Point::new(0.0, 1.0), Point::new(0.5, 0.5),
+//! ];
+//! let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+//! let boundary = [
+//!     (0, 1, BoundaryTag::Goal(0)),
+//!     (1, 2, BoundaryTag::Wall),
+//!     (2, 3, BoundaryTag::Wall),
+//!     (3, 0, BoundaryTag::Wall),
+//! ];
+//! let mesh = Arc::new(Mesh::from_parts(vertices, triangles, &boundary)?);
+//! let potential = solve_potential(mesh, &BoundaryConditions::default())?;
+//! // The centre vertex is the only unknown: the mean of its four neighbours 0, 0, 1, 1.
+//! assert!((potential.phi_at_vertices()[4] - 0.5).abs() < 1e-12);
+//! assert_eq!(potential.interior_local_extrema(), 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod assemble;
+mod bc;
+mod potential;
+mod solve;
+
+pub use assemble::{
+    Assembler, AssemblyOptions, BoundaryData, LinearSystem, RobinMass, offdiagonal_sign_violations,
+};
+pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
+pub use potential::{Evaluation, Potential, blend};
+pub use solve::{Solver, solve_potential};
+
+/// Re-exported so callers can pick an ordering without depending on the solver crate.
+pub use harmonic_solver::Ordering;
+
+/// Everything that can go wrong while assembling, solving or evaluating.
+#[derive(Debug, thiserror::Error)]
+pub enum FemError {
+    /// A boundary condition holds NaN or an infinity.
+    #[error("boundary condition on {part}: {what} is {value}, not a finite number")]
+    NonFinite {
+        /// The boundary part ("walls", "obstacle 3", ...).
+        part: String,
+        /// Which number.
+        what: String,
+        /// The offending value.
+        value: f64,
+    },
+    /// A Robin condition with `a = b = 0`.
+    #[error("boundary condition on {part}: Robin a and b are both zero, so it says nothing")]
+    RobinBothZero {
+        /// The boundary part.
+        part: String,
+    },
+    /// A Robin condition with `b/a < 0`, which makes the problem indefinite.
+    #[error(
+        "boundary condition on {part}: Robin b/a = {ratio} is negative; the problem would be indefinite (use b/a ≥ 0)"
+    )]
+    NegativeRobin {
+        /// The boundary part.
+        part: String,
+        /// The ratio b/a.
+        ratio: f64,
+    },
+    /// Boundary data from a [`BoundaryData`] callback is not finite.
+    #[error("boundary data on {part} at ({x}, {y}) is {value}, not a finite number")]
+    NonFiniteData {
+        /// The boundary part.
+        part: String,
+        /// Where.
+        x: f64,
+        /// Where.
+        y: f64,
+        /// The offending value.
+        value: f64,
+    },
+    /// A connected piece of free space has neither a Dirichlet part nor a Robin part with
+    /// `b/a > 0`.
+    #[error(
+        "only Neumann conditions on connected component {component} of free space (around ({x}, {y})): the potential is defined up to a constant; hold a part (e.g. the goal) by a Dirichlet condition or use Robin with b/a > 0"
+    )]
+    OnlyNeumann {
+        /// The component index (see `Mesh::triangle_components`).
+        component: u32,
+        /// A vertex of that component.
+        x: f64,
+        /// A vertex of that component.
+        y: f64,
+    },
+    /// Every Dirichlet value and Robin equilibrium value is the same and no flux enters.
+    #[error(
+        "nothing drives the flow: every Dirichlet value and Robin equilibrium g/b equals {value} and no Neumann or Robin flux enters, so the potential is the constant {value}; give the goal a different value"
+    )]
+    ConstantPotential {
+        /// The single boundary value.
+        value: f64,
+    },
+    /// [`Assembler::assemble`] was given conditions whose kind on some part differs from the
+    /// ones the assembler was built for.
+    #[error(
+        "boundary part {part} was {was:?} when the assembler was built but is {now:?} now; build a new Assembler"
+    )]
+    KindChanged {
+        /// The boundary part.
+        part: String,
+        /// Kind at construction.
+        was: ConditionKind,
+        /// Kind now.
+        now: ConditionKind,
+    },
+    /// [`Assembler::assemble_into`] was handed a system made by a different assembler.
+    #[error("the linear system was not made by this assembler (different pattern)")]
+    ForeignSystem,
+    /// The mesh is too large for 32-bit positions in the sparse matrix.
+    #[error("the matrix has {nnz} stored entries, more than this crate indexes (u32)")]
+    TooLarge {
+        /// The number of stored entries.
+        nnz: usize,
+    },
+    /// Two things that must have the same length do not.
+    #[error("{what}: expected length {expected}, got {got}")]
+    LengthMismatch {
+        /// What was checked.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Actual length.
+        got: usize,
+    },
+    /// A point lies outside the mesh.
+    #[error("point ({x}, {y}) is outside the mesh (in an obstacle or beyond the walls)")]
+    OutsideMesh {
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+    },
+    /// Two potentials on different meshes were combined.
+    #[error("the potentials live on different meshes")]
+    DifferentMeshes,
+    /// A blending weight outside [0, 1].
+    #[error("blending weight k = {k} must lie in [0, 1]")]
+    BadWeight {
+        /// The weight.
+        k: f64,
+    },
+    /// The sparse solver failed.
+    #[error("linear solve failed: {0}")]
+    Solver(#[from] harmonic_solver::SolverError),
+}

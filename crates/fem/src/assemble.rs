@@ -1,0 +1,573 @@
+//! P1 assembly straight into compressed sparse storage, with Dirichlet lifting.
+//!
+//! The pattern (the mesh's edges among free vertices, plus the diagonal) and the position of
+//! every element entry in it are computed once by [`Assembler::new`]; [`Assembler::assemble`]
+//! then only scatters values, so replanning with new boundary values costs one pass over the
+//! triangles and the boundary edges.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use harmonic_mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, orient2d};
+use harmonic_solver::SymmetricCsc;
+
+use crate::FemError;
+use crate::bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
+
+/// Marks "no unknown" / "no position" in the index tables.
+const NONE: u32 = u32::MAX;
+
+/// Spatially varying boundary data: `data(edge, point)`, called at both ends of every boundary
+/// edge, replaces the constant value of the condition on `edge.tag` — the Dirichlet value,
+/// the Neumann flux `g` or the Robin right-hand side `g` (Robin `a` and `b` stay constant).
+/// Along an edge the data is interpolated linearly and integrated exactly. The edge is given
+/// so flux data can use its outward normal (at a corner the two edges may differ).
+pub type BoundaryData<'a> = &'a dyn Fn(&BoundaryEdge, Point) -> f64;
+
+/// How the Robin boundary mass `(b/a)∫ψv` is integrated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RobinMass {
+    /// Row-sum lumped onto the diagonal (`|e|/2` per end). Keeps the reduced matrix an
+    /// M-matrix (nonpositive off-diagonals), hence the discrete maximum principle.
+    #[default]
+    Lumped,
+    /// The consistent edge mass (`|e|/3` diagonal, `|e|/6` off-diagonal): positive
+    /// off-diagonal entries, so the M-matrix property can be lost.
+    Consistent,
+}
+
+/// Options for [`Assembler::new`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AssemblyOptions {
+    /// Robin boundary mass integration.
+    pub robin_mass: RobinMass,
+}
+
+/// Which vertices are unknowns, shared by an assembler and its systems.
+#[derive(Debug)]
+struct DofMap {
+    /// Per vertex: its unknown index, or `NONE` if its value is prescribed (a Dirichlet vertex,
+    /// or a vertex used by no triangle).
+    unknown_of: Vec<u32>,
+    /// Per unknown: its vertex (increasing, so unknowns follow the mesh's vertex order).
+    free_vertices: Vec<u32>,
+}
+
+/// The reduced linear system `A x = b` for ψ at the free vertices, with what is needed to map
+/// the solution back to every vertex.
+#[derive(Clone, Debug)]
+pub struct LinearSystem {
+    matrix: SymmetricCsc,
+    rhs: Vec<f64>,
+    /// ψ at every vertex whose value is prescribed (0 at free vertices).
+    psi_fixed: Vec<f64>,
+    reference: f64,
+    dofs: Arc<DofMap>,
+}
+
+impl LinearSystem {
+    /// The reduced stiffness (+ Robin mass) matrix: symmetric positive definite, full pattern.
+    pub fn matrix(&self) -> &SymmetricCsc {
+        &self.matrix
+    }
+    /// The right-hand side (loads and Dirichlet lifting `−A_ID ψ_D`).
+    pub fn rhs(&self) -> &[f64] {
+        &self.rhs
+    }
+    /// The reference value `c` of the transform ψ = c − φ.
+    pub fn reference(&self) -> f64 {
+        self.reference
+    }
+    /// The number of unknowns.
+    pub fn unknown_count(&self) -> usize {
+        self.dofs.free_vertices.len()
+    }
+    /// The mesh vertex of each unknown, in increasing order.
+    pub fn free_vertices(&self) -> &[u32] {
+        &self.dofs.free_vertices
+    }
+    /// The unknown index of each mesh vertex, `None` for prescribed vertices.
+    pub fn unknown_of(&self, vertex: u32) -> Option<u32> {
+        self.dofs
+            .unknown_of
+            .get(vertex as usize)
+            .copied()
+            .filter(|&u| u != NONE)
+    }
+    /// ψ at every mesh vertex from the solution `x` of the reduced system (prescribed values
+    /// at Dirichlet vertices, 0 at vertices used by no triangle).
+    pub fn expand(&self, x: &[f64]) -> Result<Vec<f64>, FemError> {
+        if x.len() != self.unknown_count() {
+            return Err(FemError::LengthMismatch {
+                what: "solution of the reduced system",
+                expected: self.unknown_count(),
+                got: x.len(),
+            });
+        }
+        let mut psi = self.psi_fixed.clone();
+        for (&v, &xi) in self.dofs.free_vertices.iter().zip(x) {
+            psi[v as usize] = xi;
+        }
+        Ok(psi)
+    }
+}
+
+/// Counts the positive off-diagonal pairs of the reduced matrix (each symmetric pair once).
+/// Zero means the matrix is an M-matrix (it is SPD and diagonally dominant by construction),
+/// so the discrete maximum principle holds. An entry counts as positive above a round-off
+/// tolerance of `1e-12·max(a_ii, a_jj)` (right angles give cotangents of exactly zero in
+/// exact arithmetic).
+pub fn offdiagonal_sign_violations(system: &LinearSystem) -> usize {
+    let a = &system.matrix;
+    let diag = a.diagonal();
+    let (col_ptr, row_idx, values) = (a.col_ptr(), a.row_idx(), a.values());
+    let mut count = 0;
+    for j in 0..a.n() {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            if i > j && values[p] > 1e-12 * diag[i].max(diag[j]) {
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+/// Builds the sparsity pattern and Dirichlet map of a mesh once, then assembles systems for
+/// boundary conditions of the same kinds (which parts are Dirichlet) as often as needed.
+///
+/// Unknowns are the vertices not on any Dirichlet part, numbered in mesh vertex order. A
+/// vertex on a Dirichlet part is prescribed even if it also touches a Neumann or Robin part;
+/// a vertex on two Dirichlet parts with different values takes the **lower φ** (the goal's,
+/// for the usual conditions), so goals are never shrunk by a neighbouring wall. Vertices used
+/// by no triangle are prescribed too (ψ = 0).
+#[derive(Debug)]
+pub struct Assembler {
+    mesh: Arc<Mesh>,
+    options: AssemblyOptions,
+    kinds: BTreeMap<BoundaryTag, ConditionKind>,
+    dofs: Arc<DofMap>,
+    /// A zero-valued matrix with the final pattern.
+    template: SymmetricCsc,
+    /// Per triangle and local edge `k` (joining local vertices `k+1`, `k+2`): positions of
+    /// the entries (row `k+1`, col `k+2`) and (row `k+2`, col `k+1`), or `NONE`.
+    tri_pos: Vec<[u32; 6]>,
+    /// Per unknown: position of its diagonal entry.
+    diag_pos: Vec<u32>,
+    /// Per component of free space: whether it has a prescribed vertex.
+    component_fixed: Vec<bool>,
+    /// Per component: one of its vertices (for error messages).
+    component_vertex: Vec<u32>,
+}
+
+impl Assembler {
+    /// Computes the sparsity pattern and the Dirichlet map for `mesh` and the kinds of `bcs`
+    /// (only which parts are Dirichlet matters here; values are taken by
+    /// [`assemble`](Self::assemble)). Validates `bcs`.
+    pub fn new(
+        mesh: Arc<Mesh>,
+        bcs: &BoundaryConditions,
+        options: AssemblyOptions,
+    ) -> Result<Self, FemError> {
+        bcs.validate()?;
+        let nv = mesh.vertices().len();
+        let triangles = mesh.triangles();
+        let mut kinds = BTreeMap::new();
+        let mut fixed = vec![false; nv];
+        for e in mesh.boundary_edges() {
+            let kind = bcs.for_tag(e.tag).kind();
+            kinds.insert(e.tag, kind);
+            if kind == ConditionKind::Essential {
+                for &v in &e.vertices {
+                    fixed[v as usize] = true;
+                }
+            }
+        }
+        let mut used = vec![false; nv];
+        for tri in triangles {
+            for &v in tri {
+                used[v as usize] = true;
+            }
+        }
+        let mut unknown_of = vec![NONE; nv];
+        let mut free_vertices = Vec::new();
+        for v in 0..nv {
+            if used[v] && !fixed[v] {
+                unknown_of[v] = free_vertices.len() as u32;
+                free_vertices.push(v as u32);
+            }
+        }
+        let n = free_vertices.len();
+
+        // Pattern: each mesh edge once (from the triangle with the smaller index, or the only
+        // one), kept if both ends are unknowns; plus the diagonal.
+        let neighbors = mesh.neighbors();
+        let for_each_edge = |f: &mut dyn FnMut(u32, u32)| {
+            for (t, tri) in triangles.iter().enumerate() {
+                for k in 0..3 {
+                    let nb = neighbors[t][k];
+                    if nb == NO_NEIGHBOR || nb as usize > t {
+                        let a = unknown_of[tri[(k + 1) % 3] as usize];
+                        let b = unknown_of[tri[(k + 2) % 3] as usize];
+                        if a != NONE && b != NONE {
+                            f(a, b);
+                        }
+                    }
+                }
+            }
+        };
+        let mut count = vec![1usize; n];
+        for_each_edge(&mut |a, b| {
+            count[a as usize] += 1;
+            count[b as usize] += 1;
+        });
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0usize);
+        for c in &count {
+            col_ptr.push(col_ptr[col_ptr.len() - 1] + c);
+        }
+        let nnz = col_ptr[n];
+        if nnz >= NONE as usize {
+            return Err(FemError::TooLarge { nnz });
+        }
+        let mut next: Vec<usize> = col_ptr[..n].to_vec();
+        let mut row_idx = vec![0usize; nnz];
+        for (j, slot) in next.iter_mut().enumerate() {
+            row_idx[*slot] = j;
+            *slot += 1;
+        }
+        for_each_edge(&mut |a, b| {
+            let (a, b) = (a as usize, b as usize);
+            row_idx[next[b]] = a;
+            next[b] += 1;
+            row_idx[next[a]] = b;
+            next[a] += 1;
+        });
+        for j in 0..n {
+            row_idx[col_ptr[j]..col_ptr[j + 1]].sort_unstable();
+        }
+        let position = |row: usize, col: usize| -> u32 {
+            let start = col_ptr[col];
+            let offset = row_idx[start..col_ptr[col + 1]]
+                .binary_search(&row)
+                .expect("every edge between unknowns is in the pattern");
+            (start + offset) as u32
+        };
+        let diag_pos: Vec<u32> = (0..n).map(|j| position(j, j)).collect();
+        let tri_pos: Vec<[u32; 6]> = triangles
+            .iter()
+            .map(|tri| {
+                let mut pos = [NONE; 6];
+                for k in 0..3 {
+                    let a = unknown_of[tri[(k + 1) % 3] as usize];
+                    let b = unknown_of[tri[(k + 2) % 3] as usize];
+                    if a != NONE && b != NONE {
+                        pos[2 * k] = position(a as usize, b as usize);
+                        pos[2 * k + 1] = position(b as usize, a as usize);
+                    }
+                }
+                pos
+            })
+            .collect();
+        let template = SymmetricCsc::try_new(n, col_ptr, row_idx, vec![0.0; nnz])?;
+
+        let components = mesh.component_count() as usize;
+        let mut component_fixed = vec![false; components];
+        let mut component_vertex = vec![NONE; components];
+        for (t, tri) in triangles.iter().enumerate() {
+            let c = mesh.triangle_components()[t] as usize;
+            component_vertex[c] = tri[0];
+            if tri.iter().any(|&v| unknown_of[v as usize] == NONE) {
+                component_fixed[c] = true;
+            }
+        }
+        Ok(Assembler {
+            mesh,
+            options,
+            kinds,
+            dofs: Arc::new(DofMap {
+                unknown_of,
+                free_vertices,
+            }),
+            template,
+            tri_pos,
+            diag_pos,
+            component_fixed,
+            component_vertex,
+        })
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Arc<Mesh> {
+        &self.mesh
+    }
+
+    /// The number of unknowns.
+    pub fn unknown_count(&self) -> usize {
+        self.dofs.free_vertices.len()
+    }
+
+    /// The coordinates of the unknowns' vertices, e.g. for a nested-dissection ordering.
+    pub fn unknown_coordinates(&self) -> Vec<[f64; 2]> {
+        let v = self.mesh.vertices();
+        self.dofs
+            .free_vertices
+            .iter()
+            .map(|&i| [v[i as usize].x, v[i as usize].y])
+            .collect()
+    }
+
+    /// A zero system with this assembler's pattern, to fill with
+    /// [`assemble_into`](Self::assemble_into).
+    pub fn empty_system(&self) -> LinearSystem {
+        LinearSystem {
+            matrix: self.template.clone(),
+            rhs: vec![0.0; self.unknown_count()],
+            psi_fixed: vec![0.0; self.mesh.vertices().len()],
+            reference: 0.0,
+            dofs: Arc::clone(&self.dofs),
+        }
+    }
+
+    /// Assembles the reduced system for constant boundary conditions `bcs`.
+    pub fn assemble(&self, bcs: &BoundaryConditions) -> Result<LinearSystem, FemError> {
+        let mut system = self.empty_system();
+        self.assemble_into(bcs, None, &mut system)?;
+        Ok(system)
+    }
+
+    /// Assembles the reduced system for `bcs` with spatially varying values from `data`
+    /// (see [`BoundaryData`]).
+    pub fn assemble_with(
+        &self,
+        bcs: &BoundaryConditions,
+        data: BoundaryData<'_>,
+    ) -> Result<LinearSystem, FemError> {
+        let mut system = self.empty_system();
+        self.assemble_into(bcs, Some(data), &mut system)?;
+        Ok(system)
+    }
+
+    /// Re-assembles values into an existing system of this assembler (no allocation of the
+    /// pattern). `data`, if given, overrides the constant values (see [`BoundaryData`]).
+    pub fn assemble_into(
+        &self,
+        bcs: &BoundaryConditions,
+        data: Option<BoundaryData<'_>>,
+        system: &mut LinearSystem,
+    ) -> Result<(), FemError> {
+        if !Arc::ptr_eq(&system.dofs, &self.dofs) {
+            return Err(FemError::ForeignSystem);
+        }
+        bcs.validate()?;
+        for (&tag, &was) in &self.kinds {
+            let now = bcs.for_tag(tag).kind();
+            if now != was {
+                return Err(FemError::KindChanged {
+                    part: tag.to_string(),
+                    was,
+                    now,
+                });
+            }
+        }
+        let mesh = &*self.mesh;
+        let vertices = mesh.vertices();
+        let unknown_of = &self.dofs.unknown_of;
+        let value_at = |bc: BoundaryCondition, e: &BoundaryEdge, v: u32| -> Result<f64, FemError> {
+            let constant = match bc {
+                BoundaryCondition::Dirichlet(v) => v,
+                BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
+            };
+            match data {
+                None => Ok(constant),
+                Some(f) => {
+                    let p = vertices[v as usize];
+                    let value = f(e, p);
+                    if value.is_finite() {
+                        Ok(value)
+                    } else {
+                        Err(FemError::NonFiniteData {
+                            part: e.tag.to_string(),
+                            x: p.x,
+                            y: p.y,
+                            value,
+                        })
+                    }
+                }
+            }
+        };
+
+        // Prescribed φ (lowest wins), the reference value c, and what drives the flow.
+        let psi_fixed = &mut system.psi_fixed;
+        psi_fixed.fill(f64::INFINITY);
+        for (v, &u) in unknown_of.iter().enumerate() {
+            if u != NONE {
+                psi_fixed[v] = 0.0;
+            }
+        }
+        let mut levels: Vec<f64> = Vec::new();
+        let mut flux = false;
+        let mut anchored_by_robin = vec![false; self.component_fixed.len()];
+        for e in mesh.boundary_edges() {
+            let bc = bcs.for_tag(e.tag);
+            let [i, j] = e.vertices;
+            let (gi, gj) = (value_at(bc, e, i)?, value_at(bc, e, j)?);
+            match bc {
+                BoundaryCondition::Dirichlet(_) => {
+                    for (v, phi) in [(i, gi), (j, gj)] {
+                        let slot = &mut psi_fixed[v as usize];
+                        *slot = slot.min(phi);
+                    }
+                    levels.extend([gi, gj]);
+                }
+                BoundaryCondition::Robin { a: 0.0, b, .. } => {
+                    for (v, phi) in [(i, gi / b), (j, gj / b)] {
+                        let slot = &mut psi_fixed[v as usize];
+                        *slot = slot.min(phi);
+                    }
+                    levels.extend([gi / b, gj / b]);
+                }
+                BoundaryCondition::Robin { b, .. } if b != 0.0 => {
+                    levels.extend([gi / b, gj / b]);
+                    anchored_by_robin[mesh.triangle_components()[e.triangle as usize] as usize] =
+                        true;
+                }
+                BoundaryCondition::Neumann(_) | BoundaryCondition::Robin { .. } => {
+                    flux |= gi != 0.0 || gj != 0.0;
+                }
+            }
+        }
+        for (c, (&fixed, &robin)) in self
+            .component_fixed
+            .iter()
+            .zip(&anchored_by_robin)
+            .enumerate()
+        {
+            if !fixed && !robin {
+                let p = vertices[self.component_vertex[c] as usize];
+                return Err(FemError::OnlyNeumann {
+                    component: c as u32,
+                    x: p.x,
+                    y: p.y,
+                });
+            }
+        }
+        let reference = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let reference = if reference.is_finite() {
+            reference
+        } else {
+            0.0
+        };
+        let tol = 1e-12 * reference.abs().max(1.0);
+        if !flux && levels.iter().all(|&l| (l - reference).abs() <= tol) {
+            return Err(FemError::ConstantPotential { value: reference });
+        }
+        for (v, slot) in psi_fixed.iter_mut().enumerate() {
+            if unknown_of[v] == NONE {
+                // Prescribed vertex: c − φ, or 0 if no Dirichlet part touches it (unused).
+                *slot = if slot.is_finite() {
+                    reference - *slot
+                } else {
+                    0.0
+                };
+            }
+        }
+        system.reference = reference;
+
+        let psi_fixed = &system.psi_fixed;
+        let values = system.matrix.values_mut();
+        values.fill(0.0);
+        let rhs = &mut system.rhs;
+        rhs.fill(0.0);
+        let diag_pos = &self.diag_pos;
+
+        // Stiffness: K_pq = −(cot θ_k)/2 for the edge opposite local vertex k.
+        for (tri, pos) in mesh.triangles().iter().zip(&self.tri_pos) {
+            let [p0, p1, p2] = tri.map(|v| vertices[v as usize]);
+            let half_inv = 0.5 / orient2d(p0, p1, p2);
+            let w = [
+                (p1 - p0).dot(&(p2 - p0)) * half_inv,
+                (p2 - p1).dot(&(p0 - p1)) * half_inv,
+                (p0 - p2).dot(&(p1 - p2)) * half_inv,
+            ];
+            for k in 0..3 {
+                let (a, b) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+                let (ua, ub) = (unknown_of[a], unknown_of[b]);
+                let wk = w[k];
+                if ua != NONE {
+                    values[diag_pos[ua as usize] as usize] += wk;
+                    if ub != NONE {
+                        values[pos[2 * k] as usize] -= wk;
+                        values[pos[2 * k + 1] as usize] -= wk;
+                    } else {
+                        rhs[ua as usize] += wk * psi_fixed[b];
+                    }
+                }
+                if ub != NONE {
+                    values[diag_pos[ub as usize] as usize] += wk;
+                    if ua == NONE {
+                        rhs[ub as usize] += wk * psi_fixed[a];
+                    }
+                }
+            }
+        }
+
+        // Neumann and Robin edges: ∫ f v with f linear along the edge is |e|(2f_i + f_j)/6.
+        for e in mesh.boundary_edges() {
+            let bc = bcs.for_tag(e.tag);
+            let [i, j] = e.vertices;
+            let (ui, uj) = (unknown_of[i as usize], unknown_of[j as usize]);
+            if ui == NONE && uj == NONE {
+                continue;
+            }
+            let length = (vertices[j as usize] - vertices[i as usize]).norm();
+            let (gi, gj) = (value_at(bc, e, i)?, value_at(bc, e, j)?);
+            // ψ flux data f (∂ψ/∂n = f − βψ) and Robin coefficient β = b/a.
+            let (fi, fj, beta) = match bc {
+                BoundaryCondition::Dirichlet(_) => continue,
+                BoundaryCondition::Robin { a: 0.0, .. } => continue,
+                BoundaryCondition::Neumann(_) => (-gi, -gj, 0.0),
+                BoundaryCondition::Robin { a, b, .. } => {
+                    ((b * reference - gi) / a, (b * reference - gj) / a, b / a)
+                }
+            };
+            if ui != NONE {
+                rhs[ui as usize] += length * (2.0 * fi + fj) / 6.0;
+            }
+            if uj != NONE {
+                rhs[uj as usize] += length * (fi + 2.0 * fj) / 6.0;
+            }
+            if beta == 0.0 {
+                continue;
+            }
+            match self.options.robin_mass {
+                RobinMass::Lumped => {
+                    for u in [ui, uj] {
+                        if u != NONE {
+                            values[diag_pos[u as usize] as usize] += beta * length / 2.0;
+                        }
+                    }
+                }
+                RobinMass::Consistent => {
+                    let off = beta * length / 6.0;
+                    for (u, other, other_u) in [(ui, j, uj), (uj, i, ui)] {
+                        if u == NONE {
+                            continue;
+                        }
+                        values[diag_pos[u as usize] as usize] += beta * length / 3.0;
+                        if other_u == NONE {
+                            rhs[u as usize] -= off * psi_fixed[other as usize];
+                        }
+                    }
+                    if ui != NONE && uj != NONE {
+                        let k = e.local_edge as usize;
+                        let pos = self.tri_pos[e.triangle as usize];
+                        values[pos[2 * k] as usize] += off;
+                        values[pos[2 * k + 1] as usize] += off;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
