@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use harmonic_mesh::{Point, Vector};
-use harmonic_trajectory::{Field, Locate, Segment};
+use harmonic_trajectory::{Fallback, Field, Locate, Segment};
 
 use crate::raster::UNREACHED;
 use crate::{BaselineError, Cell, Connectivity, Raster};
@@ -379,6 +379,28 @@ impl Field for GridHarmonic {
     fn goal_reachable(&self, cell: usize) -> bool {
         self.reaches_goal[cell]
     }
+
+    /// One move of discrete steepest descent: to the centre of the edge neighbour with the
+    /// lowest value, if it is lower than this cell's (always so in a converged field without
+    /// flat cells).
+    fn fallback_step(&self, cell: usize, _p: Point) -> Fallback<usize> {
+        let n = self.raster.n();
+        let cells = self.raster.cells();
+        if cell >= cells.len() || cells[cell] != Cell::Free {
+            return Fallback::Stuck;
+        }
+        let best = [cell - 1, cell + 1, cell - n, cell + n]
+            .into_iter()
+            .filter(|&m| cells[m].is_traversable())
+            .min_by(|&a, &b| self.descent_value(a).total_cmp(&self.descent_value(b)));
+        match best {
+            Some(m) if self.descent_value(m) < self.descent_value(cell) => match cells[m] {
+                Cell::Goal(j) => Fallback::Goal(j),
+                _ => Fallback::Moved(self.raster.centre(m), m),
+            },
+            _ => Fallback::Stuck,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -538,6 +560,51 @@ mod tests {
         // Descent direction −∇ points up and to the right, toward the goal.
         assert!(g.x < 0.0 && g.y < 0.0, "gradient {g:?}");
         assert!(f.value_and_gradient(Point::new(-5.0, 2.0)).is_none());
+    }
+
+    #[test]
+    fn the_shared_tracer_follows_the_grid_field_to_the_goal() {
+        use harmonic_trajectory::{SmoothOptions, TraceStatus, trace_smooth};
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 10.0),
+            &[rect(2.0, 2.0, 3.0, 8.0), rect(5.0, 4.0, 9.0, 5.0)],
+            &[rect(8.2, 1.2, 8.8, 1.8)],
+            64,
+        )
+        .unwrap();
+        let f = GridHarmonic::solve(raster, &SorOptions::default()).unwrap();
+        for start in [
+            Point::new(1.0, 9.0),
+            Point::new(0.5, 5.0),
+            Point::new(8.0, 8.0),
+        ] {
+            let path = trace_smooth(&f, start, &SmoothOptions::for_scale(10.0)).unwrap();
+            assert_eq!(path.status, TraceStatus::ReachedGoal(0), "from {start}");
+            for p in &path.points {
+                assert!(
+                    f.raster().cell_at(*p).is_some_and(Cell::is_traversable),
+                    "{p}"
+                );
+            }
+        }
+        let blocked = trace_smooth(&f, Point::new(2.5, 5.0), &SmoothOptions::for_scale(10.0));
+        assert_eq!(blocked.unwrap().status, TraceStatus::StartInObstacle);
+    }
+
+    #[test]
+    fn fallback_moves_to_the_lowest_neighbour() {
+        let f = GridHarmonic::solve(corridor(12), &SorOptions::default()).unwrap();
+        let n = 12;
+        let k = 6 * n + 5;
+        assert_eq!(
+            f.fallback_step(k, f.raster().centre(k)),
+            Fallback::Moved(f.raster().centre(k - 1), k - 1)
+        );
+        assert_eq!(
+            f.fallback_step(6 * n + 2, Point::origin()),
+            Fallback::Goal(0)
+        );
+        assert_eq!(f.fallback_step(0, Point::origin()), Fallback::Stuck);
     }
 
     #[test]

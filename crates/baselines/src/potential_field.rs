@@ -211,7 +211,7 @@ impl PotentialField {
 mod tests {
     use super::*;
     use crate::{GridHarmonic, Raster, SorOptions};
-    use harmonic_trajectory::{Field, Locate};
+    use harmonic_trajectory::{SmoothOptions, trace_smooth};
 
     fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {
         vec![
@@ -287,23 +287,8 @@ mod tests {
         let goal_box = rect(8.8, 4.8, 9.2, 5.2);
         let raster = Raster::from_polygons(&ws, &[cup()], &[goal_box], 82).unwrap();
         let harmonic = GridHarmonic::solve(raster, &SorOptions::default()).unwrap();
-        let mut q = start;
-        let mut reached = false;
-        for _ in 0..20_000 {
-            match harmonic.locate(q, None) {
-                Locate::Goal(_) => {
-                    reached = true;
-                    break;
-                }
-                Locate::Inside(c) => {
-                    let g = harmonic.gradient(c, q);
-                    assert!(g.norm() > 0.0, "flat harmonic field at {q}");
-                    q -= g.normalize() * 0.02;
-                }
-                other => panic!("left free space at {q}: {other:?}"),
-            }
-        }
-        assert!(reached, "harmonic descent ended at {q}");
+        let path = trace_smooth(&harmonic, start, &SmoothOptions::for_scale(10.0)).unwrap();
+        assert_eq!(path.status, TraceStatus::ReachedGoal(0));
     }
 
     #[test]
