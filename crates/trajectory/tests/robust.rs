@@ -7,7 +7,8 @@ mod common;
 use common::{Cell, Grid};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{
-    ExactOptions, Field, Locate, P1Field, SmoothOptions, TraceStatus, trace_exact, trace_smooth,
+    CarOptions, ExactOptions, Field, Locate, P1Field, SmoothOptions, TraceStatus, drive,
+    trace_exact, trace_smooth,
 };
 use proptest::prelude::*;
 
@@ -69,6 +70,17 @@ proptest! {
             prop_assert!(smooth.length.is_finite());
             for w in smooth.points.windows(2) {
                 prop_assert!(!g.segment_hits_obstacle(w[0], w[1]), "smooth {} → {}", w[0], w[1]);
+            }
+            let mut copts = CarOptions::new(0.2, 0.6, 0.05);
+            copts.max_steps = 2_000;
+            copts.stall_steps = 100;
+            let car = drive(&f, [s.x, s.y, sx + sy], &copts, None).unwrap();
+            prop_assert!(car.length.is_finite() && car.max_curvature <= 0.6f64.tan() / 0.2 + 1e-9);
+            for (i, p) in car.poses.iter().enumerate() {
+                prop_assert!(p.iter().all(|c| c.is_finite()));
+                let cell = g.cell_at(Point::new(p[0], p[1]));
+                let last_in_goal = i + 1 == car.poses.len() && car.status.reached_goal();
+                prop_assert!(cell == Some(Cell::Free) || last_in_goal || (p[0] == s.x && p[1] == s.y), "car pose {:?} in {:?}", p, cell);
             }
         }
     }

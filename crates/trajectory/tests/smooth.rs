@@ -110,3 +110,35 @@ fn options_are_checked() {
     let path = trace_smooth(&f, Point::new(1.0, 1.0), &SmoothOptions::for_scale(10.0)).unwrap();
     assert!(matches!(path.status, TraceStatus::Stalled { .. }));
 }
+
+#[test]
+fn smooth_paths_slide_along_walls() {
+    // ψ = x + 0.5 y on a 4 × 8 strip, goal above the top-right cell: the ascent pushes into
+    // the right wall; steps into it are refused and the exact fallback slides along it.
+    let mut g = Grid::new(4, 8, 1.0);
+    g.mark(3.0, 7.0, 4.0, 8.0, Cell::Goal(0));
+    let mesh = g.mesh();
+    let psi: Vec<f64> = mesh.vertices().iter().map(|p| p.x + 0.5 * p.y).collect();
+    let grads = nodal_gradients(&mesh, &psi);
+    let smooth = SmoothP1Field::ascending(&mesh, &psi, &grads).unwrap();
+    let p1 = P1Field::ascending(&mesh, &psi).unwrap();
+    for path in [
+        trace_smooth(
+            &smooth,
+            Point::new(0.3, 0.2),
+            &SmoothOptions::for_scale(8.0),
+        )
+        .unwrap(),
+        trace_smooth(&p1, Point::new(0.3, 0.2), &SmoothOptions::for_scale(8.0)).unwrap(),
+    ] {
+        assert_eq!(
+            path.status,
+            TraceStatus::ReachedGoal(0),
+            "{:?}",
+            path.points
+        );
+        assert!(path.points.iter().all(|p| p.x <= 4.0 && p.y <= 7.0 + 1e-9));
+        assert!(path.points.iter().filter(|p| p.x == 4.0).count() >= 2);
+        assert!(path.points.len() < 2000, "{} points", path.points.len());
+    }
+}
