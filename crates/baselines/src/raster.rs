@@ -1,7 +1,7 @@
 //! Occupancy grids: a scene rasterised onto square-ish cells by point-in-polygon tests of the
 //! cell centres.
 
-use harmonic_mesh::Point;
+use harmonic_mesh::{Domain, Point};
 
 use crate::BaselineError;
 use crate::geometry::check_polygon;
@@ -89,14 +89,81 @@ impl Raster {
             lo = Point::new(lo.x.min(p.x), lo.y.min(p.y));
             hi = Point::new(hi.x.max(p.x), hi.y.max(p.y));
         }
+        let obstacles: Vec<(u32, Vec<&[Point]>)> = obstacles
+            .iter()
+            .enumerate()
+            .map(|(i, o)| (i as u32, vec![o.as_slice()]))
+            .collect();
+        let goals: Vec<(u32, Vec<&[Point]>)> = goals
+            .iter()
+            .enumerate()
+            .map(|(j, g)| (j as u32, vec![g.as_slice()]))
+            .collect();
+        Self::build(lo, hi, n, &[vec![workspace]], &obstacles, &goals)
+    }
+
+    /// Rasterises a validated [`Domain`] (after the robot-radius inflation, merging and
+    /// clipping it did) on an `n × n` grid. A merged obstacle or goal region is labelled with
+    /// the first input index it came from.
+    ///
+    /// Errors if `n < MIN_GRID`, the domain has no goal, or a goal falls outside the free cells.
+    pub fn from_domain(domain: &Domain, n: usize) -> Result<Self, BaselineError> {
+        if n < MIN_GRID {
+            return Err(BaselineError::GridTooSmall { n, min: MIN_GRID });
+        }
+        if domain.goal_polygons().is_empty() {
+            return Err(BaselineError::NoGoal);
+        }
+        // (`Region` is not exported by harmonic-mesh, so its fields are reached through
+        // inference.)
+        let workspace: Vec<Vec<&[Point]>> = domain
+            .workspace_rings()
+            .iter()
+            .map(|r| {
+                std::iter::once(r.exterior.as_slice())
+                    .chain(r.holes.iter().map(Vec::as_slice))
+                    .collect()
+            })
+            .collect();
+        macro_rules! labelled {
+            ($regions:expr) => {
+                $regions
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        let rings: Vec<&[Point]> = std::iter::once(r.exterior.as_slice())
+                            .chain(r.holes.iter().map(Vec::as_slice))
+                            .collect();
+                        (r.sources.first().copied().unwrap_or(k as u32), rings)
+                    })
+                    .collect::<Vec<_>>()
+            };
+        }
+        let obstacles = labelled!(domain.obstacle_polygons());
+        let goals = labelled!(domain.goal_polygons());
+        let (lo, hi) = domain.bounding_box();
+        Self::build(lo, hi, n, &workspace, &obstacles, &goals)
+    }
+
+    /// Lays an `n × n` grid over the box `lo..hi` plus a one-cell margin, then fills the
+    /// workspace regions as free, the obstacles and the goals (each a set of rings filled by
+    /// the even–odd rule, so holes stay out).
+    fn build(
+        lo: Point,
+        hi: Point,
+        n: usize,
+        workspace: &[Vec<&[Point]>],
+        obstacles: &[(u32, Vec<&[Point]>)],
+        goals: &[(u32, Vec<&[Point]>)],
+    ) -> Result<Self, BaselineError> {
         let inner = (n - 2) as f64;
         let hx = (hi.x - lo.x) / inner;
         let hy = (hi.y - lo.y) / inner;
-        if !(hx > 0.0 && hy > 0.0) {
+        if !(hx > 0.0 && hy > 0.0 && hx.is_finite() && hy.is_finite()) {
             return Err(BaselineError::InvalidParameter {
                 name: "workspace extent",
                 value: hx.min(hy),
-                reason: "the workspace must have positive width and height",
+                reason: "the workspace must have positive, finite width and height",
             });
         }
         let mut raster = Raster {
@@ -107,19 +174,22 @@ impl Raster {
             cells: vec![Cell::Wall; n * n],
         };
         let mut xs = Vec::new();
-        raster.fill(workspace, Cell::Free, &mut xs);
-        for (i, o) in obstacles.iter().enumerate() {
-            raster.fill(o, Cell::Obstacle(i as u32), &mut xs);
+        for w in workspace {
+            raster.fill(w, Cell::Free, &mut xs);
         }
-        for (j, g) in goals.iter().enumerate() {
-            let kind = Cell::Goal(j as u32);
+        for (i, o) in obstacles {
+            raster.fill(o, Cell::Obstacle(*i), &mut xs);
+        }
+        for (j, g) in goals {
+            let kind = Cell::Goal(*j);
             if raster.fill(g, kind, &mut xs) == 0 {
-                let c = g
-                    .iter()
-                    .fold(Point::origin(), |acc, p| acc + p.coords / g.len() as f64);
+                let outer = g[0];
+                let c = outer.iter().fold(Point::origin(), |acc, p| {
+                    acc + p.coords / outer.len() as f64
+                });
                 match raster.index_of(c) {
                     Some(k) if raster.cells[k] != Cell::Wall => raster.cells[k] = kind,
-                    _ => return Err(BaselineError::NoGoalCell { goal: j }),
+                    _ => return Err(BaselineError::NoGoalCell { goal: *j as usize }),
                 }
             }
         }
@@ -136,18 +206,20 @@ impl Raster {
         Ok(raster)
     }
 
-    /// Sets every cell whose centre lies inside `poly` (even–odd rule) to `kind`; returns how
-    /// many cells were set. `xs` is scratch space for the scanline crossings.
-    fn fill(&mut self, poly: &[Point], kind: Cell, xs: &mut Vec<f64>) -> usize {
+    /// Sets every cell whose centre lies inside the rings (even–odd rule) to `kind`; returns
+    /// how many cells were set. `xs` is scratch space for the scanline crossings.
+    fn fill(&mut self, rings: &[&[Point]], kind: Cell, xs: &mut Vec<f64>) -> usize {
         let mut count = 0;
         let n = self.n;
         for j in 0..n {
             let y = self.origin.y + (j as f64 + 0.5) * self.hy;
             xs.clear();
-            for (k, a) in poly.iter().enumerate() {
-                let b = poly[(k + 1) % poly.len()];
-                if (a.y <= y) != (b.y <= y) {
-                    xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+            for poly in rings {
+                for (k, a) in poly.iter().enumerate() {
+                    let b = poly[(k + 1) % poly.len()];
+                    if (a.y <= y) != (b.y <= y) {
+                        xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+                    }
                 }
             }
             xs.sort_by(f64::total_cmp);
@@ -272,6 +344,37 @@ mod tests {
             assert_eq!(r.cell(k, 0), Cell::Wall);
             assert_eq!(r.cell(11, k), Cell::Wall);
         }
+    }
+
+    #[test]
+    fn rasterises_a_domain_with_inflated_obstacles() {
+        use harmonic_mesh::{DomainSpec, GoalShape, MeshOptions, Shape};
+        let spec = DomainSpec {
+            workspace: rect(0.0, 0.0, 10.0, 10.0),
+            obstacles: vec![
+                Shape::Polygon(rect(2.0, 2.0, 3.0, 8.0)),
+                Shape::Circle {
+                    center: Point::new(6.5, 6.5),
+                    radius: 0.6,
+                },
+            ],
+            goals: vec![GoalShape::Circle {
+                center: Point::new(8.5, 1.5),
+                radius: 0.3,
+            }],
+            robot_radius: 0.25,
+        };
+        let domain = Domain::new(&spec, &MeshOptions::default()).unwrap();
+        let r = Raster::from_domain(&domain, 102).unwrap();
+        assert_eq!(r.cell_size(), (0.1, 0.1));
+        // Inflated by the robot radius: (1.85, 5) is within 0.25 of the rectangle.
+        assert_eq!(r.cell_at(Point::new(1.85, 5.05)), Some(Cell::Obstacle(0)));
+        assert_eq!(r.cell_at(Point::new(1.65, 5.05)), Some(Cell::Free));
+        assert_eq!(r.cell_at(Point::new(6.55, 6.55)), Some(Cell::Obstacle(1)));
+        assert_eq!(r.cell_at(Point::new(8.55, 1.55)), Some(Cell::Goal(0)));
+        // The workspace shrinks by the robot radius too.
+        assert_eq!(r.cell_at(Point::new(0.15, 5.05)), Some(Cell::Wall));
+        assert_eq!(r.cell_at(Point::new(0.35, 5.05)), Some(Cell::Free));
     }
 
     #[test]
