@@ -209,26 +209,43 @@ impl Mesh {
                 )));
             }
         }
-        // Adjacency through a map from directed edge to (triangle, local edge).
-        let mut edge_map: std::collections::HashMap<(u32, u32), (u32, u8)> =
-            std::collections::HashMap::with_capacity(triangles.len() * 3);
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let a = tri[(k + 1) % 3];
-                let b = tri[(k + 2) % 3];
-                if edge_map.insert((a, b), (t as u32, k as u8)).is_some() {
-                    return Err(MeshError::InvalidMesh(format!(
-                        "edge ({a}, {b}) is used twice in the same direction (near triangle {t})"
-                    )));
-                }
+        // Adjacency through the triangle stars of the vertices (compressed rows): the
+        // triangle across directed edge a -> b is the one in b's star holding b -> a.
+        let mut start = vec![0u32; nv + 1];
+        for tri in &triangles {
+            for &v in tri {
+                start[v as usize + 1] += 1;
             }
         }
+        for i in 0..nv {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut star = vec![0u32; 3 * triangles.len()];
+        for (t, tri) in triangles.iter().enumerate() {
+            for &v in tri {
+                star[fill[v as usize] as usize] = t as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        drop(fill);
+        let has_edge = |u: u32, a: u32, b: u32| {
+            let tu = triangles[u as usize];
+            (0..3).any(|i| tu[i] == a && tu[(i + 1) % 3] == b)
+        };
         let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
         for (t, tri) in triangles.iter().enumerate() {
             for (k, nb) in neighbors[t].iter_mut().enumerate() {
                 let a = tri[(k + 1) % 3];
                 let b = tri[(k + 2) % 3];
-                if let Some(&(u, _)) = edge_map.get(&(b, a)) {
+                let star_a = &star[start[a as usize] as usize..start[a as usize + 1] as usize];
+                if star_a.iter().any(|&u| u != t as u32 && has_edge(u, a, b)) {
+                    return Err(MeshError::InvalidMesh(format!(
+                        "edge ({a}, {b}) is used twice in the same direction (near triangle {t})"
+                    )));
+                }
+                let star_b = &star[start[b as usize] as usize..start[b as usize + 1] as usize];
+                if let Some(&u) = star_b.iter().find(|&&u| has_edge(u, b, a)) {
                     *nb = u;
                 }
             }
