@@ -61,11 +61,17 @@ pub struct SorOptions {
 }
 
 impl Default for SorOptions {
-    /// Red–black SOR with the optimal ω, residual below 1e-10, at most 100 000 sweeps, on ψ.
+    /// Red–black SOR with the optimal ω, residual below 1e-13, at most 100 000 sweeps, on ψ.
+    ///
+    /// The tolerance is tight on purpose: ψ spans orders of magnitude, and over-relaxed
+    /// iterates do not approach it monotonically, so at 1e-10 the far side of the reference
+    /// scene keeps cells without a lower neighbour (100 of 13 290 at n = 128, 865 at n = 256)
+    /// and the tracer stalls there; at 1e-13 there are none up to n = 256, for about 30 % more
+    /// sweeps.
     fn default() -> Self {
         SorOptions {
             relaxation: Relaxation::RedBlackSor { omega: None },
-            stop: StopRule::Residual(1e-10),
+            stop: StopRule::Residual(1e-13),
             max_iterations: 100_000,
             unknown: Unknown::Psi,
         }
