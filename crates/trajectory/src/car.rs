@@ -173,13 +173,52 @@ fn arc(pose: [f64; 3], kappa: f64, s: f64) -> [f64; 3] {
     ]
 }
 
+/// Where the rear axle's arc ends.
+enum ArcEnd<C> {
+    /// In free space, in this cell, at this pose.
+    Free(C, [f64; 3]),
+    /// In goal `j`, at this pose, after this arc length.
+    Goal(u32, [f64; 3], f64),
+    /// The arc leaves free space.
+    Blocked,
+}
+
+/// Follows the rear axle's arc (curvature `kappa`, length `s`) from `pose` through free space,
+/// in chords of at most 0.1 rad.
+fn follow_arc<F: Field>(
+    field: &F,
+    cell: F::Cell,
+    pose: [f64; 3],
+    kappa: f64,
+    s: f64,
+) -> ArcEnd<F::Cell> {
+    let pieces = ((kappa.abs() * s / 0.1).ceil() as usize).clamp(1, 64);
+    let mut from = Point::new(pose[0], pose[1]);
+    let mut c = cell;
+    let mut q = pose;
+    for i in 1..=pieces {
+        let len = s * i as f64 / pieces as f64;
+        q = arc(pose, kappa, len);
+        let qp = Point::new(q[0], q[1]);
+        match field.segment(c, from, qp) {
+            Segment::Inside(u) => c = u,
+            Segment::Goal(j) => return ArcEnd::Goal(j, q, len),
+            Segment::Blocked => return ArcEnd::Blocked,
+        }
+        from = qp;
+    }
+    ArcEnd::Free(c, q)
+}
+
 /// Drives a car from `start = [x, y, θ]` (rear-axle midpoint and heading) down the field.
 ///
 /// Ends `ReachedGoal(j)` when the rear axle's motion enters goal `j`, when the front-axle
 /// midpoint lies in goal `j`, or within the target's tolerance; `Stalled` when the value at
 /// the rear axle stops decreasing for `stall_steps` steps (the car circles);
-/// `Collision` when `collision` says the footprint hits something or the rear axle's arc
-/// would leave free space. Errors only for invalid options.
+/// `Collision` when the rear axle's arc would leave free space (or `collision` says the
+/// footprint hits something) even at full lock either way: a commanded arc that is blocked is
+/// replaced by the sharpest turn toward, then away from, the field direction. Errors only for
+/// invalid options.
 ///
 /// ```
 /// use harmonic_mesh::{BoundaryTag, Mesh, Point};
@@ -347,20 +386,16 @@ pub fn drive<F: Field>(
                 (gain * gn).clamp(min_step, opts.step)
             }
         };
-        let next = arc(pose, kappa, s);
-        // Follow the rear axle's arc through free space in chords of at most 0.1 rad.
-        let pieces = ((kappa.abs() * s / 0.1).ceil() as usize).clamp(1, 64);
-        let mut from = here;
-        let mut c = cell;
-        for i in 1..=pieces {
-            let q = arc(pose, kappa, s * i as f64 / pieces as f64);
-            let qp = Point::new(q[0], q[1]);
-            match field.segment(c, from, qp) {
-                Segment::Inside(u) => c = u,
-                Segment::Goal(j) => {
+        // The commanded arc; if it (or the footprint at its end) would hit something, the
+        // sharpest turns toward and away from the field direction.
+        let side = if kappa != 0.0 { kappa.signum() } else { 1.0 };
+        let mut chosen = None;
+        for k in [kappa, side * kappa_max, -side * kappa_max] {
+            match follow_arc(field, cell, pose, k, s) {
+                ArcEnd::Goal(j, q, len) => {
                     poses.push(q);
-                    length += s * i as f64 / pieces as f64;
-                    max_curvature = max_curvature.max(kappa.abs());
+                    length += len;
+                    max_curvature = max_curvature.max(k.abs());
                     return Ok(finish(
                         poses,
                         TraceStatus::ReachedGoal(j),
@@ -369,21 +404,18 @@ pub fn drive<F: Field>(
                         max_curvature,
                     ));
                 }
-                Segment::Blocked => {
-                    return Ok(finish(
-                        poses,
-                        TraceStatus::Collision { at: pose },
-                        length,
-                        min_gradient,
-                        max_curvature,
-                    ));
+                ArcEnd::Free(c, next) => {
+                    let hits =
+                        collision.is_some_and(|col| (col.collides)(&col.footprint.corners(next)));
+                    if !hits {
+                        chosen = Some((c, next, k));
+                        break;
+                    }
                 }
+                ArcEnd::Blocked => {}
             }
-            from = qp;
         }
-        if let Some(col) = collision
-            && (col.collides)(&col.footprint.corners(next))
-        {
+        let Some((c, next, kappa)) = chosen else {
             return Ok(finish(
                 poses,
                 TraceStatus::Collision { at: pose },
@@ -391,7 +423,8 @@ pub fn drive<F: Field>(
                 min_gradient,
                 max_curvature,
             ));
-        }
+        };
+        let from = Point::new(next[0], next[1]);
         cell = c;
         pose = [next[0], next[1], wrap(next[2])];
         poses.push(pose);

@@ -1,9 +1,13 @@
-//! End-to-end checks on the bundled scenes, meshed by `harmonic_mesh::Domain`, with ψ from a
-//! small Laplace solve (SOR on the P1 stiffness matrix) in the test itself.
+//! End-to-end checks on the bundled scenes: meshed by `harmonic_mesh::Domain`, ψ solved by
+//! `harmonic_fem` with the scene's boundary conditions (and variants), followed by the exact
+//! and smooth tracers and the car.
 
 mod common;
 
-use common::{Rng, laplace_psi, nodal_gradients};
+use std::sync::Arc;
+
+use common::Rng;
+use harmonic_fem::{BoundaryCondition, BoundaryConditions, Potential, solve_potential};
 use harmonic_mesh::{Domain, DomainSpec, GoalShape, Mesh, MeshOptions, Point, Shape};
 use harmonic_trajectory::{
     CarOptions, ExactOptions, Field, Locate, P1Field, SmoothOptions, SmoothP1Field, TraceStatus,
@@ -65,15 +69,49 @@ fn load(name: &str) -> DomainSpec {
     }
 }
 
-fn setup(name: &str) -> (Domain, Mesh, Vec<f64>) {
+fn condition(v: &Value) -> BoundaryCondition {
+    if let Some(d) = v.get("dirichlet") {
+        BoundaryCondition::Dirichlet(d.as_f64().unwrap())
+    } else if let Some(g) = v.get("neumann") {
+        BoundaryCondition::Neumann(g.as_f64().unwrap())
+    } else {
+        let r = &v["robin"];
+        let f = |k: &str| r[k].as_f64().unwrap();
+        BoundaryCondition::Robin {
+            a: f("a"),
+            b: f("b"),
+            g: f("g"),
+        }
+    }
+}
+
+/// The scene's boundary conditions (defaults where absent).
+fn conditions(name: &str) -> BoundaryConditions {
+    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut bcs = BoundaryConditions::default();
+    let b = &s["boundary"];
+    if let Some(v) = b.get("walls") {
+        bcs.walls = condition(v);
+    }
+    if let Some(v) = b.get("obstacles") {
+        bcs.obstacles = condition(v);
+    }
+    if let Some(v) = b.get("goal") {
+        bcs.goals = condition(v);
+    }
+    bcs
+}
+
+fn setup(name: &str, bcs: &BoundaryConditions) -> (Domain, Potential) {
     let opts = MeshOptions {
         max_area: Some(0.01),
         ..MeshOptions::default()
     };
     let domain = Domain::new(&load(name), &opts).unwrap();
     let (mesh, _) = domain.mesh(&opts).unwrap();
-    let psi = laplace_psi(&mesh, 3000);
-    (domain, mesh, psi)
+    let potential = solve_potential(Arc::new(mesh), bcs).unwrap();
+    (domain, potential)
 }
 
 fn random_free(domain: &Domain, rng: &mut Rng, n: usize, clearance: f64) -> Vec<Point> {
@@ -91,7 +129,8 @@ fn random_free(domain: &Domain, rng: &mut Rng, n: usize, clearance: f64) -> Vec<
     out
 }
 
-/// Every segment stays in free space: sampled points lie in the closed free set. The path's
+/// Every segment stays in free space: sampled points lie in the closed free set (up to
+/// rounding on walls and obstacle boundaries). The path's
 /// last point lies on the goal's boundary up to rounding, so it is checked 1e-9 back.
 fn assert_in_free_space(domain: &Domain, pts: &[Point], what: &str) {
     for (i, w) in pts.windows(2).enumerate() {
@@ -100,28 +139,28 @@ fn assert_in_free_space(domain: &Domain, pts: &[Point], what: &str) {
             if k == 8 && i + 2 == pts.len() {
                 q = w[1] + (w[0] - w[1]).normalize() * 1e-9;
             }
-            assert!(
-                domain.contains_free(q),
-                "{what}: {} → {} leaves free space at {q}",
-                w[0],
-                w[1]
-            );
+            // Points on a wall or obstacle boundary count as free, up to rounding.
+            let free = domain.contains_free(q) || domain.distance_to_obstacles(q) < 1e-12;
+            assert!(free, "{what}: {} → {} leaves free space at {q}", w[0], w[1]);
         }
     }
 }
 
-#[test]
-fn reference_scene_traces() {
-    let (domain, mesh, psi) = setup("reference");
-    let grads = nodal_gradients(&mesh, &psi);
-    let exact_field = P1Field::ascending(&mesh, &psi).unwrap();
-    let smooth_field = SmoothP1Field::ascending(&mesh, &psi, &grads).unwrap();
+/// 200 random free starts: exact and smooth traces reach the goal through free space, φ
+/// decreases along the exact ones.
+fn check_traces(domain: &Domain, potential: &Potential, seed: u64) {
+    let mesh: &Mesh = potential.mesh();
+    let psi = potential.psi();
+    let exact_field = P1Field::ascending(mesh, psi).unwrap();
+    let smooth_field =
+        SmoothP1Field::ascending(mesh, psi, potential.nodal_gradients_psi()).unwrap();
     let sopts = SmoothOptions::for_scale(10.0);
-    let mut rng = Rng(2024);
-    for s in random_free(&domain, &mut rng, 200, 0.0) {
+    let mut rng = Rng(seed);
+    for s in random_free(domain, &mut rng, 200, 0.0) {
         let exact = trace_exact(&exact_field, s, &ExactOptions::default());
         assert_eq!(exact.status, TraceStatus::ReachedGoal(0), "exact from {s}");
-        assert_in_free_space(&domain, &exact.points, "exact");
+        assert!(exact.min_gradient > 0.0 && exact.min_gradient.is_finite());
+        assert_in_free_space(domain, &exact.points, "exact");
         let mut prev = f64::INFINITY;
         let mut hint = None;
         for (i, p) in exact.points.iter().enumerate() {
@@ -142,52 +181,79 @@ fn reference_scene_traces() {
             TraceStatus::ReachedGoal(0),
             "smooth from {s}"
         );
-        assert_in_free_space(&domain, &smooth.points, "smooth");
+        assert_in_free_space(domain, &smooth.points, "smooth");
         let m = path_metrics(&smooth.points, |a, b| domain.segment_clearance(a, b));
         assert!(m.min_clearance >= 0.0 && (m.length - smooth.length).abs() < 1e-9);
     }
-    // Starts outside free space.
-    let o = ExactOptions::default();
-    assert_eq!(
-        trace_exact(&exact_field, Point::new(2.5, 5.0), &o).status,
-        TraceStatus::StartInObstacle
-    );
-    assert_eq!(
-        trace_exact(&exact_field, Point::new(-1.0, 5.0), &o).status,
-        TraceStatus::OutsideWorkspace
-    );
-    assert_eq!(
-        trace_exact(&exact_field, Point::new(8.5, 1.5), &o).status,
-        TraceStatus::ReachedGoal(0)
-    );
 }
 
-#[test]
-fn reference_scene_car() {
-    let (domain, mesh, psi) = setup("reference");
-    let grads = nodal_gradients(&mesh, &psi);
-    let f = SmoothP1Field::ascending(&mesh, &psi, &grads).unwrap();
+/// The car from 200 random free poses with room to turn; returns the success rate.
+fn check_car(domain: &Domain, potential: &Potential, seed: u64, name: &str) -> f64 {
+    let mesh: &Mesh = potential.mesh();
+    let f =
+        SmoothP1Field::ascending(mesh, potential.psi(), potential.nodal_gradients_psi()).unwrap();
     let (l, dmax) = (0.2f64, 0.6f64);
     let kmax = dmax.tan() / l;
     let opts = CarOptions::new(l, dmax, 0.02);
-    let mut rng = Rng(99);
-    let starts = random_free(&domain, &mut rng, 200, l / dmax.tan());
+    let mut rng = Rng(seed);
+    let starts = random_free(domain, &mut rng, 200, l / dmax.tan());
     let mut failures = Vec::new();
     for s in &starts {
         let th = (rng.next_f64() * 2.0 - 1.0) * std::f64::consts::PI;
         let car = drive(&f, [s.x, s.y, th], &opts, None).unwrap();
         assert!(max_pose_curvature(&car.poses) <= kmax * (1.0 + 1e-6));
+        assert!(car.max_curvature <= kmax * (1.0 + 1e-12));
         let pts: Vec<Point> = car.poses.iter().map(|p| Point::new(p[0], p[1])).collect();
         // The final pose may lie just inside the goal; the rest stays in free space.
-        assert_in_free_space(&domain, &pts[..pts.len() - 1], "car");
+        assert_in_free_space(domain, &pts[..pts.len() - 1], "car");
         if !car.status.reached_goal() {
             failures.push((*s, th, car.status));
         }
     }
     let rate = 1.0 - failures.len() as f64 / starts.len() as f64;
     eprintln!(
-        "reference scene: car reaches the goal from {:.1} % of 200 random poses; failures: {failures:?}",
+        "{name}: the car reaches the goal from {:.1} % of 200 random poses; failures: {failures:?}",
         100.0 * rate
     );
-    assert!(rate >= 0.95, "rate {rate}: {failures:?}");
+    rate
+}
+
+#[test]
+fn reference_scene() {
+    let (domain, potential) = setup("reference", &conditions("reference"));
+    check_traces(&domain, &potential, 2024);
+    assert!(check_car(&domain, &potential, 99, "reference") >= 0.95);
+    // Starts outside free space.
+    let f = P1Field::ascending(potential.mesh(), potential.psi()).unwrap();
+    let o = ExactOptions::default();
+    assert_eq!(
+        trace_exact(&f, Point::new(2.5, 5.0), &o).status,
+        TraceStatus::StartInObstacle
+    );
+    assert_eq!(
+        trace_exact(&f, Point::new(-1.0, 5.0), &o).status,
+        TraceStatus::OutsideWorkspace
+    );
+    assert_eq!(
+        trace_exact(&f, Point::new(8.5, 1.5), &o).status,
+        TraceStatus::ReachedGoal(0)
+    );
+}
+
+#[test]
+fn reference_robin_scene() {
+    let (domain, potential) = setup("reference_robin", &conditions("reference_robin"));
+    check_traces(&domain, &potential, 7);
+    assert!(check_car(&domain, &potential, 8, "reference_robin") >= 0.95);
+}
+
+#[test]
+fn reference_scene_with_insulated_walls() {
+    // Neumann walls: the flow runs along the walls, so paths meet and slide along them.
+    let bcs = BoundaryConditions {
+        walls: BoundaryCondition::Neumann(0.0),
+        ..BoundaryConditions::default()
+    };
+    let (domain, potential) = setup("reference", &bcs);
+    check_traces(&domain, &potential, 31);
 }
