@@ -1,9 +1,41 @@
 //! # harmonic-planner
 //!
 //! Local-minimum-free robot path planning with harmonic potentials solved by the finite
-//! element method.
+//! element method (Connolly et al. 1990; Garrido et al. 2010).
+//!
+//! A [`Scene`] (JSON: workspace polygon, obstacles, goal regions, boundary conditions) is
+//! meshed by constrained Delaunay triangulation, Laplace's equation is solved on the mesh with
+//! P1 finite elements, and paths follow the potential downhill to the goal. A harmonic
+//! function has no local minima inside the domain, and on a Delaunay mesh the discrete
+//! potential keeps that property, so no path gets stuck.
+//!
+//! The [`Planner`] builds everything once and answers many queries: [`Planner::plan`] for a
+//! point (or disc) robot, [`Planner::car`] for a car-like robot. The stages live in their own
+//! crates, re-exported here: [`mesh`] (triangulation), [`fem`] (assembly and potentials),
+//! [`solver`] (sparse Cholesky and PCG), [`trajectory`] (tracers, car stepper) and
+//! [`baselines`] (the seed papers' other planners).
+//!
+//! ```
+//! use harmonic_planner::{Planner, Scene};
+//! let scene = Scene::from_file(concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/reference.json"))?;
+//! let planner = Planner::new(&scene)?;
+//! let path = planner.plan([1.0, 9.0]);
+//! assert_eq!(path.status, "reached_goal");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
+pub mod planner;
+pub mod render;
 pub mod scene;
 
+pub use harmonic_baselines as baselines;
+pub use harmonic_fem as fem;
+pub use harmonic_mesh as mesh;
+pub use harmonic_mesh::{Point, Vector};
+pub use harmonic_solver as solver;
+pub use harmonic_trajectory as trajectory;
+pub use planner::{
+    CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
+    PlannerOptions, SvgOptions, Timings,
+};
 pub use scene::{Scene, SceneError};
-pub mod render;

@@ -1,1 +1,240 @@
-fn main() {}
+//! `hplan`: plan robot paths through a scene with a harmonic potential.
+//!
+//! ```text
+//! hplan plan SCENE.json [--json] [--svg OUT.svg] [--start X,Y]...
+//! hplan car  SCENE.json --pose X,Y,THETA [--wheelbase L] [--max-steer DEG] [--json] [--svg OUT.svg]
+//! hplan export SCENE.json --potential OUT.json
+//! ```
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use harmonic_planner::{CarParams, Planner, PlannerOptions, Scene, SvgOptions};
+
+#[derive(Parser)]
+#[command(
+    name = "hplan",
+    version,
+    about = "Plan robot paths with harmonic potentials solved by finite elements",
+    long_about = "Plan robot paths with harmonic potentials solved by finite elements.\n\n\
+        A scene (JSON: workspace polygon, obstacles, goal, boundary conditions) is meshed,\n\
+        Laplace's equation is solved on the mesh, and paths follow the potential downhill\n\
+        to the goal. A harmonic potential has no local minima, so no path gets stuck.\n\n\
+        Example:  hplan plan meshes/reference.json --svg reference.svg"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Plan paths from start points to the goal.
+    Plan {
+        #[command(flatten)]
+        common: Common,
+        /// A start point (repeatable); defaults to the scene's "starts".
+        #[arg(long = "start", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+        starts: Vec<[f64; 2]>,
+    },
+    /// Drive a car-like robot (front-wheel steering) along the potential.
+    Car {
+        #[command(flatten)]
+        common: Common,
+        /// Start pose: rear-axle midpoint and heading in radians.
+        #[arg(long, value_name = "X,Y,THETA", value_parser = parse_pose, allow_hyphen_values = true)]
+        pose: Vec<[f64; 3]>,
+        /// Distance between the rear and the front axle.
+        #[arg(long, value_name = "L")]
+        wheelbase: Option<f64>,
+        /// Steering limit of the front wheels, in degrees.
+        #[arg(long, value_name = "DEG", default_value_t = 35.0)]
+        max_steer: f64,
+    },
+    /// Write the mesh and the potential for outside tools.
+    Export {
+        /// The scene file.
+        scene: PathBuf,
+        /// Write {"vertices","triangles","values","boundary_edges"} to this JSON file.
+        #[arg(long, value_name = "OUT.json")]
+        potential: Option<PathBuf>,
+        /// Write the mesh with φ, ψ and ∇φ for ParaView to this .vtu file.
+        #[arg(long, value_name = "OUT.vtu")]
+        vtk: Option<PathBuf>,
+    },
+}
+
+#[derive(Args)]
+struct Common {
+    /// The scene file (see SCENE_FORMAT in the README).
+    scene: PathBuf,
+    /// Print one JSON object on stdout instead of a summary.
+    #[arg(long)]
+    json: bool,
+    /// Draw the scene, the potential's isolines and the paths to this SVG file.
+    #[arg(long, value_name = "OUT.svg")]
+    svg: Option<PathBuf>,
+    /// Draw the mesh in the SVG too.
+    #[arg(long)]
+    mesh: bool,
+    /// Write the mesh with φ, ψ and ∇φ for ParaView to this .vtu file.
+    #[arg(long, value_name = "OUT.vtu")]
+    vtk: Option<PathBuf>,
+    /// Override the scene's largest triangle area.
+    #[arg(long, value_name = "A")]
+    max_area: Option<f64>,
+}
+
+fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!("expected {what}, got `{s}`"));
+    }
+    let mut out = [0.0; N];
+    for (o, p) in out.iter_mut().zip(parts) {
+        *o = p
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("`{p}` is not a finite number (in `{s}`, expected {what})"))?;
+    }
+    Ok(out)
+}
+
+fn parse_point(s: &str) -> Result<[f64; 2], String> {
+    parse_numbers::<2>(s, "X,Y")
+}
+
+fn parse_pose(s: &str) -> Result<[f64; 3], String> {
+    parse_numbers::<3>(s, "X,Y,THETA")
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("hplan: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn load(common_scene: &PathBuf, max_area: Option<f64>) -> Result<Scene, String> {
+    let mut scene =
+        Scene::from_file(common_scene).map_err(|e| format!("{}: {e}", common_scene.display()))?;
+    if let Some(a) = max_area {
+        if !(a.is_finite() && a > 0.0) {
+            return Err(format!("--max-area must be a positive number, got {a}"));
+        }
+        scene.mesh.max_area = Some(a);
+    }
+    Ok(scene)
+}
+
+fn write_file(path: &PathBuf, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+fn build(scene: &Scene, path: &PathBuf, quiet: bool) -> Result<Planner, String> {
+    let opts = PlannerOptions {
+        progress: !quiet,
+        ..PlannerOptions::default()
+    };
+    Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Plan { common, starts } => {
+            let scene = load(&common.scene, common.max_area)?;
+            let planner = build(&scene, &common.scene, common.json)?;
+            let starts = if starts.is_empty() {
+                scene.starts.clone()
+            } else {
+                starts
+            };
+            let report = planner.plan_report(&starts);
+            if let Some(svg) = &common.svg {
+                let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
+                let opts = SvgOptions {
+                    show_mesh: common.mesh,
+                    ..SvgOptions::default()
+                };
+                write_file(svg, &planner.svg(&paths, &[], &opts))?;
+            }
+            if let Some(vtk) = &common.vtk {
+                write_file(vtk, &planner.vtu())?;
+            }
+            if common.json {
+                println!(
+                    "{}",
+                    serde_json::to_string(&report).map_err(|e| e.to_string())?
+                );
+            } else {
+                print!("{}", report.summary());
+            }
+        }
+        Command::Car {
+            common,
+            pose,
+            wheelbase,
+            max_steer,
+        } => {
+            let scene = load(&common.scene, common.max_area)?;
+            if pose.is_empty() {
+                return Err("car needs at least one --pose X,Y,THETA".into());
+            }
+            let planner = build(&scene, &common.scene, common.json)?;
+            let mut params = CarParams::for_scene(&planner);
+            if let Some(l) = wheelbase {
+                params.wheelbase = l;
+            }
+            params.max_steer = max_steer.to_radians();
+            params.validate().map_err(|e| e.to_string())?;
+            let report = planner
+                .car_report(&pose, &params)
+                .map_err(|e| e.to_string())?;
+            if let Some(svg) = &common.svg {
+                let poses: Vec<_> = report.paths.iter().map(|p| p.poses.clone()).collect();
+                let opts = SvgOptions {
+                    show_mesh: common.mesh,
+                    car_size: (params.wheelbase * 1.25, params.wheelbase * 0.6),
+                    ..SvgOptions::default()
+                };
+                write_file(svg, &planner.svg(&[], &poses, &opts))?;
+            }
+            if let Some(vtk) = &common.vtk {
+                write_file(vtk, &planner.vtu())?;
+            }
+            if common.json {
+                println!(
+                    "{}",
+                    serde_json::to_string(&report).map_err(|e| e.to_string())?
+                );
+            } else {
+                print!("{}", report.summary());
+            }
+        }
+        Command::Export {
+            scene: path,
+            potential,
+            vtk,
+        } => {
+            if potential.is_none() && vtk.is_none() {
+                return Err("export needs --potential OUT.json and/or --vtk OUT.vtu".into());
+            }
+            let scene = load(&path, None)?;
+            let planner = build(&scene, &path, true)?;
+            if let Some(out) = &potential {
+                let text = serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;
+                write_file(out, &text)?;
+            }
+            if let Some(vtk) = &vtk {
+                write_file(vtk, &planner.vtu())?;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,753 @@
+//! The planner: build the mesh, the system and its factorisation once, then answer many
+//! queries (point robots, car-like robots) from the same harmonic potential.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use harmonic_fem::{
+    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
+};
+use harmonic_mesh::{
+    BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
+    QualityReport, Shape,
+};
+use harmonic_solver::Ordering;
+use harmonic_trajectory::{
+    CarOptions, CarPath, Collision, ExactOptions, Footprint, P1Field, Path, SmoothOptions,
+    SmoothP1Field, TraceStatus, drive, path_metrics, trace_exact, trace_smooth,
+};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::scene::{Condition, Region, Scene};
+
+/// Why a planner could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// The scene's geometry is invalid or cannot be meshed.
+    #[error(transparent)]
+    Mesh(#[from] harmonic_mesh::MeshError),
+    /// The boundary conditions make no solvable problem, or the solve failed.
+    #[error(transparent)]
+    Fem(#[from] harmonic_fem::FemError),
+    /// A tracer or car option is out of range.
+    #[error(transparent)]
+    Trace(#[from] harmonic_trajectory::TraceError),
+}
+
+/// How to build a planner.
+#[derive(Clone, Debug, Default)]
+pub struct PlannerOptions {
+    /// Show progress on stderr for work that takes longer than a second.
+    pub progress: bool,
+}
+
+/// Wall-clock time of each stage, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Timings {
+    pub mesh: f64,
+    pub assemble: f64,
+    pub solve: f64,
+    pub trace: f64,
+}
+
+/// A harmonic-potential planner for one scene.
+///
+/// ```
+/// use harmonic_planner::{Planner, Scene};
+/// let scene = Scene::from_json(r#"{
+///     "workspace": [[0, 0], [4, 0], [4, 4], [0, 4]],
+///     "obstacles": [{"polygon": [[1.5, 1], [2.5, 1], [2.5, 3], [1.5, 3]]}],
+///     "goal": {"circle": {"center": [3.5, 2], "radius": 0.2}},
+///     "mesh": {"max_area": 0.01}
+/// }"#)?;
+/// let planner = Planner::new(&scene)?;
+/// let path = planner.plan([0.5, 2.0]);
+/// assert_eq!(path.status, "reached_goal");
+/// assert!(path.min_clearance > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Planner {
+    domain: Domain,
+    mesh: Arc<Mesh>,
+    mesh_report: MeshReport,
+    quality: QualityReport,
+    potential: Potential,
+    nodal_gradients: Vec<harmonic_mesh::Vector>,
+    timings: Timings,
+    scale: f64,
+}
+
+/// One planned path, as the `hplan plan --json` contract prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlannedPath {
+    pub start: [f64; 2],
+    /// `reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`, `outside_workspace`, `max_steps`.
+    pub status: &'static str,
+    /// The goal reached, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal: Option<u32>,
+    /// Which tracer made the path: `smooth` (the default) or `exact` (the fallback).
+    pub tracer: &'static str,
+    pub length: f64,
+    /// Smallest distance from the path to a wall or an obstacle (exact geometry).
+    pub min_clearance: f64,
+    /// Smallest |∇φ| met along the path.
+    pub min_gradient: f64,
+    pub points: Vec<[f64; 2]>,
+}
+
+/// One car run, as `hplan car --json` prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct CarRun {
+    pub start: [f64; 3],
+    pub status: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal: Option<u32>,
+    pub length: f64,
+    pub min_clearance: f64,
+    pub min_gradient: f64,
+    pub max_curvature: f64,
+    pub poses: Vec<[f64; 3]>,
+}
+
+/// Mesh figures of a report.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeshSummary {
+    pub vertices: usize,
+    pub triangles: usize,
+    pub min_angle_deg: f64,
+    pub refinement_complete: bool,
+}
+
+/// Potential figures of a report.
+#[derive(Clone, Debug, Serialize)]
+pub struct PotentialSummary {
+    pub min: f64,
+    pub max: f64,
+    /// Interior vertices that are strict local minima of φ (0 for a harmonic potential on a
+    /// Delaunay mesh).
+    pub interior_local_minima: usize,
+    /// The smallest positive ψ = φ_wall − φ at a vertex: how flat the field gets.
+    pub min_psi: f64,
+}
+
+/// What `hplan plan --json` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct PlanReport {
+    pub mesh: MeshSummary,
+    pub timings_ms: Timings,
+    pub potential: PotentialSummary,
+    pub paths: Vec<PlannedPath>,
+}
+
+/// What `hplan car --json` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct CarReport {
+    pub mesh: MeshSummary,
+    pub timings_ms: Timings,
+    pub potential: PotentialSummary,
+    pub paths: Vec<CarRun>,
+}
+
+/// The mesh and the potential for outside tools (`hplan export --potential`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Export {
+    pub vertices: Vec<[f64; 2]>,
+    pub triangles: Vec<[u32; 3]>,
+    /// φ at every vertex.
+    pub values: Vec<f64>,
+    /// ψ = φ_wall − φ at every vertex, accurate where φ rounds to φ_wall.
+    pub psi: Vec<f64>,
+    /// `[i, j, tag]` with tag `wall`, `obstacle:I` or `goal:J`; free space lies left of i → j.
+    pub boundary_edges: Vec<(u32, u32, String)>,
+}
+
+/// A car-like robot: rear-wheel drive, front-wheel steering.
+#[derive(Clone, Copy, Debug)]
+pub struct CarParams {
+    /// Distance between the axles.
+    pub wheelbase: f64,
+    /// Steering limit of the front wheels, radians.
+    pub max_steer: f64,
+    /// Arc length per step.
+    pub step: f64,
+    /// Check a rectangular footprint (1.25 L × 0.6 L) against the obstacles every step.
+    pub check_footprint: bool,
+}
+
+impl CarParams {
+    /// Defaults sized from the scene: a wheelbase of 2 % of the scene's size, 35° steering,
+    /// steps of a tenth of the wheelbase.
+    pub fn for_scene(planner: &Planner) -> CarParams {
+        let wheelbase = 0.02 * planner.scale;
+        CarParams {
+            wheelbase,
+            max_steer: 35f64.to_radians(),
+            step: 0.1 * wheelbase,
+            check_footprint: false,
+        }
+    }
+
+    fn options(&self) -> CarOptions {
+        CarOptions::new(self.wheelbase, self.max_steer, self.step)
+    }
+
+    /// Checks the ranges of the parameters.
+    pub fn validate(&self) -> Result<(), PlanError> {
+        self.options().validate()?;
+        Ok(())
+    }
+}
+
+fn point(p: [f64; 2]) -> Point {
+    Point::new(p[0], p[1])
+}
+
+fn condition(c: Condition) -> BoundaryCondition {
+    match c {
+        Condition::Dirichlet(v) => BoundaryCondition::Dirichlet(v),
+        Condition::Neumann(g) => BoundaryCondition::Neumann(g),
+        Condition::Robin { a, b, g } => BoundaryCondition::Robin { a, b, g },
+    }
+}
+
+impl Scene {
+    /// The geometry of the scene for the mesher.
+    pub fn domain_spec(&self) -> DomainSpec {
+        let shape = |r: &Region| match (&r.polygon, &r.circle) {
+            (Some(p), _) => Shape::Polygon(p.iter().copied().map(point).collect()),
+            (None, Some(c)) => Shape::Circle {
+                center: point(c.center),
+                radius: c.radius,
+            },
+            // `Scene::from_json` guarantees one shape per obstacle; an empty polygon is
+            // reported by the mesher as too few vertices.
+            (None, None) => Shape::Polygon(Vec::new()),
+        };
+        let goal = |r: &Region| match (&r.polygon, &r.circle, &r.point) {
+            (Some(p), _, _) => GoalShape::Polygon(p.iter().copied().map(point).collect()),
+            (None, Some(c), _) => GoalShape::Circle {
+                center: point(c.center),
+                radius: c.radius,
+            },
+            (None, None, Some(p)) => GoalShape::Point(point(*p)),
+            (None, None, None) => GoalShape::Polygon(Vec::new()),
+        };
+        DomainSpec {
+            workspace: self.workspace.iter().copied().map(point).collect(),
+            obstacles: self.obstacles.iter().map(shape).collect(),
+            goals: self.goals().iter().map(goal).collect(),
+            robot_radius: self.robot.radius,
+        }
+    }
+
+    /// The mesh options of the scene (defaults where it gives none).
+    pub fn mesh_options(&self) -> MeshOptions {
+        let mut opts = MeshOptions {
+            max_area: self.mesh.max_area,
+            ..MeshOptions::default()
+        };
+        if let Some(d) = self.mesh.min_angle_deg {
+            opts.min_angle_deg = d;
+        }
+        opts
+    }
+
+    /// The boundary conditions of the scene, per part, with per-obstacle and per-goal overrides.
+    pub fn boundary_conditions(&self) -> BoundaryConditions {
+        let mut bcs = BoundaryConditions::default();
+        if let Some(c) = self.boundary.walls {
+            bcs.walls = condition(c);
+        }
+        if let Some(c) = self.boundary.obstacles {
+            bcs.obstacles = condition(c);
+        }
+        if let Some(c) = self.boundary.goal {
+            bcs.goals = condition(c);
+        }
+        for (i, o) in self.obstacles.iter().enumerate() {
+            if let Some(c) = o.boundary {
+                bcs.obstacle_overrides.insert(i as u32, condition(c));
+            }
+        }
+        for (j, g) in self.goals().iter().enumerate() {
+            if let Some(c) = g.boundary {
+                bcs.goal_overrides.insert(j as u32, condition(c));
+            }
+        }
+        bcs
+    }
+}
+
+fn millis(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl Planner {
+    /// Builds the planner: validates and meshes the scene, assembles and solves for the
+    /// potential.
+    pub fn new(scene: &Scene) -> Result<Planner, PlanError> {
+        Planner::with_options(scene, &PlannerOptions::default())
+    }
+
+    /// [`Planner::new`] with options (progress display).
+    pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
+        let progress = Progress::new(options.progress);
+        progress.stage("meshing");
+        let t = Instant::now();
+        let mesh_options = scene.mesh_options();
+        let domain = Domain::new(&scene.domain_spec(), &mesh_options)?;
+        let (mesh, mesh_report) = domain.mesh(&mesh_options)?;
+        let mesh = Arc::new(mesh);
+        let mesh_ms = millis(t);
+
+        progress.stage("assembling");
+        let t = Instant::now();
+        let bcs = scene.boundary_conditions();
+        let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
+        let system = assembler.assemble(&bcs)?;
+        let assemble_ms = millis(t);
+
+        progress.stage("solving");
+        let t = Instant::now();
+        let solver = Solver::new(&system, Ordering::Amd)?;
+        let potential = solver.potential(Arc::clone(&mesh), &system)?;
+        let nodal_gradients = potential.nodal_gradients_psi().to_vec();
+        let solve_ms = millis(t);
+        progress.finish();
+
+        let quality = mesh.quality();
+        let (lo, hi) = domain.bounding_box();
+        let scale = (hi.x - lo.x).max(hi.y - lo.y);
+        Ok(Planner {
+            domain,
+            mesh,
+            mesh_report,
+            quality,
+            potential,
+            nodal_gradients,
+            timings: Timings {
+                mesh: mesh_ms,
+                assemble: assemble_ms,
+                solve: solve_ms,
+                trace: 0.0,
+            },
+            scale,
+        })
+    }
+
+    /// The validated free space (merged obstacles, tagged rings, clearance queries).
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+    /// The mesh of free space.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+    /// The harmonic potential (ψ = φ_wall − φ at every vertex).
+    pub fn potential(&self) -> &Potential {
+        &self.potential
+    }
+    /// Time spent meshing, assembling and solving.
+    pub fn timings(&self) -> Timings {
+        self.timings
+    }
+
+    fn smooth_field(&self) -> Result<SmoothP1Field<'_>, PlanError> {
+        Ok(SmoothP1Field::ascending(
+            &self.mesh,
+            self.potential.psi(),
+            &self.nodal_gradients,
+        )?)
+    }
+
+    /// Plans a path from `start` to the nearest goal (in potential) by following the potential:
+    /// the smooth tracer first; where it cannot finish, the exact triangle-to-triangle tracer,
+    /// which is guaranteed to descend.
+    pub fn plan(&self, start: [f64; 2]) -> PlannedPath {
+        let p = point(start);
+        let field = match self.smooth_field() {
+            Ok(f) => f,
+            Err(_) => return self.planned(start, unreachable_path(p), "exact"),
+        };
+        let opts = SmoothOptions::for_scale(self.scale);
+        let smooth = trace_smooth(&field, p, &opts).ok();
+        match smooth {
+            Some(path) if path.status.reached_goal() || !self.exact_might_help(&path.status) => {
+                self.planned(start, path, "smooth")
+            }
+            _ => {
+                let exact = trace_exact(field.p1(), p, &ExactOptions::default());
+                self.planned(start, exact, "exact")
+            }
+        }
+    }
+
+    fn exact_might_help(&self, status: &TraceStatus) -> bool {
+        matches!(status, TraceStatus::Stalled { .. } | TraceStatus::MaxSteps)
+    }
+
+    /// The exact tracer's path from `start` (straight within each triangle, φ strictly
+    /// decreasing along it).
+    pub fn plan_exact(&self, start: [f64; 2]) -> PlannedPath {
+        let p = point(start);
+        match P1Field::ascending(&self.mesh, self.potential.psi()) {
+            Ok(field) => self.planned(
+                start,
+                trace_exact(&field, p, &ExactOptions::default()),
+                "exact",
+            ),
+            Err(_) => self.planned(start, unreachable_path(p), "exact"),
+        }
+    }
+
+    /// Plans from every start, in parallel.
+    pub fn plan_many(&self, starts: &[[f64; 2]]) -> Vec<PlannedPath> {
+        starts.par_iter().map(|&s| self.plan(s)).collect()
+    }
+
+    fn planned(&self, start: [f64; 2], path: Path, tracer: &'static str) -> PlannedPath {
+        let metrics = path_metrics(&path.points, |a, b| self.domain.segment_clearance(a, b));
+        PlannedPath {
+            start,
+            status: path.status.as_str(),
+            goal: path.goal,
+            tracer,
+            length: metrics.length,
+            min_clearance: finite_or_zero(metrics.min_clearance),
+            min_gradient: finite_or_zero(path.min_gradient),
+            points: path.points.iter().map(|p| [p.x, p.y]).collect(),
+        }
+    }
+
+    /// Drives a car-like robot from `pose` (rear-axle midpoint, heading) along the potential.
+    pub fn car(&self, pose: [f64; 3], params: &CarParams) -> Result<CarRun, PlanError> {
+        let field = self.smooth_field()?;
+        let opts = params.options();
+        let collides = |corners: &[Point; 4]| {
+            (0..4).any(|k| {
+                self.domain
+                    .segment_clearance(corners[k], corners[(k + 1) % 4])
+                    <= 0.0
+            })
+        };
+        let collision = Collision {
+            footprint: Footprint {
+                rear: 0.2 * params.wheelbase * 1.25,
+                front: 0.8 * params.wheelbase * 1.25,
+                half_width: 0.3 * params.wheelbase,
+            },
+            collides: &collides,
+        };
+        let car: CarPath = drive(
+            &field,
+            pose,
+            &opts,
+            params.check_footprint.then_some(&collision),
+        )?;
+        let points: Vec<Point> = car.poses.iter().map(|q| Point::new(q[0], q[1])).collect();
+        let metrics = path_metrics(&points, |a, b| self.domain.segment_clearance(a, b));
+        Ok(CarRun {
+            start: pose,
+            status: car.status.as_str(),
+            goal: car.goal,
+            length: car.length,
+            min_clearance: finite_or_zero(metrics.min_clearance),
+            min_gradient: finite_or_zero(car.min_gradient),
+            max_curvature: car.max_curvature,
+            poses: car.poses,
+        })
+    }
+
+    fn summaries(&self) -> (MeshSummary, PotentialSummary) {
+        let psi = self.potential.psi();
+        let c = self.potential.reference();
+        let (mut lo, mut hi, mut min_psi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
+        for &v in psi {
+            lo = lo.min(c - v);
+            hi = hi.max(c - v);
+            if v > 0.0 {
+                min_psi = min_psi.min(v);
+            }
+        }
+        (
+            MeshSummary {
+                vertices: self.quality.vertices,
+                triangles: self.quality.triangles,
+                min_angle_deg: self.quality.min_angle_deg,
+                refinement_complete: self.mesh_report.refinement_complete,
+            },
+            PotentialSummary {
+                min: lo,
+                max: hi,
+                interior_local_minima: interior_local_minima(&self.mesh, psi),
+                min_psi: finite_or_zero(min_psi),
+            },
+        )
+    }
+
+    /// Plans from every start and reports as `hplan plan --json` does.
+    pub fn plan_report(&self, starts: &[[f64; 2]]) -> PlanReport {
+        let t = Instant::now();
+        let paths = self.plan_many(starts);
+        let mut timings_ms = self.timings;
+        timings_ms.trace = millis(t);
+        let (mesh, potential) = self.summaries();
+        PlanReport {
+            mesh,
+            timings_ms,
+            potential,
+            paths,
+        }
+    }
+
+    /// Drives the car from every pose and reports as `hplan car --json` does. A pose whose
+    /// run fails (an invalid option) is reported with its error as status.
+    pub fn car_report(
+        &self,
+        poses: &[[f64; 3]],
+        params: &CarParams,
+    ) -> Result<CarReport, PlanError> {
+        let t = Instant::now();
+        let paths = poses
+            .par_iter()
+            .map(|&q| self.car(q, params))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut timings_ms = self.timings;
+        timings_ms.trace = millis(t);
+        let (mesh, potential) = self.summaries();
+        Ok(CarReport {
+            mesh,
+            timings_ms,
+            potential,
+            paths,
+        })
+    }
+
+    /// The mesh and potential for outside tools.
+    pub fn export(&self) -> Export {
+        let c = self.potential.reference();
+        Export {
+            vertices: self.mesh.vertices().iter().map(|p| [p.x, p.y]).collect(),
+            triangles: self.mesh.triangles().to_vec(),
+            values: self.potential.psi().iter().map(|&v| c - v).collect(),
+            psi: self.potential.psi().to_vec(),
+            boundary_edges: self
+                .mesh
+                .boundary_edges()
+                .iter()
+                .map(|e| (e.vertices[0], e.vertices[1], tag_name(e.tag)))
+                .collect(),
+        }
+    }
+
+    /// The mesh with φ, ψ and ∇φ as a VTK unstructured grid for ParaView.
+    pub fn vtu(&self) -> String {
+        let c = self.potential.reference();
+        let phi: Vec<f64> = self.potential.psi().iter().map(|&v| c - v).collect();
+        let grad_phi: Vec<_> = self.nodal_gradients.iter().map(|g| -g).collect();
+        crate::render::to_vtu(&self.mesh, &phi, self.potential.psi(), &grad_phi)
+    }
+
+    /// An SVG of the scene, the potential's isolines and the given paths and car runs.
+    pub fn svg(
+        &self,
+        paths: &[Vec<[f64; 2]>],
+        car_poses: &[Vec<[f64; 3]>],
+        opts: &SvgOptions,
+    ) -> String {
+        macro_rules! rings {
+            ($regions:expr) => {
+                $regions
+                    .iter()
+                    .flat_map(|r| {
+                        std::iter::once(r.exterior.clone()).chain(r.holes.iter().cloned())
+                    })
+                    .collect()
+            };
+        }
+        let picture = crate::render::Picture {
+            workspace: rings!(self.domain.workspace_rings()),
+            obstacles: rings!(self.domain.obstacle_polygons()),
+            goals: rings!(self.domain.goal_polygons()),
+            mesh: Some(&self.mesh),
+            show_mesh: opts.show_mesh,
+            psi: Some(self.potential.psi()),
+            paths: paths
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let colour = crate::render::PATH_COLOURS[i % crate::render::PATH_COLOURS.len()];
+                    (p.iter().copied().map(point).collect(), colour)
+                })
+                .collect(),
+            car_poses: car_poses.to_vec(),
+            car_size: opts.car_size,
+            title: opts.title.clone(),
+            ..Default::default()
+        };
+        picture.to_svg(opts.width_px)
+    }
+}
+
+/// Options of [`Planner::svg`].
+#[derive(Clone, Debug)]
+pub struct SvgOptions {
+    /// Draw the mesh edges.
+    pub show_mesh: bool,
+    /// Picture width in pixels.
+    pub width_px: f64,
+    /// Car footprint length and width.
+    pub car_size: (f64, f64),
+    /// A title in the corner.
+    pub title: Option<String>,
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions {
+            show_mesh: false,
+            width_px: 800.0,
+            car_size: (0.25, 0.12),
+            title: None,
+        }
+    }
+}
+
+fn tag_name(tag: BoundaryTag) -> String {
+    match tag {
+        BoundaryTag::Wall => "wall".into(),
+        BoundaryTag::Obstacle(i) => format!("obstacle:{i}"),
+        BoundaryTag::Goal(j) => format!("goal:{j}"),
+    }
+}
+
+fn finite_or_zero(v: f64) -> f64 {
+    if v.is_finite() { v } else { 0.0 }
+}
+
+fn unreachable_path(p: Point) -> Path {
+    Path::new(vec![p], TraceStatus::Unreachable, f64::INFINITY, 0)
+}
+
+/// Interior vertices (on no boundary) where φ is a strict local minimum, i.e. ψ = φ_wall − φ
+/// a strict local maximum, over the vertices sharing an edge with them.
+pub fn interior_local_minima(mesh: &Mesh, psi: &[f64]) -> usize {
+    let mut dominated = vec![false; psi.len()];
+    for tri in mesh.triangles() {
+        for k in 0..3 {
+            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+            if psi[b] >= psi[a] {
+                dominated[a] = true;
+            }
+            if psi[a] >= psi[b] {
+                dominated[b] = true;
+            }
+        }
+    }
+    mesh.vertex_tags()
+        .iter()
+        .zip(&dominated)
+        .filter(|(tag, d)| tag.is_none() && !**d)
+        .count()
+}
+
+/// Progress on stderr (a spinner naming the stage), shown only on a terminal and only when
+/// asked for.
+struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    fn new(enabled: bool) -> Progress {
+        if !enabled {
+            return Progress(None);
+        }
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        Progress(Some(bar))
+    }
+    fn stage(&self, name: &'static str) {
+        if let Some(bar) = &self.0 {
+            bar.set_message(name);
+        }
+    }
+    fn finish(&self) {
+        if let Some(bar) = &self.0 {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+impl PlanReport {
+    /// A human-readable summary.
+    pub fn summary(&self) -> String {
+        summary(
+            &self.mesh,
+            &self.timings_ms,
+            &self.potential,
+            self.paths.iter().map(|p| {
+                (
+                    p.start.to_vec(),
+                    p.status,
+                    p.length,
+                    p.min_clearance,
+                    p.min_gradient,
+                )
+            }),
+        )
+    }
+}
+
+impl CarReport {
+    /// A human-readable summary.
+    pub fn summary(&self) -> String {
+        summary(
+            &self.mesh,
+            &self.timings_ms,
+            &self.potential,
+            self.paths.iter().map(|p| {
+                (
+                    p.start.to_vec(),
+                    p.status,
+                    p.length,
+                    p.min_clearance,
+                    p.min_gradient,
+                )
+            }),
+        )
+    }
+}
+
+fn summary(
+    mesh: &MeshSummary,
+    t: &Timings,
+    pot: &PotentialSummary,
+    paths: impl Iterator<Item = (Vec<f64>, &'static str, f64, f64, f64)>,
+) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "mesh: {} vertices, {} triangles, min angle {:.1}°",
+        mesh.vertices, mesh.triangles, mesh.min_angle_deg
+    );
+    let _ = writeln!(
+        s,
+        "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
+        t.mesh, t.assemble, t.solve, t.trace
+    );
+    let _ = writeln!(
+        s,
+        "potential: φ in [{:.6}, {:.6}], smallest ψ = φ_wall − φ {:.2e}, interior local minima {}",
+        pot.min, pot.max, pot.min_psi, pot.interior_local_minima
+    );
+    for (start, status, length, clearance, grad) in paths {
+        let start: Vec<String> = start.iter().map(|v| format!("{v}")).collect();
+        let _ = writeln!(
+            s,
+            "({}): {status}, length {length:.3}, clearance {clearance:.3}, smallest |∇φ| {grad:.2e}",
+            start.join(", ")
+        );
+    }
+    s
+}
