@@ -10,6 +10,8 @@
 //! by the same code. A field's `value` decreases toward the goal; a potential that increases
 //! toward it (ψ = φ_wall − φ) is wrapped with [`P1Field::ascending`].
 
+#![warn(missing_docs)]
+
 mod car;
 mod exact;
 mod field;

@@ -257,3 +257,70 @@ fn reference_scene_with_insulated_walls() {
     let (domain, potential) = setup("reference", &bcs);
     check_traces(&domain, &potential, 31);
 }
+
+#[test]
+fn sealed_room_is_unreachable() {
+    // Four overlapping bars enclose the room [2, 4] × [2, 4]; the goal is outside it.
+    let bar = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        Shape::Polygon(vec![
+            Point::new(x0, y0),
+            Point::new(x1, y0),
+            Point::new(x1, y1),
+            Point::new(x0, y1),
+        ])
+    };
+    let spec = DomainSpec {
+        workspace: vec![
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ],
+        obstacles: vec![
+            bar(1.5, 1.5, 4.5, 2.0),
+            bar(1.5, 4.0, 4.5, 4.5),
+            bar(1.5, 1.5, 2.0, 4.5),
+            bar(4.0, 1.5, 4.5, 4.5),
+        ],
+        goals: vec![GoalShape::Circle {
+            center: Point::new(8.0, 8.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.0,
+    };
+    let opts = MeshOptions {
+        max_area: Some(0.02),
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(&spec, &opts).unwrap();
+    let (mesh, _) = domain.mesh(&opts).unwrap();
+    assert!(mesh.component_count() >= 2);
+    let potential = solve_potential(Arc::new(mesh), &BoundaryConditions::default()).unwrap();
+    let mesh: &Mesh = potential.mesh();
+    let exact = P1Field::ascending(mesh, potential.psi()).unwrap();
+    let smooth =
+        SmoothP1Field::ascending(mesh, potential.psi(), potential.nodal_gradients_psi()).unwrap();
+    let inside = Point::new(3.0, 3.1);
+    assert_eq!(
+        trace_exact(&exact, inside, &ExactOptions::default()).status,
+        TraceStatus::Unreachable
+    );
+    let s = trace_smooth(&smooth, inside, &SmoothOptions::for_scale(10.0)).unwrap();
+    assert_eq!(s.status, TraceStatus::Unreachable);
+    let car = drive(
+        &smooth,
+        [3.0, 3.1, 0.0],
+        &CarOptions::new(0.2, 0.6, 0.02),
+        None,
+    )
+    .unwrap();
+    assert_eq!(car.status, TraceStatus::Unreachable);
+    assert_eq!(serde_json::to_value(&car).unwrap()["status"], "unreachable");
+    // Outside the room the goal is reached.
+    let outside = trace_exact(&exact, Point::new(6.0, 2.0), &ExactOptions::default());
+    assert_eq!(outside.status, TraceStatus::ReachedGoal(0));
+    assert_eq!(
+        trace_exact(&exact, Point::new(1.75, 3.0), &ExactOptions::default()).status,
+        TraceStatus::StartInObstacle
+    );
+}
