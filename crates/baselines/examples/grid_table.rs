@@ -47,7 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 relaxation,
                 stop: StopRule::Residual(tol),
                 max_iterations: 1_000_000,
-                unknown: Unknown::Psi,
+                ..SorOptions::default()
             };
             let psi = GridHarmonic::solve(raster.clone(), &opts)?;
             let phi = GridHarmonic::solve(

@@ -47,6 +47,26 @@ pub enum StopRule {
     Residual(f64),
 }
 
+/// The condition on the workspace's outer walls (obstacles and goals stay Dirichlet), in
+/// terms of `φ` with `n` the outward normal of free space (into the wall).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum WallCondition {
+    /// `φ = 1` at the wall cells' centres (Connolly's original).
+    #[default]
+    Dirichlet,
+    /// `a ∂φ/∂n + b φ = g` on the cell face between a free cell and a wall cell, with
+    /// `∂φ/∂n ≈ (φ_wall − φ_cell)/h` and `φ_face ≈ (φ_wall + φ_cell)/2`. Neumann is
+    /// `a = 1, b = 0`; `g = b` keeps walls at the Dirichlet value 1 "softly".
+    Robin {
+        /// Weight of the normal derivative (≥ 0).
+        a: f64,
+        /// Weight of the value (≥ 0; `a + b > 0`).
+        b: f64,
+        /// Right-hand side.
+        g: f64,
+    },
+}
+
 /// Options of [`GridHarmonic::solve`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SorOptions {
@@ -58,6 +78,8 @@ pub struct SorOptions {
     pub max_iterations: usize,
     /// Which quantity to iterate on.
     pub unknown: Unknown,
+    /// The condition on the outer walls.
+    pub walls: WallCondition,
 }
 
 impl Default for SorOptions {
@@ -74,6 +96,7 @@ impl Default for SorOptions {
             stop: StopRule::Residual(1e-13),
             max_iterations: 100_000,
             unknown: Unknown::Psi,
+            walls: WallCondition::Dirichlet,
         }
     }
 }
@@ -130,6 +153,48 @@ fn sweep(v: &mut [f64], order: &[u32], n: usize, cx: f64, cy: f64, omega: f64) -
         }
     }
     max_change
+}
+
+/// A free cell next to a Robin wall: its equation is `v = (S + r)·s` with `S` the usual
+/// stencil sum (the wall cells holding their Dirichlet value).
+#[derive(Clone, Copy, Debug)]
+struct RobinCell {
+    k: u32,
+    r: f64,
+    s: f64,
+}
+
+/// The cells of one colour (or all cells, in Gauss–Seidel order): plain 5-point cells and
+/// cells next to a Robin wall. Cells of one colour do not couple, so updating the plain ones
+/// before the Robin ones is still red–black SOR.
+#[derive(Clone, Debug, Default)]
+struct Order {
+    plain: Vec<u32>,
+    robin: Vec<RobinCell>,
+}
+
+impl Order {
+    fn sweep(&self, v: &mut [f64], n: usize, cx: f64, cy: f64, omega: f64) -> f64 {
+        let mut max_change = sweep(v, &self.plain, n, cx, cy, omega);
+        for c in &self.robin {
+            let k = c.k as usize;
+            let target = (cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]) + c.r) * c.s;
+            let change = omega * (target - v[k]);
+            v[k] += change;
+            max_change = max_change.max(change.abs());
+        }
+        max_change
+    }
+
+    fn residual(&self, v: &[f64], n: usize, cx: f64, cy: f64) -> f64 {
+        self.robin
+            .iter()
+            .fold(residual(v, &self.plain, n, cx, cy), |r, c| {
+                let k = c.k as usize;
+                let target = (cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]) + c.r) * c.s;
+                r.max((target - v[k]).abs())
+            })
+    }
 }
 
 fn residual(v: &[f64], order: &[u32], n: usize, cx: f64, cy: f64) -> f64 {
@@ -198,31 +263,103 @@ impl GridHarmonic {
         let (wx, wy) = (1.0 / (hx * hx), 1.0 / (hy * hy));
         let cx = wx / (2.0 * (wx + wy));
         let cy = wy / (2.0 * (wx + wy));
+        let robin = match options.walls {
+            WallCondition::Dirichlet => None,
+            WallCondition::Robin { a, b, g } => {
+                for (name, v) in [("robin a", a), ("robin b", b), ("robin g", g)] {
+                    if !v.is_finite() {
+                        return Err(BaselineError::NonFinite {
+                            what: name.to_string(),
+                            value: v,
+                        });
+                    }
+                }
+                if a < 0.0 || b < 0.0 || a + b <= 0.0 {
+                    return Err(BaselineError::InvalidParameter {
+                        name: "robin a, b",
+                        value: a.min(b),
+                        reason: "need a ≥ 0, b ≥ 0 and a + b > 0",
+                    });
+                }
+                let driven = b > 0.0
+                    || g != 0.0
+                    || raster
+                        .cells()
+                        .iter()
+                        .any(|c| matches!(c, Cell::Obstacle(_)));
+                if !driven {
+                    return Err(BaselineError::InvalidParameter {
+                        name: "robin b",
+                        value: b,
+                        reason: "homogeneous Neumann walls and no obstacle: only the goal is \
+                                 Dirichlet and the potential is constant",
+                    });
+                }
+                // In the unknown's own terms (ψ = 1 − φ turns g into b − g).
+                let g = match options.unknown {
+                    Unknown::Psi => b - g,
+                    Unknown::Phi => g,
+                };
+                Some((a, b, g))
+            }
+        };
         // Free cells never touch the grid's edge (the outer ring is wall), so k ± 1 and
         // k ± n stay in range.
+        let cells = raster.cells();
         let mut values = Vec::with_capacity(n * n);
-        let mut red = Vec::new();
-        let mut black = Vec::new();
-        for (k, cell) in raster.cells().iter().enumerate() {
+        let mut red = Order::default();
+        let mut black = Order::default();
+        for (k, cell) in cells.iter().enumerate() {
             values.push(match cell {
                 Cell::Goal(_) => goal_value,
                 _ => wall_value,
             });
-            if *cell == Cell::Free {
-                if (k % n + k / n).is_multiple_of(2) {
-                    red.push(k as u32);
-                } else {
-                    black.push(k as u32);
+            if *cell != Cell::Free {
+                continue;
+            }
+            let order = if (k % n + k / n).is_multiple_of(2) {
+                &mut red
+            } else {
+                &mut black
+            };
+            // Each Robin face adds c·α·(g − b v) to the balance Σ c (v_nb − v) = 0, with
+            // α = 1 / (a/h + b/2), in place of c·(v_wall − v).
+            let mut special = None;
+            if let Some((a, b, g)) = robin {
+                for (m, c, h) in [
+                    (k - 1, cx, hx),
+                    (k + 1, cx, hx),
+                    (k - n, cy, hy),
+                    (k + n, cy, hy),
+                ] {
+                    if cells[m] == Cell::Wall {
+                        let alpha = 1.0 / (a / h + 0.5 * b);
+                        let (r, d) = special.unwrap_or((0.0, 1.0));
+                        special =
+                            Some((r + c * (alpha * g - wall_value), d - c * (1.0 - alpha * b)));
+                    }
                 }
             }
+            match special {
+                Some((r, d)) => order.robin.push(RobinCell {
+                    k: k as u32,
+                    r,
+                    s: 1.0 / d,
+                }),
+                None => order.plain.push(k as u32),
+            }
         }
-        let lexicographic: Vec<u32> = match options.relaxation {
+        let lexicographic = match options.relaxation {
             Relaxation::GaussSeidel => {
-                let mut all: Vec<u32> = red.iter().chain(&black).copied().collect();
-                all.sort_unstable();
+                let mut all = Order {
+                    plain: red.plain.iter().chain(&black.plain).copied().collect(),
+                    robin: red.robin.iter().chain(&black.robin).copied().collect(),
+                };
+                all.plain.sort_unstable();
+                all.robin.sort_unstable_by_key(|c| c.k);
                 all
             }
-            Relaxation::RedBlackSor { .. } => Vec::new(),
+            Relaxation::RedBlackSor { .. } => Order::default(),
         };
         let start = Instant::now();
         let mut iterations = 0;
@@ -231,10 +368,10 @@ impl GridHarmonic {
         while iterations < options.max_iterations {
             iterations += 1;
             max_update = match options.relaxation {
-                Relaxation::GaussSeidel => sweep(&mut values, &lexicographic, n, cx, cy, 1.0),
+                Relaxation::GaussSeidel => lexicographic.sweep(&mut values, n, cx, cy, 1.0),
                 Relaxation::RedBlackSor { .. } => {
-                    let a = sweep(&mut values, &red, n, cx, cy, omega);
-                    a.max(sweep(&mut values, &black, n, cx, cy, omega))
+                    let a = red.sweep(&mut values, n, cx, cy, omega);
+                    a.max(black.sweep(&mut values, n, cx, cy, omega))
                 }
             };
             let done = match options.stop {
@@ -244,8 +381,9 @@ impl GridHarmonic {
                 // within a factor RESIDUAL_GATE of the tolerance. It only delays the check.
                 StopRule::Residual(t) => {
                     max_update < RESIDUAL_GATE * t
-                        && residual(&values, &red, n, cx, cy)
-                            .max(residual(&values, &black, n, cx, cy))
+                        && red
+                            .residual(&values, n, cx, cy)
+                            .max(black.residual(&values, n, cx, cy))
                             < t
                 }
             };
@@ -254,7 +392,9 @@ impl GridHarmonic {
                 break;
             }
         }
-        let residual = residual(&values, &red, n, cx, cy).max(residual(&values, &black, n, cx, cy));
+        let residual = red
+            .residual(&values, n, cx, cy)
+            .max(black.residual(&values, n, cx, cy));
         let report = SolveReport {
             iterations,
             residual,
@@ -455,7 +595,112 @@ mod tests {
             stop: StopRule::Residual(1e-14),
             max_iterations: 200_000,
             unknown,
+            walls: WallCondition::Dirichlet,
         }
+    }
+
+    #[test]
+    fn neumann_walls_make_a_strip_exactly_linear() {
+        // A 10 × 3 strip: goal column x < 1 (ψ = 1), obstacle column x > 9 (ψ = 0), Neumann
+        // walls above and below. With n = 22, hx = 0.5: the last goal centre is x = 0.75 and
+        // the first obstacle centre x = 9.25, so ψ = (9.25 − x) / 8.5 on every free cell.
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 3.0),
+            &[rect(9.0, 0.0, 10.0, 3.0)],
+            &[rect(0.0, 0.0, 1.0, 3.0)],
+            22,
+        )
+        .unwrap();
+        for (relaxation, unknown) in [
+            (Relaxation::RedBlackSor { omega: None }, Unknown::Psi),
+            (Relaxation::GaussSeidel, Unknown::Phi),
+        ] {
+            let opts = SorOptions {
+                walls: WallCondition::Robin {
+                    a: 1.0,
+                    b: 0.0,
+                    g: 0.0,
+                },
+                ..tight(relaxation, unknown)
+            };
+            let f = GridHarmonic::solve(raster.clone(), &opts).unwrap();
+            assert!(f.report().converged);
+            let mut free = 0;
+            for (k, c) in f.raster().cells().iter().enumerate() {
+                if *c == Cell::Free {
+                    free += 1;
+                    let psi = (9.25 - f.raster().centre(k).x) / 8.5;
+                    let v = match unknown {
+                        Unknown::Psi => f.values()[k],
+                        Unknown::Phi => 1.0 - f.values()[k],
+                    };
+                    assert!((v - psi).abs() < 1e-10, "cell {k}: {v} vs {psi}");
+                }
+            }
+            assert_eq!(free, 16 * 20);
+        }
+    }
+
+    #[test]
+    fn robin_walls_lift_the_far_field_and_are_validated() {
+        // Robin walls with a small b hold the walls only softly, so ψ far from the goal is
+        // larger than with Dirichlet walls (the paper's remedy for flat fields).
+        let raster = Raster::from_polygons(
+            &rect(0.0, 0.0, 10.0, 10.0),
+            &[],
+            &[rect(8.0, 8.0, 9.0, 9.0)],
+            32,
+        )
+        .unwrap();
+        let dirichlet = GridHarmonic::solve(raster.clone(), &SorOptions::default()).unwrap();
+        let robin = SorOptions {
+            walls: WallCondition::Robin {
+                a: 1.0,
+                b: 0.1,
+                g: 0.1,
+            },
+            ..SorOptions::default()
+        };
+        let soft = GridHarmonic::solve(raster.clone(), &robin).unwrap();
+        let far = raster.index_of(Point::new(0.5, 0.5)).unwrap();
+        assert!(
+            soft.values()[far] > 10.0 * dirichlet.values()[far],
+            "Robin {} vs Dirichlet {}",
+            soft.values()[far],
+            dirichlet.values()[far]
+        );
+        assert_eq!(soft.flat_cells(), 0);
+        let neumann_only = SorOptions {
+            walls: WallCondition::Robin {
+                a: 1.0,
+                b: 0.0,
+                g: 0.0,
+            },
+            ..SorOptions::default()
+        };
+        let open = Raster::from_polygons(
+            &rect(0.0, 0.0, 1.0, 1.0),
+            &[],
+            &[rect(0.4, 0.4, 0.6, 0.6)],
+            8,
+        )
+        .unwrap();
+        assert!(matches!(
+            GridHarmonic::solve(open, &neumann_only),
+            Err(BaselineError::InvalidParameter {
+                name: "robin b",
+                ..
+            })
+        ));
+        let negative = SorOptions {
+            walls: WallCondition::Robin {
+                a: -1.0,
+                b: 1.0,
+                g: 0.0,
+            },
+            ..SorOptions::default()
+        };
+        assert!(GridHarmonic::solve(raster, &negative).is_err());
     }
 
     #[test]

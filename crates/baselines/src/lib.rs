@@ -36,7 +36,9 @@ mod raster;
 pub mod wavefront;
 
 pub use error::BaselineError;
-pub use grid_harmonic::{GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown};
+pub use grid_harmonic::{
+    GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown, WallCondition,
+};
 pub use navigation::{Disc, NavigationFunction, NavigationOptions};
 pub use panel::{Panel, PanelField, PanelOptions, PanelPlanner};
 pub use plan::PlanResult;
