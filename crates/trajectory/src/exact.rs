@@ -86,9 +86,6 @@ pub fn trace_exact(field: &P1Field<'_>, start: Point, opts: &ExactOptions) -> Pa
             return Path::new(vec![start], TraceStatus::OutsideWorkspace, f64::INFINITY, 0);
         }
     };
-    if !field.goal_reachable(t0) {
-        return Path::new(vec![start], TraceStatus::Unreachable, f64::INFINITY, 0);
-    }
     let mut tracer = Tracer {
         field,
         points: vec![start],
@@ -98,6 +95,12 @@ pub fn trace_exact(field: &P1Field<'_>, start: Point, opts: &ExactOptions) -> Pa
         star: Vec::new(),
     };
     let status = tracer.run(classify(field, t0, start), opts);
+    // Whether the start's component holds a goal is only asked when no goal was reached
+    // (it scans the boundary): a start sealed off from every goal stalls at once on the flat
+    // field there, or runs down to a minimum, and then reports `Unreachable`.
+    if !status.reached_goal() && !field.goal_reachable(t0) {
+        return Path::new(vec![start], TraceStatus::Unreachable, f64::INFINITY, 0);
+    }
     Path::new(tracer.points, status, tracer.min_gradient, tracer.crossed)
 }
 
