@@ -136,6 +136,7 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
     while ring.len() > 1 && ring[0].0 == ring[ring.len() - 1].0 {
         ring.pop();
     }
+    let distinct = ring.len();
     // Drop collinear vertices (including spikes) until none is left.
     loop {
         let n = ring.len();
@@ -160,6 +161,9 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
         if !removed {
             break;
         }
+    }
+    if ring.len() < 3 && distinct >= 3 {
+        return Err(MeshError::ZeroArea { part });
     }
     if ring.len() < 3 {
         return Err(MeshError::TooFewVertices {
@@ -364,12 +368,15 @@ impl Domain {
         let mut sources: Vec<(Point, Point, BoundaryTag)> = Vec::new();
         let mut snap_inputs: Vec<Point> = ws.clone();
         let mut obstacle_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.obstacles.len());
+        // The obstacles before inflation (only kept with a robot radius, for error messages).
+        let mut raw_obstacles: Vec<MultiPolygon<f64>> = Vec::new();
         for (i, shape) in spec.obstacles.iter().enumerate() {
             let part = Part::Obstacle(i);
             let mp = match shape {
                 Shape::Polygon(pts) => {
                     let ring = clean_ring(part, pts)?;
                     if rr > 0.0 {
+                        raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
                         to_geo(&ring).buffer_with_style(
                             BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
                         )
@@ -383,6 +390,11 @@ impl Domain {
                             part,
                             radius: *radius,
                         });
+                    }
+                    if rr > 0.0 {
+                        raw_obstacles.push(MultiPolygon(vec![to_geo(&circle_polygon(
+                            part, *center, *radius, h,
+                        )?)]));
                     }
                     MultiPolygon(vec![to_geo(&circle_polygon(
                         part,
@@ -475,12 +487,14 @@ impl Domain {
         }
         for (j, g) in goal_geo.iter().enumerate() {
             if g.intersection(&free0).unsigned_area() <= 0.0 {
-                let uncovered = g.intersection(&ws_geo).difference(&obstacle_union);
+                let raw = if rr > 0.0 {
+                    &raw_obstacles
+                } else {
+                    &obstacle_geo
+                };
+                let uncovered = g.intersection(&ws_geo).difference(&unary_union(raw.iter()));
                 if uncovered.unsigned_area() <= 0.0 {
-                    let obstacle = obstacle_geo
-                        .iter()
-                        .position(|o| o.intersects(g))
-                        .unwrap_or(0);
+                    let obstacle = raw.iter().position(|o| o.intersects(g)).unwrap_or(0);
                     return Err(MeshError::GoalInObstacle { goal: j, obstacle });
                 }
                 return Err(MeshError::GoalNotInFreeSpace {

@@ -72,14 +72,14 @@ pub enum MeshError {
     /// A coordinate (or radius) is NaN or infinite.
     #[error("{part}: vertex {vertex} has a non-finite coordinate")]
     NonFinite { part: Part, vertex: usize },
-    /// Fewer than three distinct, non-collinear vertices.
-    #[error("{part}: polygon has {count} distinct non-collinear vertices, at least 3 are needed")]
+    /// Fewer than three distinct vertices.
+    #[error("{part}: polygon has {count} distinct vertices, at least 3 are needed")]
     TooFewVertices { part: Part, count: usize },
     /// Two non-adjacent edges of a polygon touch or cross (edge `k` runs from input vertex `k`).
     #[error("{part}: polygon self-intersects (edges {} and {})", edges.0, edges.1)]
     SelfIntersection { part: Part, edges: (usize, usize) },
-    /// The polygon encloses no area.
-    #[error("{part}: polygon has zero area")]
+    /// The polygon encloses no area (all its vertices are collinear).
+    #[error("{part}: polygon has zero area (all vertices collinear)")]
     ZeroArea { part: Part },
     /// A circle radius that is not positive and finite.
     #[error("{part}: circle radius {radius} must be positive and finite")]

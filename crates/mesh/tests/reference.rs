@@ -1,23 +1,133 @@
+//! The reference scene (meshes/reference.json) at the bench sizes: topology, exact area,
+//! angles, the M-matrix conditions and boundary tags.
+
 mod common;
 
 use common::*;
-use harmonic_mesh::{BoundaryTag, Domain, MeshOptions};
+use harmonic_mesh::{BoundaryTag, Domain, MeshOptions, Point};
+
+/// Free area from the inputs: 100 − obstacles − the 12-gon goal (r = 0.15).
+fn exact_free_area(goal_sides: usize) -> f64 {
+    let spec = reference();
+    let mut a = 100.0;
+    for o in &spec.obstacles {
+        if let harmonic_mesh::Shape::Polygon(pts) = o {
+            a -= area(pts).abs();
+        }
+    }
+    let n = goal_sides as f64;
+    a - 0.5 * n * 0.15f64.powi(2) * (std::f64::consts::TAU / n).sin()
+}
+
+fn check_tags_on_inputs(mesh: &harmonic_mesh::Mesh) {
+    let spec = reference();
+    for e in mesh.boundary_edges() {
+        let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
+        let on = |poly: &[Point]| {
+            let n = poly.len();
+            (0..n).any(|k| {
+                seg_dist(a, poly[k], poly[(k + 1) % n]) < 1e-9
+                    && seg_dist(b, poly[k], poly[(k + 1) % n]) < 1e-9
+            })
+        };
+        match e.tag {
+            BoundaryTag::Wall => assert!(on(&spec.workspace), "wall edge {a} {b}"),
+            BoundaryTag::Obstacle(i) => match &spec.obstacles[i as usize] {
+                harmonic_mesh::Shape::Polygon(p) => assert!(on(p), "obstacle {i} edge {a} {b}"),
+                harmonic_mesh::Shape::Circle { .. } => unreachable!(),
+            },
+            BoundaryTag::Goal(0) => {
+                let c = p(8.5, 1.5);
+                for q in [a, b] {
+                    let r = (q - c).norm();
+                    assert!(
+                        r <= 0.15 + 1e-12
+                            && r >= 0.15 * (std::f64::consts::PI / 12.0).cos() - 1e-12
+                    );
+                }
+            }
+            BoundaryTag::Goal(j) => panic!("unexpected goal {j}"),
+        }
+    }
+}
+
+fn run(max_area: f64, prefill: bool) {
+    let spec = reference();
+    let opts = MeshOptions {
+        max_area: Some(max_area),
+        prefill,
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(&spec, &opts).expect("domain");
+    let exact = exact_free_area(12);
+    assert!((domain.free_area() - exact).abs() < 1e-12 * exact);
+    let (mesh, report) = domain.mesh(&opts).expect("mesh");
+    assert!(report.refinement_complete);
+    check_invariants(&mesh, exact, 1e-9).expect("invariants");
+    let q = mesh.quality();
+    assert_eq!(q.holes, 6, "{q:?}");
+    assert_eq!(q.components, 1);
+    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
+    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
+    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
+    let max_tri = (0..mesh.triangles().len() as u32)
+        .map(|t| mesh.triangle_area(t))
+        .fold(0.0, f64::max);
+    assert!(max_tri <= max_area * (1.0 + 1e-12));
+    check_tags_on_inputs(&mesh);
+    // Every tag is present: wall, five obstacles, the goal.
+    let mut tags: Vec<BoundaryTag> = mesh.boundary_edges().iter().map(|e| e.tag).collect();
+    tags.sort();
+    tags.dedup();
+    assert_eq!(tags.len(), 7, "{tags:?}");
+}
 
 #[test]
-fn reference_scene_30k() {
-    let spec = reference();
+fn reference_3k_with_and_without_prefill() {
+    run(0.045, true);
+    run(0.045, false);
+}
+
+#[test]
+fn reference_30k_with_and_without_prefill() {
+    run(0.0044, true);
+    run(0.0044, false);
+}
+
+#[test]
+fn triangle_counts_are_close_to_triangle() {
+    // Triangle (pq30a0.0044) gives 30236 triangles; we aim for the same density.
     let opts = MeshOptions {
         max_area: Some(0.0044),
         ..MeshOptions::default()
     };
-    let domain = Domain::new(&spec, &opts).expect("domain");
-    let t0 = std::time::Instant::now();
-    let (mesh, report) = domain.mesh(&opts).expect("mesh");
-    let q = mesh.quality();
-    eprintln!("{:?} {:?} {:?}", t0.elapsed(), report, q);
-    assert!(report.refinement_complete);
-    check_invariants(&mesh, domain.free_area(), 1e-12).unwrap();
-    assert_eq!(q.holes, 6);
-    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{}", q.min_angle_deg);
-    let _ = BoundaryTag::Wall;
+    for prefill in [true, false] {
+        let opts = MeshOptions {
+            prefill,
+            ..opts.clone()
+        };
+        let (mesh, _) = Domain::new(&reference(), &opts)
+            .unwrap()
+            .mesh(&opts)
+            .unwrap();
+        let n = mesh.triangles().len() as f64;
+        assert!((n / 30236.0 - 1.0).abs() < 0.1, "{n}");
+    }
+}
+
+#[test]
+fn vertices_are_in_hilbert_order() {
+    // Consecutive vertices are close: the mean distance between vertex i and i+1 is a small
+    // multiple of the edge length (a random order would give about a third of the domain).
+    let opts = MeshOptions {
+        max_area: Some(0.0044),
+        ..MeshOptions::default()
+    };
+    let (mesh, _) = Domain::new(&reference(), &opts)
+        .unwrap()
+        .mesh(&opts)
+        .unwrap();
+    let v = mesh.vertices();
+    let mean: f64 = v.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>() / (v.len() - 1) as f64;
+    assert!(mean < 0.3, "mean step {mean}");
 }
