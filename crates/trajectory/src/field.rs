@@ -54,7 +54,8 @@ pub trait Field {
     /// nearby point: the previous position of a path).
     fn locate(&self, p: Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
 
-    /// The potential at `p`, which lies in `cell`.
+    /// The potential at `p`, which lies in `cell` (a cell returned by [`Field::locate`] or
+    /// [`Field::segment`] for this field; other handles may panic).
     fn value(&self, cell: Self::Cell, p: Point) -> f64;
 
     /// The gradient of the potential at `p`, which lies in `cell`.

@@ -145,6 +145,11 @@ fn eval<F: Field>(field: &F, cell: F::Cell, from: Point, q: Point) -> Eval<F::Ce
 
 /// Follows `field` downhill from `start` with an adaptive Dormand–Prince 5(4) integrator.
 ///
+/// The path's points are the accepted steps (and fallback moves); `triangles_crossed` counts
+/// the steps that ended in a different cell than they started (a step may pass several
+/// cells), and `min_gradient` is the smallest |∇value| at a step's end. Paths that reach a
+/// goal end on its boundary (to 2⁻⁴⁰ of the last step).
+///
 /// Errors only for invalid options; how the path ended is in its `status`.
 ///
 /// ```
