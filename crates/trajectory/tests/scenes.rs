@@ -324,3 +324,43 @@ fn sealed_room_is_unreachable() {
         TraceStatus::StartInObstacle
     );
 }
+
+#[test]
+fn starts_on_vertices_and_edges_of_an_unstructured_mesh() {
+    let (domain, potential) = setup("reference", &conditions("reference"));
+    let mesh: &Mesh = potential.mesh();
+    let f = P1Field::ascending(mesh, potential.psi()).unwrap();
+    let smooth =
+        SmoothP1Field::ascending(mesh, potential.psi(), potential.nodal_gradients_psi()).unwrap();
+    let mut rng = Rng(4242);
+    let nv = mesh.vertices().len();
+    let nt = mesh.triangles().len();
+    let mut starts = Vec::new();
+    for _ in 0..100 {
+        starts.push(mesh.vertices()[(rng.next_f64() * nv as f64) as usize % nv]);
+        let tri = mesh.triangles()[(rng.next_f64() * nt as f64) as usize % nt];
+        let (a, b) = (
+            mesh.vertices()[tri[0] as usize],
+            mesh.vertices()[tri[1] as usize],
+        );
+        starts.push(a + (b - a) * 0.5);
+    }
+    for s in starts {
+        let exact = trace_exact(&f, s, &ExactOptions::default());
+        let tag = f.locate(s, None);
+        if let Locate::Goal(_) = tag {
+            // A vertex of the goal's boundary may round to just inside the goal.
+            assert!(exact.status.reached_goal());
+            continue;
+        }
+        assert_eq!(
+            exact.status,
+            TraceStatus::ReachedGoal(0),
+            "exact from {s} ({tag:?})"
+        );
+        assert_in_free_space(&domain, &exact.points, "exact");
+        let sm = trace_smooth(&smooth, s, &SmoothOptions::for_scale(10.0)).unwrap();
+        assert_eq!(sm.status, TraceStatus::ReachedGoal(0), "smooth from {s}");
+        assert_in_free_space(&domain, &sm.points, "smooth");
+    }
+}
