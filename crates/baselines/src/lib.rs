@@ -3,14 +3,18 @@
 //! The comparison planners of the seed papers, so the finite-element harmonic planner can be
 //! measured against them on the same scenes, the same tracer and the same metrics.
 //!
-//! - [`grid_harmonic`]: Connolly, Burns & Weiss (1990), *Path planning using Laplace's
-//!   equation*: the 5-point Laplacian on an occupancy grid ([`Raster`]), relaxed by
-//!   Gauss–Seidel or red–black SOR, followed by bilinear interpolation. [`GridHarmonic`]
-//!   implements the shared [`harmonic_trajectory::Field`] trait, so the same tracer follows it.
+//! - [`grid_harmonic`]: Connolly, Burns & Weiss (ICRA 1990), *Path planning using Laplace's
+//!   equation*: the 5-point Laplacian on an occupancy grid ([`Raster`], from polygons or from
+//!   a [`harmonic_mesh::Domain`]), relaxed by Gauss–Seidel or red–black SOR (optimal ω by
+//!   default), Dirichlet or Robin/Neumann outer walls, iterated on ψ = 1 − φ like the FEM
+//!   solver, followed by bilinear interpolation. [`GridHarmonic`] implements the shared
+//!   [`harmonic_trajectory::Field`] trait, so the same tracer follows it, and reports
+//!   Connolly's flat-cell count.
 //! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
 //!   a brushfire of move counts from the goal over the grid, 4- or 8-connected, and descent to
 //!   the lowest neighbour.
-//! - [`potential_field`]: Khatib's attractive/repulsive potentials (1986) in the form of Choset
+//! - [`potential_field`]: Khatib's attractive/repulsive potentials (*Real-time obstacle
+//!   avoidance for manipulators and mobile robots*, IJRR 1986) in the form of Choset
 //!   et al., §4.1–4.2 (conic/parabolic attraction with threshold d*, repulsion within Q* of
 //!   each obstacle polygon), descended with a fixed step; they can get trapped in local
 //!   minima, which the descent reports as `Stalled`.
@@ -24,6 +28,30 @@
 //!
 //! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
 //! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
+//!
+//! ```
+//! use harmonic_baselines::{Connectivity, GridHarmonic, Raster, SorOptions, Wavefront};
+//! use harmonic_mesh::Point;
+//! use harmonic_trajectory::{SmoothOptions, trace_smooth};
+//! let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
+//!     vec![Point::new(x0, y0), Point::new(x1, y0), Point::new(x1, y1), Point::new(x0, y1)]
+//! };
+//! let raster = Raster::from_polygons(
+//!     &rect(0.0, 0.0, 10.0, 10.0),
+//!     &[rect(2.0, 2.0, 3.0, 8.0)],
+//!     &[rect(8.0, 1.0, 9.0, 2.0)],
+//!     64,
+//! )?;
+//! // Connolly's planner: relax, then follow the field with the shared tracer.
+//! let field = GridHarmonic::solve(raster.clone(), &SorOptions::default())?;
+//! assert!(field.report().converged && field.flat_cells() == 0);
+//! let path = trace_smooth(&field, Point::new(1.0, 9.0), &SmoothOptions::for_scale(10.0))?;
+//! assert!(path.status.reached_goal());
+//! // The wavefront planner on the same grid.
+//! let plan = Wavefront::new(raster, Connectivity::Eight).plan(Point::new(1.0, 9.0));
+//! assert!(plan.status.reached_goal());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod error;
 mod geometry;

@@ -40,6 +40,23 @@ pub struct NavigationOptions {
     pub stall_window: usize,
 }
 
+impl NavigationOptions {
+    /// Checks that the step, tolerances and window are positive.
+    pub fn validate(&self) -> Result<(), BaselineError> {
+        check_positive("step", self.step)?;
+        check_positive("goal_tolerance", self.goal_tolerance)?;
+        check_positive("stall_tolerance", self.stall_tolerance)?;
+        if self.stall_window == 0 {
+            return Err(BaselineError::InvalidParameter {
+                name: "stall_window",
+                value: 0.0,
+                reason: "must be at least 1 step",
+            });
+        }
+        Ok(())
+    }
+}
+
 impl Default for NavigationOptions {
     fn default() -> Self {
         NavigationOptions {
@@ -74,7 +91,7 @@ impl NavigationFunction {
     /// let rock = Disc { centre: Point::new(0.0, 0.0), radius: 2.0 };
     /// let nav = NavigationFunction::new(world, vec![rock], Point::new(6.0, 0.0), 6.0).unwrap();
     /// assert!(nav.value(Point::new(6.0, 0.0)) < 1e-12);
-    /// let plan = nav.plan(Point::new(-6.0, 0.5), &NavigationOptions::default());
+    /// let plan = nav.plan(Point::new(-6.0, 0.5), &NavigationOptions::default()).unwrap();
     /// assert!(plan.status.reached_goal());
     /// ```
     pub fn new(
@@ -188,11 +205,19 @@ impl NavigationFunction {
 
     /// Descends `φ` from `start` in fixed-length steps along `−∇φ/|∇φ|`, halving a step that
     /// would leave free space (up to 20 times before reporting a collision).
-    pub fn plan(&self, start: Point, options: &NavigationOptions) -> PlanResult {
+    ///
+    /// Errors if the options are invalid (see [`NavigationOptions::validate`]).
+    pub fn plan(
+        &self,
+        start: Point,
+        options: &NavigationOptions,
+    ) -> Result<PlanResult, BaselineError> {
+        options.validate()?;
         let clock = Instant::now();
         let o = options;
         let mut points = vec![start];
-        let status = if (start - self.world.centre).norm() >= self.world.radius {
+        let from_centre = (start - self.world.centre).norm();
+        let status = if from_centre >= self.world.radius || from_centre.is_nan() {
             TraceStatus::OutsideWorkspace
         } else if !self.is_free(start) {
             TraceStatus::StartInObstacle
@@ -237,7 +262,7 @@ impl NavigationFunction {
             }
             status
         };
-        PlanResult::new(points, status, clock.elapsed())
+        Ok(PlanResult::new(points, status, clock.elapsed()))
     }
 }
 
@@ -304,13 +329,13 @@ mod tests {
         ];
         let nav = NavigationFunction::new(w, obs.clone(), goal, 10.0).unwrap();
         for s in starts {
-            let plan = nav.plan(s, &opts);
+            let plan = nav.plan(s, &opts).unwrap();
             assert!(plan.status.reached_goal(), "from {s}: {:?}", plan.status);
             assert!(plan.points.iter().all(|&p| nav.is_free(p)));
         }
         // With κ = 1 the function keeps a spurious minimum behind the central obstacle.
         let weak = NavigationFunction::new(w, obs, goal, 1.0).unwrap();
-        let plan = weak.plan(starts[0], &opts);
+        let plan = weak.plan(starts[0], &opts).unwrap();
         assert!(
             matches!(plan.status, TraceStatus::Stalled { .. }),
             "{:?}",
@@ -338,5 +363,13 @@ mod tests {
             radius: 2.0,
         }];
         assert!(NavigationFunction::new(w, outside, goal, 2.0).is_err());
+        let nav = NavigationFunction::new(w, obs, goal, 2.0).unwrap();
+        let no_window = NavigationOptions {
+            stall_window: 0,
+            ..NavigationOptions::default()
+        };
+        assert!(nav.plan(Point::new(-6.0, 0.0), &no_window).is_err());
+        let plan = nav.plan(Point::new(f64::NAN, 0.0), &NavigationOptions::default());
+        assert_eq!(plan.unwrap().status, TraceStatus::OutsideWorkspace);
     }
 }

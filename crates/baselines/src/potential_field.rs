@@ -65,7 +65,8 @@ pub struct PotentialField {
 
 impl PotentialField {
     /// Builds the field. Errors on polygons with fewer than three vertices, non-finite
-    /// coordinates, or non-positive gains, distances, step or tolerance.
+    /// coordinates, non-positive gains, distances, step or tolerance, or a zero
+    /// `stall_window`.
     ///
     /// ```
     /// use harmonic_baselines::{PotentialField, PotentialFieldOptions};
@@ -97,6 +98,13 @@ impl PotentialField {
             ("stall_gradient", o.stall_gradient),
         ] {
             check_positive(name, v)?;
+        }
+        if o.stall_window == 0 {
+            return Err(BaselineError::InvalidParameter {
+                name: "stall_window",
+                value: 0.0,
+                reason: "must be at least 1 step",
+            });
         }
         Ok(PotentialField {
             workspace: workspace.to_vec(),

@@ -63,7 +63,7 @@ impl Raster {
     /// let r = Raster::from_polygons(&square, &[], &[goal], 10).unwrap();
     /// assert_eq!(r.cell_at(Point::new(0.5, 0.5)), Some(Cell::Free));
     /// assert_eq!(r.cell_at(Point::new(3.5, 3.5)), Some(Cell::Goal(0)));
-    /// assert_eq!(r.cell(0, 0), Cell::Wall);
+    /// assert_eq!(r.cell(0, 0), Some(Cell::Wall));
     /// ```
     pub fn from_polygons(
         workspace: &[Point],
@@ -259,9 +259,9 @@ impl Raster {
         &self.cells
     }
 
-    /// The cell in column `i`, row `j`. Panics if out of range (an internal index).
-    pub fn cell(&self, i: usize, j: usize) -> Cell {
-        self.cells[j * self.n + i]
+    /// The cell in column `i`, row `j`, or `None` outside the grid.
+    pub fn cell(&self, i: usize, j: usize) -> Option<Cell> {
+        (i < self.n && j < self.n).then(|| self.cells[j * self.n + i])
     }
 
     /// Centre of the cell with flat index `k`.
@@ -339,10 +339,11 @@ mod tests {
         assert_eq!(r.cell_at(Point::new(8.5, 8.5)), Some(Cell::Goal(0)));
         assert_eq!(r.cell_at(Point::new(-0.5, 5.0)), Some(Cell::Wall));
         assert_eq!(r.cell_at(Point::new(-1.5, 5.0)), None);
+        assert_eq!(r.cell(12, 0), None);
         assert_eq!(r.counts(), (100 - 4 - 1, 1, 144 - 100 + 4));
         for k in 0..12 {
-            assert_eq!(r.cell(k, 0), Cell::Wall);
-            assert_eq!(r.cell(11, k), Cell::Wall);
+            assert_eq!(r.cell(k, 0), Some(Cell::Wall));
+            assert_eq!(r.cell(11, k), Some(Cell::Wall));
         }
     }
 
