@@ -1,14 +1,15 @@
 //! Prints a table of the grid baselines on the reference scene for grid sizes given on the
 //! command line (default 64 128 256 512): SOR sweeps and time, residual, Connolly's flat-cell
 //! count for ψ and for φ, and the paths from (1, 9) by the shared tracer and by the wavefront.
-//! `tol=X` sets the residual tolerance (default 1e-13).
+//! `tol=X` sets the residual tolerance (default 1e-13), `rel=X` a relative residual
+//! tolerance instead.
 //!
 //! `cargo run --release -p harmonic-baselines --example grid_table -- 64 128 256 tol=1e-13`
 
 use std::time::Instant;
 
 use harmonic_baselines::{
-    Connectivity, GridHarmonic, Raster, Relaxation, SorOptions, StopRule, Unknown, Wavefront,
+    Cell, Connectivity, GridHarmonic, Raster, Relaxation, SorOptions, StopRule, Unknown, Wavefront,
 };
 use harmonic_mesh::Point;
 use harmonic_trajectory::{SmoothOptions, trace_smooth};
@@ -17,12 +18,15 @@ use harmonic_trajectory::{SmoothOptions, trace_smooth};
 mod reference_scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut tol = 1e-13;
+    let mut stop = StopRule::Residual(1e-13);
     let mut sizes: Vec<usize> = Vec::new();
     for arg in std::env::args().skip(1) {
-        match arg.strip_prefix("tol=") {
-            Some(t) => tol = t.parse()?,
-            None => sizes.push(arg.parse()?),
+        if let Some(t) = arg.strip_prefix("tol=") {
+            stop = StopRule::Residual(t.parse()?);
+        } else if let Some(t) = arg.strip_prefix("rel=") {
+            stop = StopRule::RelativeResidual(t.parse()?);
+        } else {
+            sizes.push(arg.parse()?);
         }
     }
     let sizes = if sizes.is_empty() {
@@ -33,9 +37,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (ws, obstacles, goals) = reference_scene::reference();
     let start = Point::new(1.0, 9.0);
     println!(
-        "| n | free cells | method | sweeps | solve ms | residual | flat ψ | flat φ | traced | length | wavefront8 length | brushfire ms |"
+        "| n | free cells | method | sweeps | solve ms | residual | rel. residual | min ψ | flat ψ | flat φ | traced | length | wavefront8 length | brushfire ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for n in sizes {
         let raster = Raster::from_polygons(&ws, &obstacles, &goals, n)?;
         let mut methods = vec![("sor", Relaxation::RedBlackSor { omega: None })];
@@ -45,7 +49,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for (name, relaxation) in methods {
             let opts = SorOptions {
                 relaxation,
-                stop: StopRule::Residual(tol),
+                stop,
                 max_iterations: 1_000_000,
                 ..SorOptions::default()
             };
@@ -62,12 +66,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let wave = Wavefront::new(raster.clone(), Connectivity::Eight);
             let wave_path = wave.plan(start);
             let r = psi.report();
+            let min_psi = raster
+                .cells()
+                .iter()
+                .zip(psi.values())
+                .filter(|(c, _)| **c == Cell::Free)
+                .fold(f64::INFINITY, |m, (_, v)| m.min(*v));
             println!(
-                "| {n} | {} | {name} | {} | {:.1} | {:.1e} | {} | {} | {} | {:.3} | {:.3} | {:.2} |",
+                "| {n} | {} | {name} | {} | {:.1} | {:.1e} | {:.1e} | {:.1e} | {} | {} | {} | {:.3} | {:.3} | {:.2} |",
                 raster.counts().0,
                 r.iterations,
                 r.time.as_secs_f64() * 1e3,
                 r.residual,
+                r.relative_residual,
+                min_psi,
                 psi.flat_cells(),
                 phi.flat_cells(),
                 path.status,

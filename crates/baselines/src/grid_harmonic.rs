@@ -43,8 +43,16 @@ pub enum StopRule {
     /// Stop when no cell changed by more than this in a sweep.
     MaxUpdate(f64),
     /// Stop when the max-norm residual of the normalised 5-point equations (each divided by
-    /// its diagonal, so in units of the potential) is below this. Costs one more pass a sweep.
+    /// its diagonal, so in units of the potential) is below this. Costs one more pass a sweep
+    /// near the end.
     Residual(f64),
+    /// Stop when every cell's normalised residual is below this fraction of the cell's own
+    /// value: relative precision everywhere, however small ψ gets far from the goal (the grid
+    /// counterpart of storing ψ). Once no cell changes by more than the tolerance, the
+    /// sweeps continue with ω = 1: over-relaxed sweeps carry the rounding noise of the large
+    /// values (~1e-17) far across the grid and never resolve values below it, Gauss–Seidel
+    /// sweeps damp it like the solution itself. Checked every 16 sweeps.
+    RelativeResidual(f64),
 }
 
 /// The condition on the workspace's outer walls (obstacles and goals stay Dirichlet), in
@@ -108,6 +116,8 @@ pub struct SolveReport {
     pub iterations: usize,
     /// Final max-norm residual of the normalised equations.
     pub residual: f64,
+    /// Final largest ratio of a cell's residual to its value (0/0 counts as 0).
+    pub relative_residual: f64,
     /// Largest change of a cell in the last sweep.
     pub max_update: f64,
     /// Whether the stopping rule was met within `max_iterations`.
@@ -186,22 +196,33 @@ impl Order {
         max_change
     }
 
-    fn residual(&self, v: &[f64], n: usize, cx: f64, cy: f64) -> f64 {
+    /// The largest residual, absolute or relative to each cell's value.
+    fn residual(&self, v: &[f64], n: usize, cx: f64, cy: f64, relative: bool) -> f64 {
         self.robin
             .iter()
-            .fold(residual(v, &self.plain, n, cx, cy), |r, c| {
+            .fold(residual(v, &self.plain, n, cx, cy, relative), |r, c| {
                 let k = c.k as usize;
                 let target = (cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]) + c.r) * c.s;
-                r.max((target - v[k]).abs())
+                r.max(scaled((target - v[k]).abs(), v[k], relative))
             })
     }
 }
 
-fn residual(v: &[f64], order: &[u32], n: usize, cx: f64, cy: f64) -> f64 {
+/// `r` itself, or `r / |value|` when `relative` (0 for 0/0, ∞ for r/0).
+#[inline]
+fn scaled(r: f64, value: f64, relative: bool) -> f64 {
+    if !relative || r == 0.0 {
+        r
+    } else {
+        r / value.abs()
+    }
+}
+
+fn residual(v: &[f64], order: &[u32], n: usize, cx: f64, cy: f64, relative: bool) -> f64 {
     order.iter().fold(0.0f64, |r, &k| {
         let k = k as usize;
         let target = cx * (v[k - 1] + v[k + 1]) + cy * (v[k - n] + v[k + n]);
-        r.max((target - v[k]).abs())
+        r.max(scaled((target - v[k]).abs(), v[k], relative))
     })
 }
 
@@ -239,7 +260,7 @@ impl GridHarmonic {
             });
         }
         let tol = match options.stop {
-            StopRule::MaxUpdate(t) | StopRule::Residual(t) => t,
+            StopRule::MaxUpdate(t) | StopRule::Residual(t) | StopRule::RelativeResidual(t) => t,
         };
         if !(tol > 0.0 && tol.is_finite()) {
             return Err(BaselineError::InvalidParameter {
@@ -365,13 +386,14 @@ impl GridHarmonic {
         let mut iterations = 0;
         let mut max_update = f64::INFINITY;
         let mut converged = false;
+        let mut w = omega;
         while iterations < options.max_iterations {
             iterations += 1;
             max_update = match options.relaxation {
                 Relaxation::GaussSeidel => lexicographic.sweep(&mut values, n, cx, cy, 1.0),
                 Relaxation::RedBlackSor { .. } => {
-                    let a = red.sweep(&mut values, n, cx, cy, omega);
-                    a.max(black.sweep(&mut values, n, cx, cy, omega))
+                    let a = red.sweep(&mut values, n, cx, cy, w);
+                    a.max(black.sweep(&mut values, n, cx, cy, w))
                 }
             };
             let done = match options.stop {
@@ -382,8 +404,20 @@ impl GridHarmonic {
                 StopRule::Residual(t) => {
                     max_update < RESIDUAL_GATE * t
                         && red
-                            .residual(&values, n, cx, cy)
-                            .max(black.residual(&values, n, cx, cy))
+                            .residual(&values, n, cx, cy, false)
+                            .max(black.residual(&values, n, cx, cy, false))
+                            < t
+                }
+                // Values are at most 1, so the relative residual is at least the absolute one.
+                StopRule::RelativeResidual(t) => {
+                    if max_update < t {
+                        w = 1.0;
+                    }
+                    w == 1.0
+                        && iterations % 16 == 0
+                        && red
+                            .residual(&values, n, cx, cy, true)
+                            .max(black.residual(&values, n, cx, cy, true))
                             < t
                 }
             };
@@ -393,11 +427,15 @@ impl GridHarmonic {
             }
         }
         let residual = red
-            .residual(&values, n, cx, cy)
-            .max(black.residual(&values, n, cx, cy));
+            .residual(&values, n, cx, cy, false)
+            .max(black.residual(&values, n, cx, cy, false));
+        let relative_residual = red
+            .residual(&values, n, cx, cy, true)
+            .max(black.residual(&values, n, cx, cy, true));
         let report = SolveReport {
             iterations,
             residual,
+            relative_residual,
             max_update,
             converged,
             omega,
@@ -806,6 +844,37 @@ mod tests {
             "only {} flat cells",
             phi.flat_cells()
         );
+    }
+
+    #[test]
+    fn relative_residual_resolves_tiny_psi_where_an_absolute_tolerance_does_not() {
+        // ψ falls to ~1e-34 at the corridor's far end. Over-relaxed iterates stopped by an
+        // absolute tolerance leave the tiny values unconverged (cells without a higher
+        // neighbour); the relative rule gets every cell to relative precision.
+        let n = 62;
+        let absolute = GridHarmonic::solve(corridor(n), &SorOptions::default()).unwrap();
+        let relative = SorOptions {
+            stop: StopRule::RelativeResidual(1e-9),
+            ..SorOptions::default()
+        };
+        let f = GridHarmonic::solve(corridor(n), &relative).unwrap();
+        assert!(
+            f.report().converged && f.report().relative_residual < 1e-9,
+            "{:?}",
+            f.report()
+        );
+        assert!(absolute.flat_cells() > 0);
+        assert_eq!(f.flat_cells(), 0);
+        let theta = 2.0f64.acosh();
+        let m1 = (n - 2) as f64;
+        for i in 1..n - 2 {
+            let exact = ((m1 - i as f64) * theta).sinh() / (m1 * theta).sinh();
+            let got = f.values()[6 * n + 1 + i];
+            assert!(
+                ((got - exact) / exact).abs() < 1e-6,
+                "cell {i}: {got} vs {exact}"
+            );
+        }
     }
 
     #[test]
