@@ -484,9 +484,11 @@ impl GridHarmonic {
         }
     }
 
-    /// Connolly's flatness count: free cells none of whose four neighbours is strictly closer
-    /// to the goal (strictly lower in φ). Zero for a converged harmonic field in exact
-    /// arithmetic; positive where the field went numerically flat or has a local minimum.
+    /// Connolly's flatness count: free cells connected to a goal none of whose four
+    /// neighbours is strictly closer to the goal (strictly lower in φ). Zero for a converged
+    /// harmonic field in exact arithmetic; positive where the field went numerically flat or
+    /// has a local minimum. (Cells cut off from every goal are constant by construction and
+    /// not counted: [`Field::goal_reachable`] reports them.)
     pub fn flat_cells(&self) -> usize {
         let n = self.raster.n();
         self.raster
@@ -494,7 +496,7 @@ impl GridHarmonic {
             .iter()
             .enumerate()
             .filter(|&(k, c)| {
-                *c == Cell::Free && {
+                *c == Cell::Free && self.reaches_goal[k] && {
                     let v = self.descent_value(k);
                     [k - 1, k + 1, k - n, k + n]
                         .iter()
