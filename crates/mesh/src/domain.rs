@@ -287,7 +287,8 @@ fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region
         .collect()
 }
 
-/// Snaps boolean-operation output: back onto an input vertex when within `tol`, otherwise to a
+/// Snaps boolean-operation output (which i_overlay rounds to its integer grid): back onto an
+/// input vertex or an exact intersection of input segments when within `tol`, otherwise to a
 /// power-of-two grid of about `1e-9 × scale`.
 struct Snapper {
     tol: f64,
@@ -309,7 +310,45 @@ impl Snapper {
         Snapper { tol, grid, cells }
     }
 
-    fn snap(&self, p: Point) -> Point {
+    /// Snaps `p`: to an input vertex within `tol`; else to the intersection of two input
+    /// segments passing within `tol` (a vertex created by the boolean operation, recomputed
+    /// in full precision); else to the grid.
+    fn snap(
+        &self,
+        p: Point,
+        sources: &[(Point, Point, BoundaryTag)],
+        index: &SegmentIndex,
+    ) -> Point {
+        if let Some(q) = self.snap_vertex(p) {
+            return q;
+        }
+        let t = self.tol;
+        let near: Vec<(Point, Point)> = index
+            .in_box(Point::new(p.x - t, p.y - t), Point::new(p.x + t, p.y + t))
+            .map(|(_, _, k)| (sources[k as usize].0, sources[k as usize].1))
+            .filter(|&(a, b)| point_segment_dist2(p, a, b) <= t * t)
+            .collect();
+        let mut best: Option<(f64, Point)> = None;
+        for i in 0..near.len() {
+            for j in i + 1..near.len() {
+                if let Some(q) = line_intersection(near[i], near[j]) {
+                    let d = (q - p).norm();
+                    if d <= t && best.is_none_or(|(bd, _)| d < bd) {
+                        best = Some((d, q));
+                    }
+                }
+            }
+        }
+        match best {
+            Some((_, q)) => q,
+            None => Point::new(
+                (p.x / self.grid).round() * self.grid,
+                (p.y / self.grid).round() * self.grid,
+            ),
+        }
+    }
+
+    fn snap_vertex(&self, p: Point) -> Option<Point> {
         let cx = (p.x / self.tol).floor() as i64;
         let cy = (p.y / self.tol).floor() as i64;
         let mut best: Option<(f64, Point)> = None;
@@ -325,14 +364,20 @@ impl Snapper {
                 }
             }
         }
-        match best {
-            Some((_, q)) => q,
-            None => Point::new(
-                (p.x / self.grid).round() * self.grid,
-                (p.y / self.grid).round() * self.grid,
-            ),
-        }
+        best.map(|(_, q)| q)
     }
+}
+
+/// The intersection point of the lines through two segments, if they are not parallel.
+fn line_intersection((a, b): (Point, Point), (c, d): (Point, Point)) -> Option<Point> {
+    let r = b - a;
+    let s = d - c;
+    let den = r.x * s.y - r.y * s.x;
+    if den.abs() <= 1e-12 * r.norm() * s.norm() {
+        return None;
+    }
+    let t = ((c.x - a.x) * s.y - (c.y - a.y) * s.x) / den;
+    Some(a + r * t)
 }
 
 fn tag_rank(tag: BoundaryTag) -> (u8, u32) {
@@ -527,8 +572,10 @@ impl Domain {
                 .chain(poly.interiors())
                 .enumerate()
             {
-                let mut pts: Vec<Point> =
-                    from_ls(ls).into_iter().map(|p| snapper.snap(p)).collect();
+                let mut pts: Vec<Point> = from_ls(ls)
+                    .into_iter()
+                    .map(|p| snapper.snap(p, &sources, &source_index))
+                    .collect();
                 pts.dedup();
                 while pts.len() > 1 && pts[0] == pts[pts.len() - 1] {
                     pts.pop();
@@ -617,12 +664,13 @@ impl Domain {
         self.robot_radius
     }
 
-    /// Whether `p` lies in free space (closed set: boundary points count as free).
+    /// Whether `p` lies in free space (closed set: points within 1e-12 × scene size of the
+    /// boundary count as free).
     pub fn contains_free(&self, p: Point) -> bool {
         if !p.x.is_finite() || !p.y.is_finite() {
             return false;
         }
-        if self.boundary_index.distance(p) == 0.0 {
+        if self.boundary_index.distance(p) <= 1e-12 * self.scale {
             return true;
         }
         self.boundary_index.ray_parity(p, self.bbox.1.x)

@@ -1,0 +1,140 @@
+//! The bundled scenes (meshes/*.json): each meshes with its own `mesh` settings into a valid,
+//! Delaunay, 30° mesh in which every start can reach the goal.
+//!
+//! Scene parsing belongs to the facade; this reads only the geometry fields with serde_json.
+
+mod common;
+
+use common::*;
+use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
+use serde_json::Value;
+
+fn pt(v: &Value) -> Point {
+    Point::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap())
+}
+
+fn pts(v: &Value) -> Vec<Point> {
+    v.as_array().unwrap().iter().map(pt).collect()
+}
+
+fn load(name: &str) -> (DomainSpec, MeshOptions, Vec<Point>) {
+    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let obstacles = v["obstacles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| {
+            if o.get("polygon").is_some() {
+                Shape::Polygon(pts(&o["polygon"]))
+            } else {
+                Shape::Circle {
+                    center: pt(&o["circle"]["center"]),
+                    radius: o["circle"]["radius"].as_f64().unwrap(),
+                }
+            }
+        })
+        .collect();
+    let goal = |g: &Value| {
+        if let Some(p) = g.get("polygon") {
+            GoalShape::Polygon(pts(p))
+        } else if let Some(p) = g.get("point") {
+            GoalShape::Point(pt(p))
+        } else {
+            GoalShape::Circle {
+                center: pt(&g["circle"]["center"]),
+                radius: g["circle"]["radius"].as_f64().unwrap(),
+            }
+        }
+    };
+    let goals = match &v["goal"] {
+        Value::Array(a) => a.iter().map(goal).collect(),
+        g => vec![goal(g)],
+    };
+    let spec = DomainSpec {
+        workspace: pts(&v["workspace"]),
+        obstacles,
+        goals,
+        robot_radius: v["robot"]["radius"].as_f64().unwrap_or(0.0),
+    };
+    let opts = MeshOptions {
+        max_area: v["mesh"]["max_area"].as_f64(),
+        min_angle_deg: v["mesh"]["min_angle_deg"].as_f64().unwrap_or(30.0),
+        ..MeshOptions::default()
+    };
+    (spec, opts, pts(&v["starts"]))
+}
+
+fn check_scene(name: &str, max_triangles: usize) {
+    let (spec, opts, starts) = load(name);
+    let domain = Domain::new(&spec, &opts).unwrap();
+    let (mesh, report) = domain.mesh(&opts).unwrap();
+    let q = mesh.quality();
+    eprintln!("{name}: {q:?}");
+    assert!(report.refinement_complete, "{name}");
+    check_invariants(&mesh, domain.free_area(), 1e-9).unwrap();
+    assert!(
+        q.triangles <= max_triangles,
+        "{name}: {} triangles",
+        q.triangles
+    );
+    assert!(
+        q.min_angle_deg >= opts.min_angle_deg - 1e-9,
+        "{name}: {q:?}"
+    );
+    assert_eq!(q.non_delaunay_edges, 0, "{name}");
+    assert_eq!(q.obtuse_boundary_edges, 0, "{name}");
+    // Every start lies in free space, in a component that touches the goal.
+    let goal_components: Vec<u32> = mesh
+        .boundary_edges()
+        .iter()
+        .filter(|e| matches!(e.tag, BoundaryTag::Goal(_)))
+        .map(|e| mesh.triangle_components()[e.triangle as usize])
+        .collect();
+    assert!(!starts.is_empty());
+    for s in starts {
+        assert!(domain.contains_free(s), "{name}: start {s}");
+        let t = mesh
+            .locate(s, None)
+            .unwrap_or_else(|| panic!("{name}: start {s} not located"));
+        assert!(
+            goal_components.contains(&mesh.triangle_components()[t as usize]),
+            "{name}: start {s} cannot reach the goal"
+        );
+        assert!(
+            domain.distance_to_obstacles(s) > 0.2,
+            "{name}: start {s} too close to an obstacle"
+        );
+    }
+}
+
+#[test]
+fn maze() {
+    check_scene("maze", 40_000);
+}
+
+#[test]
+fn office() {
+    check_scene("office", 40_000);
+}
+
+#[test]
+fn concave_trap() {
+    check_scene("concave_trap", 40_000);
+}
+
+#[test]
+fn clutter() {
+    let (spec, _, _) = load("clutter");
+    assert!(spec.obstacles.len() >= 45);
+    check_scene("clutter", 40_000);
+}
+
+#[test]
+fn reference_json_matches_the_rust_reference_scene() {
+    let (spec, opts, _) = load("reference");
+    assert_eq!(spec.workspace, reference().workspace);
+    assert_eq!(spec.obstacles, reference().obstacles);
+    check_scene("reference", 40_000);
+    assert_eq!(opts.max_area, Some(0.0044));
+}
