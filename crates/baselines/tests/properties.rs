@@ -50,7 +50,7 @@ proptest! {
     ) {
         let obstacle = star(c, &radii);
         let goal = star((9.0, 9.0), &[0.6; 4]);
-        let r = Raster::from_polygons(&square(10.0), std::slice::from_ref(&obstacle), &[goal.clone()], n)
+        let r = Raster::from_polygons(&square(10.0), std::slice::from_ref(&obstacle), std::slice::from_ref(&goal), n)
             .unwrap();
         for (k, cell) in r.cells().iter().enumerate() {
             let p = r.centre(k);
