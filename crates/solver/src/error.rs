@@ -35,6 +35,9 @@ pub enum StructureIssue {
         /// The row index that is out of order or repeated.
         row: usize,
     },
+    /// An [`crate::MMatrix`] off-diagonal pattern stores a diagonal entry (the diagonal is implied
+    /// by the excesses).
+    DiagonalStored,
     /// Entry `(row, column)` is stored but its mirror `(column, row)` is not.
     MissingMirror {
         /// Row of the entry whose mirror is missing.
@@ -65,6 +68,10 @@ impl std::fmt::Display for StructureIssue {
             Self::UnsortedOrDuplicate { row } => {
                 write!(f, "row index {row} is unsorted or duplicated")
             }
+            Self::DiagonalStored => write!(
+                f,
+                "diagonal entry stored in an M-matrix off-diagonal pattern"
+            ),
             Self::MissingMirror { row } => write!(
                 f,
                 "entry in row {row} has no mirror entry (the pattern is not symmetric)"
@@ -131,6 +138,14 @@ pub enum SolverError {
         index: usize,
         /// The value.
         value: f64,
+    },
+    /// Values that must be symmetric differ between `(row, column)` and `(column, row)`.
+    #[error("values of entries ({row}, {column}) and ({column}, {row}) differ")]
+    Asymmetric {
+        /// Row of the entry.
+        row: usize,
+        /// Column of the entry.
+        column: usize,
     },
     /// Preconditioned conjugate gradients stopped at `max_iter` before reaching the tolerance.
     #[error("PCG did not converge: {iterations} iterations, relative residual {rel_residual:e}")]

@@ -7,6 +7,9 @@
 //!   whenever only the values change), [`Cholesky::solve`]; [`solve_direct`] does all three.
 //! * Iterative: [`pcg`] with [`Preconditioner::Jacobi`] or [`Preconditioner::IncompleteCholesky`],
 //!   for systems whose factor will not fit in memory.
+//! * Accurate: [`AccurateLdlt`] factors an [`MMatrix`] given by its off-diagonal magnitudes and
+//!   row excesses with no subtractive cancellation, so solutions spanning 1e-300..1 keep their
+//!   relative accuracy entrywise (issue #11, the far-from-goal potential).
 //! * [`gallery`]: FEM-like test matrices.
 //!
 //! Everything runs single-threaded.
@@ -26,11 +29,13 @@ mod csc;
 mod direct;
 mod error;
 pub mod gallery;
+mod mmatrix;
 mod ordering;
 mod pcg;
 
 pub use csc::SymmetricCsc;
 pub use direct::{Cholesky, SymbolicCholesky, solve_direct};
 pub use error::{SolverError, StructureIssue};
+pub use mmatrix::{AccurateLdlt, MMatrix};
 pub use ordering::Ordering;
 pub use pcg::{PcgOptions, PcgReport, Preconditioner, pcg};

@@ -125,3 +125,36 @@ impl Dissector<'_> {
         self.dissect(b_part, b_start);
     }
 }
+
+/// Fill-reducing permutation `perm[new] = old` of `a`'s pattern, computed here rather than by
+/// faer's symbolic Cholesky (for the factorisations of this crate that do not go through faer).
+pub(crate) fn permutation(
+    a: &SymmetricCsc,
+    ordering: &Ordering,
+) -> Result<Vec<usize>, SolverError> {
+    let n = a.n();
+    match ordering {
+        Ordering::Natural => Ok((0..n).collect()),
+        Ordering::NestedDissection { coords } => nested_dissection(a, coords),
+        Ordering::Amd => {
+            use faer::dyn_stack::{MemBuffer, MemStack};
+            use faer::sparse::SymbolicSparseColMatRef;
+            use faer::sparse::linalg::amd;
+            let mut perm = vec![0usize; n];
+            let mut inv = vec![0usize; n];
+            let pattern =
+                SymbolicSparseColMatRef::new_checked(n, n, a.col_ptr(), None, a.row_idx());
+            let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, a.nnz()))
+                .map_err(|_| SolverError::Backend("out of memory for AMD workspace".into()))?;
+            amd::order(
+                &mut perm,
+                &mut inv,
+                pattern,
+                amd::Control::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|e| SolverError::Backend(format!("AMD ordering: {e:?}")))?;
+            Ok(perm)
+        }
+    }
+}

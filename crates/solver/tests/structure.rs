@@ -4,8 +4,8 @@
 mod common;
 
 use harmonic_solver::{
-    Ordering, PcgOptions, Preconditioner, SolverError, StructureIssue, SymbolicCholesky,
-    SymmetricCsc, pcg,
+    AccurateLdlt, MMatrix, Ordering, PcgOptions, Preconditioner, SolverError, StructureIssue,
+    SymbolicCholesky, SymmetricCsc, pcg,
 };
 use proptest::prelude::*;
 
@@ -95,6 +95,29 @@ proptest! {
         let t: Vec<_> = entries.into_iter().filter(|&(i, j, _)| i < n && j < n).collect();
         let a = common::from_triplets(n, &t);
         exercise(&a);
+    }
+
+    /// Random M-matrices (off-diagonal magnitudes, some zero excesses): factor and solve give a
+    /// result or a typed error (Singular for ungrounded components), never a panic.
+    #[test]
+    fn random_m_matrices_never_panic(
+        n in 1usize..10,
+        entries in proptest::collection::vec((0usize..10, 0usize..10, 0.0f64..3.0), 0..30),
+        excess in proptest::collection::vec(prop_oneof![Just(0.0), 0.0f64..2.0], 10),
+    ) {
+        let t: Vec<_> = entries.into_iter().filter(|&(i, j, _)| i < n && j < n && i != j).collect();
+        let w = common::from_triplets(n, &t);
+        let m = MMatrix::try_new(w, excess[..n].to_vec()).unwrap();
+        let coords: Vec<[f64; 2]> = (0..n).map(|i| [i as f64, 0.5 * i as f64]).collect();
+        for ord in [Ordering::Amd, Ordering::Natural, Ordering::NestedDissection { coords }] {
+            match AccurateLdlt::factor(&m, ord) {
+                Ok(f) => {
+                    let x = f.solve(&vec![1.0; n]).unwrap();
+                    prop_assert!(x.iter().all(|v| *v > 0.0 && v.is_finite()));
+                }
+                Err(e) => prop_assert!(matches!(e, SolverError::Singular { .. }), "{e:?}"),
+            }
+        }
     }
 }
 
