@@ -177,13 +177,18 @@ impl PanelField {
 pub struct PanelOptions {
     /// Speed `U` of the uniform stream, which flows from the start toward the goal.
     pub uniform_speed: f64,
-    /// Strength `Q` of the goal sink (flux it swallows).
+    /// Strength `Q` of the goal sink (flux it swallows) when the walls carry no panels. With
+    /// wall panels the workspace is closed and the sink must swallow exactly the flux the
+    /// panels emit, `Σ V·L`, so this is ignored.
     pub sink_strength: f64,
     /// Desired outward normal velocity `V` at every panel midpoint (0: impermeable; larger
     /// values push the flow, and the robot, further off the obstacles).
     pub normal_velocity: f64,
     /// Also put panels on the workspace boundary (normals pointing inward).
     pub include_walls: bool,
+    /// Edges longer than this are split into equal panels (the normal velocity is only
+    /// enforced at panel midpoints, so long panels let the flow leak near corners).
+    pub max_panel_length: f64,
     /// Length of each step along the flow direction.
     pub step: f64,
     /// The goal counts as reached within this distance.
@@ -201,6 +206,7 @@ impl Default for PanelOptions {
             sink_strength: 10.0,
             normal_velocity: 0.5,
             include_walls: true,
+            max_panel_length: 0.25,
             step: 0.02,
             goal_tolerance: 0.05,
             max_steps: 100_000,
@@ -230,20 +236,26 @@ fn signed_area2(poly: &[Point]) -> f64 {
         .sum()
 }
 
-/// Panels on the edges of `poly` with normals pointing out of it (`outward`) or into it.
-fn edge_panels(poly: &[Point], outward: bool, panels: &mut Vec<Panel>) {
+/// Panels on the edges of `poly`, at most `max_len` long, with normals pointing out of it
+/// (`outward`) or into it.
+fn edge_panels(poly: &[Point], outward: bool, max_len: f64, panels: &mut Vec<Panel>) {
     let ccw = signed_area2(poly) > 0.0;
     for k in 0..poly.len() {
         let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
         if a == b {
             continue;
         }
-        // The right-hand normal of a counter-clockwise edge points out of the polygon.
-        panels.push(if ccw == outward {
-            Panel { start: a, end: b }
-        } else {
-            Panel { start: b, end: a }
-        });
+        let pieces = ((b - a).norm() / max_len).ceil().max(1.0) as usize;
+        for m in 0..pieces {
+            let p = a + (b - a) * (m as f64 / pieces as f64);
+            let q = a + (b - a) * ((m + 1) as f64 / pieces as f64);
+            // The right-hand normal of a counter-clockwise edge points out of the polygon.
+            panels.push(if ccw == outward {
+                Panel { start: p, end: q }
+            } else {
+                Panel { start: q, end: p }
+            });
+        }
     }
 }
 
@@ -274,6 +286,7 @@ impl PanelPlanner {
         check_positive("step", options.step)?;
         check_positive("goal_tolerance", options.goal_tolerance)?;
         check_positive("stall_speed", options.stall_speed)?;
+        check_positive("max_panel_length", options.max_panel_length)?;
         for (name, v) in [
             ("uniform_speed", options.uniform_speed),
             ("sink_strength", options.sink_strength),
@@ -296,13 +309,18 @@ impl PanelPlanner {
 
     /// The flow for a query from `start`: the stream runs from `start` toward the goal.
     pub fn field(&self, start: Point) -> Result<PanelField, BaselineError> {
+        let max_len = self.options.max_panel_length;
         let mut panels = Vec::new();
         for o in &self.obstacles {
-            edge_panels(o, true, &mut panels);
+            edge_panels(o, true, max_len, &mut panels);
         }
-        if self.options.include_walls {
-            edge_panels(&self.workspace, false, &mut panels);
-        }
+        let sink = if self.options.include_walls {
+            edge_panels(&self.workspace, false, max_len, &mut panels);
+            let perimeter: f64 = panels.iter().map(|p| (p.end - p.start).norm()).sum();
+            perimeter * self.options.normal_velocity
+        } else {
+            self.options.sink_strength
+        };
         let dir = self.goal - start;
         let uniform = if dir.norm() > 0.0 {
             dir.normalize() * self.options.uniform_speed
@@ -310,12 +328,7 @@ impl PanelPlanner {
             Vector::zeros()
         };
         let velocities = vec![self.options.normal_velocity; panels.len()];
-        PanelField::solve(
-            panels,
-            &velocities,
-            uniform,
-            Some((self.goal, self.options.sink_strength)),
-        )
+        PanelField::solve(panels, &velocities, uniform, Some((self.goal, sink)))
     }
 
     fn is_free(&self, p: Point) -> bool {
@@ -416,7 +429,7 @@ mod tests {
             Point::new(0.0, 1.0),
         ];
         let mut panels = Vec::new();
-        edge_panels(&sq, true, &mut panels);
+        edge_panels(&sq, true, 2.0, &mut panels);
         let field = PanelField::solve(
             panels,
             &[0.0; 4],
