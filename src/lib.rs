@@ -27,6 +27,7 @@
 pub mod planner;
 pub mod render;
 pub mod scene;
+pub mod tables;
 
 pub use harmonic_baselines as baselines;
 pub use harmonic_fem as fem;

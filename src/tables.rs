@@ -1,0 +1,150 @@
+//! The papers' experiments, as functions the examples print and the tests check.
+//!
+//! - [`bc_table`]: Garrido et al. (2010), Table 1 — how the boundary condition on walls and
+//!   obstacles changes the clearance of the paths.
+
+use serde::Serialize;
+
+use crate::planner::{PlanError, Planner};
+use crate::scene::{Condition, Scene};
+
+/// One row of the boundary-condition table: the condition `(a, b, K)` on walls and obstacles
+/// (∂φ/∂n = K(1 − φ) for Robin rows), the goal held at φ = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BcRow {
+    /// `neumann`, `robin` or `dirichlet`.
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    pub a: f64,
+    pub b: f64,
+    pub k: f64,
+}
+
+/// The rows of Garrido et al. (2010), Table 1, in the paper's order.
+pub const PAPER_ROWS: [BcRow; 8] = [
+    BcRow {
+        kind: "neumann",
+        a: 1.0,
+        b: 1.0,
+        k: 0.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 1.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 2.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 3.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 10.0,
+    },
+    BcRow {
+        kind: "dirichlet",
+        a: 0.0,
+        b: 1.0,
+        k: 0.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 100.0,
+    },
+    BcRow {
+        kind: "robin",
+        a: 1.0,
+        b: 1.0,
+        k: 1000.0,
+    },
+];
+
+/// The uniform inflow that drives the Neumann row: ∂φ/∂n = 1 on walls and obstacles (φ rises
+/// toward them). Homogeneous Neumann walls with a Dirichlet goal give the constant potential
+/// φ ≡ 0 and no path; the paper does not say how its Neumann row was driven.
+pub const NEUMANN_INFLOW: f64 = 1.0;
+
+impl BcRow {
+    /// The condition on walls and obstacles this row stands for.
+    pub fn condition(&self) -> Condition {
+        match self.kind {
+            "dirichlet" => Condition::Dirichlet(1.0),
+            "neumann" => Condition::Neumann(NEUMANN_INFLOW),
+            _ => Condition::Robin {
+                a: 1.0,
+                b: self.k,
+                g: self.k,
+            },
+        }
+    }
+}
+
+/// A measured row: for each start, the clearance relative to the Dirichlet row (`d`, %), and
+/// what the paper lacks — the path length, the smallest |∇φ| along it, whether it arrived.
+#[derive(Clone, Debug, Serialize)]
+pub struct BcResult {
+    #[serde(flatten)]
+    pub row: BcRow,
+    /// d = d_i / d_D × 100 % for each start, d_i the smallest distance from the path to a wall
+    /// or an obstacle.
+    pub d: Vec<f64>,
+    /// d_i itself, for each start.
+    pub clearance: Vec<f64>,
+    pub reached: Vec<bool>,
+    pub length: Vec<f64>,
+    pub min_gradient: Vec<f64>,
+}
+
+/// Runs the table on `scene` (its own boundary conditions are replaced row by row) from
+/// `starts`, optionally with a coarser or finer mesh.
+pub fn bc_table(
+    scene: &Scene,
+    starts: &[[f64; 2]],
+    rows: &[BcRow],
+) -> Result<Vec<BcResult>, PlanError> {
+    let mut dirichlet = scene.clone();
+    dirichlet.boundary.walls = Some(Condition::Dirichlet(1.0));
+    dirichlet.boundary.obstacles = Some(Condition::Dirichlet(1.0));
+    let reference: Vec<f64> = Planner::new(&dirichlet)?
+        .plan_many(starts)
+        .iter()
+        .map(|p| p.min_clearance)
+        .collect();
+    rows.iter()
+        .map(|row| {
+            let mut s = scene.clone();
+            s.boundary.walls = Some(row.condition());
+            s.boundary.obstacles = Some(row.condition());
+            s.boundary.goal = Some(Condition::Dirichlet(0.0));
+            for o in &mut s.obstacles {
+                o.boundary = None;
+            }
+            let paths = Planner::new(&s)?.plan_many(starts);
+            Ok(BcResult {
+                row: *row,
+                d: paths
+                    .iter()
+                    .zip(&reference)
+                    .map(|(p, d_d)| 100.0 * p.min_clearance / d_d)
+                    .collect(),
+                clearance: paths.iter().map(|p| p.min_clearance).collect(),
+                reached: paths.iter().map(|p| p.status == "reached_goal").collect(),
+                length: paths.iter().map(|p| p.length).collect(),
+                min_gradient: paths.iter().map(|p| p.min_gradient).collect(),
+            })
+        })
+        .collect()
+}
