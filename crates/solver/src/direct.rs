@@ -112,6 +112,7 @@ impl SymbolicCholesky {
         let mut chol = Cholesky {
             symbolic: self.clone(),
             l_values: Vec::new(),
+            valid: false,
         };
         chol.refactor(a)?;
         Ok(chol)
@@ -143,6 +144,8 @@ impl SymbolicCholesky {
 pub struct Cholesky {
     symbolic: SymbolicCholesky,
     l_values: Vec<f64>,
+    /// False after a failed refactor: the values are garbage until the next success.
+    valid: bool,
 }
 
 impl Cholesky {
@@ -165,15 +168,19 @@ impl Cholesky {
         let n = a.n();
         // An empty column means a zero row and column: singular, whatever the ordering.
         if let Some(column) = (0..n).find(|&j| a.col_ptr()[j] == a.col_ptr()[j + 1]) {
-            self.l_values.clear();
+            self.valid = false;
             return Err(SolverError::Singular { column });
         }
         let mat = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(n, n, a.col_ptr(), None, a.row_idx()),
             a.values(),
         );
-        self.l_values.clear();
-        self.l_values.resize(inner.faer.len_val(), 0.0);
+        if self.l_values.len() != inner.faer.len_val() {
+            // A fresh zeroed allocation (the OS supplies zero pages); faer overwrites it all, so a
+            // refactor reuses the buffer as is rather than paying for a second zero fill.
+            self.l_values = vec![0.0; inner.faer.len_val()];
+        }
+        self.valid = false;
         let req = inner
             .faer
             .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
@@ -190,9 +197,11 @@ impl Cholesky {
             Spec::default(),
         );
         match result {
-            Ok(_) => Ok(()),
+            Ok(_) => {
+                self.valid = true;
+                Ok(())
+            }
             Err(LltError::NonPositivePivot { index }) => {
-                self.l_values.clear();
                 // faer 0.24 reports the simplicial pivot 1-based and the supernodal one 0-based.
                 let pivot = match inner.faer.raw() {
                     SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
@@ -222,10 +231,8 @@ impl Cholesky {
                 found: x.len(),
             });
         }
-        if self.l_values.len() != inner.faer.len_val() {
-            return Err(SolverError::Backend(
-                "factor unusable after a failed refactor".into(),
-            ));
+        if !self.valid {
+            return Err(SolverError::StaleFactor);
         }
         if let Some(index) = x.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite {

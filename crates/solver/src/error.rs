@@ -155,6 +155,9 @@ pub enum SolverError {
         /// Relative residual ‖b − Ax‖₂ / ‖b‖₂ reached.
         rel_residual: f64,
     },
+    /// A solve was attempted with a factor whose last [`crate::Cholesky::refactor`] failed.
+    #[error("the Cholesky factor is unusable: its last refactorisation failed")]
+    StaleFactor,
     /// The factorisation library failed (out of memory or index overflow).
     #[error("sparse factorisation failed: {0}")]
     Backend(String),

@@ -100,6 +100,28 @@ fn refactor_with_new_values_reuses_the_symbolic_analysis() {
 }
 
 #[test]
+fn failed_refactor_leaves_a_stale_factor_until_the_next_success() {
+    let mut a = laplacian5(5, 5, 0.0);
+    let symbolic = SymbolicCholesky::analyze(&a, Ordering::Amd).unwrap();
+    let mut chol = symbolic.factor(&a).unwrap();
+    let good = a.clone();
+    for v in a.values_mut() {
+        *v = -*v;
+    }
+    assert!(matches!(
+        chol.refactor(&a),
+        Err(SolverError::NotPositiveDefinite { .. })
+    ));
+    assert_eq!(
+        chol.solve(&[1.0; 25]).unwrap_err(),
+        SolverError::StaleFactor
+    );
+    chol.refactor(&good).unwrap();
+    let b = rhs(25, 1);
+    assert!(max_rel_err(&chol.solve(&b).unwrap(), &dense_solve(&good, &b)) < 1e-12);
+}
+
+#[test]
 fn pattern_mismatch_is_an_error() {
     let a = laplacian5(6, 5, 0.0);
     let symbolic = SymbolicCholesky::analyze(&a, Ordering::Amd).unwrap();
