@@ -442,9 +442,12 @@ impl Tracer<'_, '_> {
     fn perturb(&mut self, p: Point, t: u32) -> Option<Next> {
         let field = self.field;
         let f0 = field.value(t, p);
-        let r0 = 0.05 * field.mesh().triangle_area(t).sqrt();
+        // Radii from a twentieth of the triangle's longest edge to two of them, so a flat
+        // triangle (three vertices on one Dirichlet boundary, as in a corner) is left too.
+        let [a, b, c] = field.mesh().triangle_points(t);
+        let r0 = 0.05 * (b - a).norm().max((c - b).norm()).max((a - c).norm());
         let mut best: Option<(f64, Point, u32)> = None;
-        for scale in [1.0, 4.0, 16.0] {
+        for scale in [1.0, 5.0, 20.0, 40.0] {
             for i in 0..16 {
                 let ang = (i as f64 + 0.5) * std::f64::consts::TAU / 16.0;
                 let q = p + Vector::new(ang.cos(), ang.sin()) * (r0 * scale);

@@ -46,6 +46,39 @@ pub enum Fallback<C> {
 /// `value` DECREASES toward the goal; the robot moves along `-gradient`. The FEM potential,
 /// the baselines' grid fields and analytic fields all implement it, so the same smooth tracer
 /// and car stepper follow every planner's field.
+///
+/// An analytic field needs only `locate`, `value` and `gradient`:
+///
+/// ```
+/// use harmonic_mesh::{Point, Vector};
+/// use harmonic_trajectory::{Field, Locate, SmoothOptions, TraceStatus, trace_smooth};
+///
+/// /// The distance to the origin in the square [-5, 5]²; the goal is the unit disc.
+/// struct Cone;
+/// impl Field for Cone {
+///     type Cell = ();
+///     fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {
+///         if p.x.abs() > 5.0 || p.y.abs() > 5.0 {
+///             Locate::OutsideWorkspace
+///         } else if p.coords.norm() <= 1.0 {
+///             Locate::Goal(0)
+///         } else {
+///             Locate::Inside(())
+///         }
+///     }
+///     fn value(&self, _: (), p: Point) -> f64 {
+///         p.coords.norm()
+///     }
+///     fn gradient(&self, _: (), p: Point) -> Vector {
+///         p.coords / p.coords.norm()
+///     }
+/// }
+///
+/// let path = trace_smooth(&Cone, Point::new(4.0, 3.0), &SmoothOptions::for_scale(10.0))?;
+/// assert_eq!(path.status, TraceStatus::ReachedGoal(0));
+/// assert!((path.length - 4.0).abs() < 1e-6);
+/// # Ok::<(), harmonic_trajectory::TraceError>(())
+/// ```
 pub trait Field {
     /// A handle on the piece of the field holding a point (a triangle, a grid cell, ...).
     type Cell: Copy + PartialEq + std::fmt::Debug;

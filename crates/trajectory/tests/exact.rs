@@ -229,18 +229,18 @@ fn saddle_between_two_obstacles_is_escaped() {
 
 #[test]
 fn plateaus_are_escaped_nearby_and_stall_far_away() {
-    // ψ = max(x − 3, 0): flat on x ≤ 3. Near the slope a perturbation finds lower ground;
+    // ψ = max(x − 7, 0): flat on x ≤ 7. Near the slope a perturbation finds lower ground;
     // deep in the plateau nothing lower is in reach and the path stalls.
-    let mut g = Grid::new(8, 4, 1.0);
-    g.mark(7.0, 0.0, 8.0, 4.0, Cell::Goal(0));
+    let mut g = Grid::new(12, 4, 1.0);
+    g.mark(11.0, 0.0, 12.0, 4.0, Cell::Goal(0));
     let mesh = g.mesh();
     let psi: Vec<f64> = mesh
         .vertices()
         .iter()
-        .map(|p| (p.x - 3.0).max(0.0))
+        .map(|p| (p.x - 7.0).max(0.0))
         .collect();
     let f = P1Field::ascending(&mesh, &psi).unwrap();
-    let near = trace_exact(&f, Point::new(2.8, 1.3), &ExactOptions::default());
+    let near = trace_exact(&f, Point::new(6.8, 1.3), &ExactOptions::default());
     assert_eq!(near.status, TraceStatus::ReachedGoal(0));
     check_path(&g, &f, &near);
     let far = trace_exact(&f, Point::new(0.4, 1.3), &ExactOptions::default());
@@ -251,7 +251,7 @@ fn plateaus_are_escaped_nearby_and_stall_far_away() {
     );
     let capped = trace_exact(
         &f,
-        Point::new(2.8, 1.3),
+        Point::new(6.8, 1.3),
         &ExactOptions {
             max_steps: 2,
             max_perturbations: 4,
