@@ -364,3 +364,59 @@ fn starts_on_vertices_and_edges_of_an_unstructured_mesh() {
         assert_in_free_space(&domain, &sm.points, "smooth");
     }
 }
+
+#[test]
+fn far_end_of_a_long_corridor_where_phi_is_exactly_the_wall_value() {
+    // In a 30 × 1 corridor ψ decays like e^(−πx): 1e-40 at the far end, where the float φ =
+    // 1 − ψ is exactly 1. The tracers follow ψ's direction there all the same.
+    let len = 30.0;
+    let spec = DomainSpec {
+        workspace: vec![
+            Point::new(0.0, 0.0),
+            Point::new(len, 0.0),
+            Point::new(len, 1.0),
+            Point::new(0.0, 1.0),
+        ],
+        obstacles: vec![],
+        goals: vec![GoalShape::Polygon(vec![
+            Point::new(0.3, 0.3),
+            Point::new(0.7, 0.3),
+            Point::new(0.7, 0.7),
+            Point::new(0.3, 0.7),
+        ])],
+        robot_radius: 0.0,
+    };
+    let opts = MeshOptions {
+        max_area: Some(0.005),
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(&spec, &opts).unwrap();
+    let (mesh, _) = domain.mesh(&opts).unwrap();
+    let potential = solve_potential(Arc::new(mesh), &BoundaryConditions::default()).unwrap();
+    let mesh: &Mesh = potential.mesh();
+    let exact = P1Field::ascending(mesh, potential.psi()).unwrap();
+    let smooth =
+        SmoothP1Field::ascending(mesh, potential.psi(), potential.nodal_gradients_psi()).unwrap();
+    let far = Point::new(29.5, 0.5);
+    assert!(potential.psi_at(far, None).unwrap() < 1e-35);
+    assert_eq!(1.0 - potential.psi_at(far, None).unwrap(), 1.0);
+    for x in [10.0, 20.0, 29.5] {
+        let s = Point::new(x, 0.37);
+        let e = trace_exact(&exact, s, &ExactOptions::default());
+        assert_eq!(e.status, TraceStatus::ReachedGoal(0), "exact from {s}");
+        assert_in_free_space(&domain, &e.points, "exact");
+        let sm = trace_smooth(&smooth, s, &SmoothOptions::for_scale(len)).unwrap();
+        assert_eq!(sm.status, TraceStatus::ReachedGoal(0), "smooth from {s}");
+        let car = drive(
+            &smooth,
+            [x, 0.5, 0.0],
+            &CarOptions::new(0.1, 0.6, 0.01),
+            None,
+        )
+        .unwrap();
+        assert_eq!(car.status, TraceStatus::ReachedGoal(0), "car from {s}");
+        if x == 29.5 {
+            assert!(e.min_gradient < 1e-35 && sm.min_gradient < 1e-35 && car.min_gradient < 1e-35);
+        }
+    }
+}
