@@ -199,28 +199,28 @@ impl Assembler {
         }
         let n = free_vertices.len();
 
-        // Pattern: each mesh edge once (from the triangle with the smaller index, or the only
-        // one), kept if both ends are unknowns; plus the diagonal.
+        // Pattern, without sorting or searching: (1) an unsorted column structure U with the
+        // diagonal first and each mesh edge between unknowns once (from the triangle with the
+        // smaller index), recording each triangle's slots in U; (2) its transpose T, which is
+        // the same symmetric pattern with rows increasing in every column, and the map from
+        // U slots to T positions.
         let neighbors = mesh.neighbors();
-        let for_each_edge = |f: &mut dyn FnMut(u32, u32)| {
-            for (t, tri) in triangles.iter().enumerate() {
-                for k in 0..3 {
-                    let nb = neighbors[t][k];
-                    if nb == NO_NEIGHBOR || nb as usize > t {
-                        let a = unknown_of[tri[(k + 1) % 3] as usize];
-                        let b = unknown_of[tri[(k + 2) % 3] as usize];
-                        if a != NONE && b != NONE {
-                            f(a, b);
-                        }
-                    }
-                }
-            }
+        let unknowns_of = |tri: &[u32; 3], k: usize| {
+            (
+                unknown_of[tri[(k + 1) % 3] as usize],
+                unknown_of[tri[(k + 2) % 3] as usize],
+            )
         };
         let mut count = vec![1usize; n];
-        for_each_edge(&mut |a, b| {
-            count[a as usize] += 1;
-            count[b as usize] += 1;
-        });
+        for (t, (tri, nbs)) in triangles.iter().zip(neighbors).enumerate() {
+            for (k, &nb) in nbs.iter().enumerate() {
+                let (a, b) = unknowns_of(tri, k);
+                if (nb == NO_NEIGHBOR || nb as usize > t) && a != NONE && b != NONE {
+                    count[a as usize] += 1;
+                    count[b as usize] += 1;
+                }
+            }
+        }
         let mut col_ptr = Vec::with_capacity(n + 1);
         col_ptr.push(0usize);
         for c in &count {
@@ -231,44 +231,68 @@ impl Assembler {
             return Err(FemError::TooLarge { nnz });
         }
         let mut next: Vec<usize> = col_ptr[..n].to_vec();
-        let mut row_idx = vec![0usize; nnz];
+        let mut u_rows = vec![0u32; nnz];
         for (j, slot) in next.iter_mut().enumerate() {
-            row_idx[*slot] = j;
+            u_rows[*slot] = j as u32;
             *slot += 1;
         }
-        for_each_edge(&mut |a, b| {
-            let (a, b) = (a as usize, b as usize);
-            row_idx[next[b]] = a;
-            next[b] += 1;
-            row_idx[next[a]] = b;
-            next[a] += 1;
-        });
-        for j in 0..n {
-            row_idx[col_ptr[j]..col_ptr[j + 1]].sort_unstable();
-        }
-        let position = |row: usize, col: usize| -> u32 {
-            let start = col_ptr[col];
-            let offset = row_idx[start..col_ptr[col + 1]]
-                .binary_search(&row)
-                .expect("every edge between unknowns is in the pattern");
-            (start + offset) as u32
-        };
-        let diag_pos: Vec<u32> = (0..n).map(|j| position(j, j)).collect();
-        let tri_pos: Vec<[u32; 6]> = triangles
-            .iter()
-            .map(|tri| {
-                let mut pos = [NONE; 6];
-                for k in 0..3 {
-                    let a = unknown_of[tri[(k + 1) % 3] as usize];
-                    let b = unknown_of[tri[(k + 2) % 3] as usize];
-                    if a != NONE && b != NONE {
-                        pos[2 * k] = position(a as usize, b as usize);
-                        pos[2 * k + 1] = position(b as usize, a as usize);
-                    }
+        // tri_pos[t][2k]: slot of (row a, col b), [2k+1]: slot of (row b, col a), where
+        // (a, b) are the unknowns of local edge k; first in U, remapped to T below.
+        let mut tri_pos = vec![[NONE; 6]; triangles.len()];
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = unknowns_of(tri, k);
+                if a == NONE || b == NONE {
+                    continue;
                 }
-                pos
-            })
-            .collect();
+                let nb = neighbors[t][k];
+                if nb == NO_NEIGHBOR || nb as usize > t {
+                    let s_ab = next[b as usize];
+                    u_rows[s_ab] = a;
+                    next[b as usize] += 1;
+                    let s_ba = next[a as usize];
+                    u_rows[s_ba] = b;
+                    next[a as usize] += 1;
+                    tri_pos[t][2 * k] = s_ab as u32;
+                    tri_pos[t][2 * k + 1] = s_ba as u32;
+                } else {
+                    let nb = nb as usize;
+                    let kn = (0..3)
+                        .find(|&m| neighbors[nb][m] as usize == t)
+                        .expect("adjacency is symmetric");
+                    let [s0, s1] = [tri_pos[nb][2 * kn], tri_pos[nb][2 * kn + 1]];
+                    // Same orientation in both triangles only if the mesh is inconsistent;
+                    // compare vertices rather than assume.
+                    let same = triangles[nb][(kn + 1) % 3] == tri[(k + 1) % 3];
+                    let (ab, ba) = if same { (s0, s1) } else { (s1, s0) };
+                    tri_pos[t][2 * k] = ab;
+                    tri_pos[t][2 * k + 1] = ba;
+                }
+            }
+        }
+        let mut next: Vec<usize> = col_ptr[..n].to_vec();
+        let mut row_idx = vec![0usize; nnz];
+        // to_t[s]: for the U entry (row i, col j) in slot s, the T position of (row j, col i).
+        let mut to_t = vec![0u32; nnz];
+        for j in 0..n {
+            for s in col_ptr[j]..col_ptr[j + 1] {
+                let i = u_rows[s] as usize;
+                row_idx[next[i]] = j;
+                to_t[s] = next[i] as u32;
+                next[i] += 1;
+            }
+        }
+        drop(u_rows);
+        for pos in &mut tri_pos {
+            for k in 0..3 {
+                if pos[2 * k] != NONE {
+                    let (ab, ba) = (pos[2 * k], pos[2 * k + 1]);
+                    pos[2 * k] = to_t[ba as usize];
+                    pos[2 * k + 1] = to_t[ab as usize];
+                }
+            }
+        }
+        let diag_pos: Vec<u32> = (0..n).map(|j| to_t[col_ptr[j]]).collect();
         let template = SymmetricCsc::try_new(n, col_ptr, row_idx, vec![0.0; nnz])?;
 
         let components = mesh.component_count() as usize;
@@ -569,5 +593,129 @@ impl Assembler {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3×3-vertex grid on [0, 2]² cut into 8 triangles (diagonals alternating), bottom side
+    /// the goal, the rest walls.
+    fn small_mesh() -> Arc<Mesh> {
+        let vertices = (0..9)
+            .map(|v| Point::new((v % 3) as f64, (v / 3) as f64 * 0.8))
+            .collect();
+        let triangles = vec![
+            [0, 1, 4],
+            [0, 4, 3],
+            [1, 2, 4],
+            [2, 5, 4],
+            [3, 4, 6],
+            [4, 7, 6],
+            [4, 5, 8],
+            [4, 8, 7],
+        ];
+        let boundary = [
+            (0, 1, BoundaryTag::Goal(0)),
+            (1, 2, BoundaryTag::Goal(0)),
+            (2, 5, BoundaryTag::Wall),
+            (5, 8, BoundaryTag::Wall),
+            (8, 7, BoundaryTag::Wall),
+            (7, 6, BoundaryTag::Wall),
+            (6, 3, BoundaryTag::Wall),
+            (3, 0, BoundaryTag::Wall),
+        ];
+        Arc::new(Mesh::from_parts(vertices, triangles, &boundary).expect("valid mesh"))
+    }
+
+    /// Dense reference assembly of the full stiffness matrix (all vertices).
+    fn dense_stiffness(mesh: &Mesh) -> Vec<Vec<f64>> {
+        let nv = mesh.vertices().len();
+        let mut k = vec![vec![0.0; nv]; nv];
+        for (t, tri) in mesh.triangles().iter().enumerate() {
+            let p = mesh.triangle_points(t as u32);
+            let area = mesh.triangle_area(t as u32);
+            // ∇λ_i = rot90(p_{i+2} − p_{i+1}) / 2A.
+            let g: Vec<_> = (0..3)
+                .map(|i| {
+                    let d = p[(i + 2) % 3] - p[(i + 1) % 3];
+                    nalgebra::Vector2::new(-d.y, d.x) / (2.0 * area)
+                })
+                .collect();
+            for i in 0..3 {
+                for j in 0..3 {
+                    k[tri[i] as usize][tri[j] as usize] += area * g[i].dot(&g[j]);
+                }
+            }
+        }
+        k
+    }
+
+    fn entry(a: &SymmetricCsc, i: usize, j: usize) -> f64 {
+        let (rows, vals) = a.column(j);
+        rows.iter().position(|&r| r == i).map_or(0.0, |p| vals[p])
+    }
+
+    #[test]
+    fn matches_dense_assembly_with_lifting() {
+        let mesh = small_mesh();
+        let bcs = BoundaryConditions {
+            walls: BoundaryCondition::Neumann(0.5),
+            ..BoundaryConditions::default()
+        };
+        let assembler =
+            Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default()).expect("pattern");
+        let system = assembler.assemble(&bcs).expect("assembly");
+        // Goal vertices 0, 1, 2 are prescribed; 6 unknowns in vertex order.
+        assert_eq!(system.free_vertices(), &[3, 4, 5, 6, 7, 8]);
+        let k = dense_stiffness(&mesh);
+        let free = system.free_vertices();
+        let a = system.matrix();
+        for (ui, &vi) in free.iter().enumerate() {
+            for (uj, &vj) in free.iter().enumerate() {
+                let want = k[vi as usize][vj as usize];
+                assert!((entry(a, ui, uj) - want).abs() < 1e-14, "({vi}, {vj})");
+            }
+        }
+        // Reference c = 0 (goal 0, no other level): ψ_D = 0 − 0, so the right-hand side is the
+        // Neumann load only: ∂ψ/∂n = −0.5 on the walls, ∫ −0.5 v over each vertex's wall edges.
+        assert_eq!(system.reference(), 0.0);
+        let wall_len = |v: usize| -> f64 {
+            mesh.boundary_edges()
+                .iter()
+                .filter(|e| e.tag == BoundaryTag::Wall && e.vertices.contains(&(v as u32)))
+                .map(|e| {
+                    (mesh.vertices()[e.vertices[1] as usize]
+                        - mesh.vertices()[e.vertices[0] as usize])
+                        .norm()
+                })
+                .sum()
+        };
+        for (ui, &vi) in free.iter().enumerate() {
+            let want = -0.5 * wall_len(vi as usize) / 2.0;
+            assert!(
+                (system.rhs()[ui] - want).abs() < 1e-14,
+                "rhs at vertex {vi}"
+            );
+        }
+    }
+
+    #[test]
+    fn lifting_moves_dirichlet_columns_to_the_right_hand_side() {
+        let mesh = small_mesh();
+        let bcs = BoundaryConditions::default(); // walls 1, goal 0: c = 1
+        let system = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())
+            .expect("pattern")
+            .assemble(&bcs)
+            .expect("assembly");
+        // Only the centre vertex 4 is free; ψ_D = 1 on the goal, 0 on the walls.
+        assert_eq!(system.free_vertices(), &[4]);
+        let k = dense_stiffness(&mesh);
+        let want: f64 = [0usize, 1, 2].iter().map(|&d| -k[4][d] * 1.0).sum();
+        assert!((system.rhs()[0] - want).abs() < 1e-14);
+        assert!((system.matrix().values()[0] - k[4][4]).abs() < 1e-14);
+        let psi = system.expand(&[0.25]).expect("expand");
+        assert_eq!(psi, vec![1.0, 1.0, 1.0, 0.0, 0.25, 0.0, 0.0, 0.0, 0.0]);
     }
 }

@@ -336,3 +336,41 @@ fn blend_mixes_dirichlet_and_neumann_fields() {
         Err(FemError::DifferentMeshes)
     ));
 }
+
+/// A vertex on both a Dirichlet wall (φ = 1) and the Dirichlet goal (φ = 0) takes the goal's
+/// lower value.
+#[test]
+fn goal_wins_at_shared_corners() {
+    let mesh = grid(8);
+    let p = solve_potential(Arc::clone(&mesh), &BoundaryConditions::default()).expect("solve");
+    let phi = p.phi_at_vertices();
+    for corner in [Point::new(0.0, 0.0), Point::new(0.0, 2.0)] {
+        let v = mesh
+            .vertices()
+            .iter()
+            .position(|&q| q == corner)
+            .expect("corner vertex");
+        assert_eq!(phi[v], 0.0, "corner {corner:?}");
+    }
+}
+
+#[test]
+fn systems_and_solutions_are_checked_against_their_assembler() {
+    let bcs = BoundaryConditions::default();
+    let a = Assembler::new(grid(8), &bcs, AssemblyOptions::default()).expect("pattern");
+    let b = Assembler::new(grid(8), &bcs, AssemblyOptions::default()).expect("pattern");
+    let mut system = a.assemble(&bcs).expect("assembly");
+    assert!(matches!(
+        b.assemble_into(&bcs, None, &mut system),
+        Err(FemError::ForeignSystem)
+    ));
+    assert!(matches!(
+        system.expand(&[0.0; 3]),
+        Err(FemError::LengthMismatch { .. })
+    ));
+    let nan = |_: &harmonic_mesh::BoundaryEdge, _: Point| f64::NAN;
+    assert!(matches!(
+        a.assemble_with(&bcs, &nan),
+        Err(FemError::NonFiniteData { .. })
+    ));
+}

@@ -1,0 +1,81 @@
+//! Stage timings of the FEM pipeline on the reference scene (Dirichlet case) at about
+//! 3k / 30k / 300k / 1M triangles: pattern (Assembler::new), assemble (values only, into an
+//! existing system; also for the Robin case), symbolic analysis, numeric factorisation, triangular solves.
+//!
+//! `cargo bench -p harmonic-fem --bench fem` (filter sizes with e.g. `-- 1M`).
+
+#[path = "../tests/support/reference.rs"]
+mod reference;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use harmonic_fem::{Assembler, AssemblyOptions, Ordering};
+use harmonic_solver::SymbolicCholesky;
+
+const SIZES: [(&str, f64); 4] = [
+    ("3k", 0.045),
+    ("30k", 0.0044),
+    ("300k", 0.00044),
+    ("1M", 0.000132),
+];
+
+fn stages(c: &mut Criterion) {
+    for (label, max_area) in SIZES {
+        let mut group = c.benchmark_group(format!("fem/{label}"));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        // Mesh only once the group is selected (criterion filters by id).
+        let mesh = Arc::new(reference::reference_mesh(max_area));
+        let bcs = reference::dirichlet();
+        eprintln!(
+            "{label}: {} triangles, {} vertices",
+            mesh.triangles().len(),
+            mesh.vertices().len()
+        );
+        group.bench_function("pattern", |b| {
+            b.iter(|| Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default()))
+        });
+        let assembler =
+            Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default()).expect("pattern");
+        let mut system = assembler.assemble(&bcs).expect("assembly");
+        group.bench_function("assemble", |b| {
+            b.iter(|| assembler.assemble_into(&bcs, None, &mut system))
+        });
+        // Robin walls and obstacles: no Dirichlet walls, more unknowns, boundary mass and load.
+        let robin = reference::robin();
+        let robin_assembler =
+            Assembler::new(Arc::clone(&mesh), &robin, AssemblyOptions::default()).expect("pattern");
+        let mut robin_system = robin_assembler.assemble(&robin).expect("assembly");
+        group.bench_function("assemble_robin", |b| {
+            b.iter(|| robin_assembler.assemble_into(&robin, None, &mut robin_system))
+        });
+        let a = system.matrix();
+        let orderings = [
+            ("amd", Ordering::Amd),
+            (
+                "nd",
+                Ordering::NestedDissection {
+                    coords: assembler.unknown_coordinates(),
+                },
+            ),
+        ];
+        for (name, ordering) in orderings {
+            group.bench_function(format!("symbolic_{name}"), |b| {
+                b.iter(|| SymbolicCholesky::analyze(a, ordering.clone()))
+            });
+            let symbolic = SymbolicCholesky::analyze(a, ordering).expect("symbolic");
+            group.bench_function(format!("numeric_{name}"), |b| b.iter(|| symbolic.factor(a)));
+            let factor = symbolic.factor(a).expect("numeric");
+            group.bench_function(format!("solve_{name}"), |b| {
+                b.iter(|| factor.solve(system.rhs()))
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, stages);
+criterion_main!(benches);
