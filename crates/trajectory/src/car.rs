@@ -9,6 +9,7 @@
 
 use harmonic_mesh::{Point, Vector};
 
+use crate::field::magnitude;
 use crate::{CarPath, Field, Locate, Segment, TraceError, TraceStatus};
 
 /// How long each step's arc is.
@@ -366,7 +367,7 @@ pub fn drive<F: Field>(
                 _ => field.gradient(cell, here),
             },
         };
-        let gn = g.norm();
+        let gn = magnitude(g);
         if !(gn > 0.0 && gn.is_finite()) {
             return Ok(finish(
                 poses,

@@ -10,7 +10,7 @@
 
 use harmonic_mesh::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
 
-use crate::field::{P1Field, goal_crossing, orient};
+use crate::field::{P1Field, goal_crossing, magnitude, orient};
 use crate::{Fallback, Field, Locate, Path, Segment, TraceStatus};
 
 /// Options of the exact tracer.
@@ -233,7 +233,7 @@ impl Tracer<'_, '_> {
 
     /// Descends through triangle `t` from `p` along `-g` to the exit edge or vertex.
     fn face(&mut self, t: u32, p: Point, g: Vector) -> Next {
-        let gn = g.norm();
+        let gn = magnitude(g);
         if !(gn > 0.0 && gn.is_finite()) {
             return Next::Stuck(p, t);
         }
@@ -308,7 +308,7 @@ impl Tracer<'_, '_> {
             let gn = field.triangle_gradient(n);
             let into_n = (-gn).dot(&nu) > 0.0;
             match (into_t, into_n) {
-                (true, true) if gt.norm_squared() >= gn.norm_squared() => Some((t, gt)),
+                (true, true) if magnitude(gt) >= magnitude(gn) => Some((t, gt)),
                 (true, false) => Some((t, gt)),
                 (_, true) => Some((n, gn)),
                 (false, false) => None,
@@ -409,7 +409,7 @@ impl Tracer<'_, '_> {
             let e2 = verts[w2 as usize] - pv;
             let g = field.triangle_gradient(u);
             let d = -g;
-            let rate = d.norm();
+            let rate = magnitude(d);
             let inside = e1.perp(&d) >= 0.0 && d.perp(&e2) >= 0.0;
             if inside && rate > 0.0 && rate.is_finite() && best.is_none_or(|b| rate > b.0) {
                 best = Some((rate, u, None, g));

@@ -125,6 +125,18 @@ pub trait Field {
     }
 }
 
+/// `|v|` without underflow or overflow: ψ's gradients go far below 1e-154 (where the squared
+/// norm underflows to zero) in the far rooms of large scenes.
+#[inline]
+pub(crate) fn magnitude(v: Vector) -> f64 {
+    let n2 = v.norm_squared();
+    if (1e-280..1e280).contains(&n2) {
+        n2.sqrt()
+    } else {
+        v.x.hypot(v.y)
+    }
+}
+
 /// Sign of the orientation of `a, b, c` (exact): positive when counter-clockwise.
 #[inline]
 pub(crate) fn orient(a: Point, b: Point, c: Point) -> f64 {

@@ -9,6 +9,7 @@
 
 use harmonic_mesh::{Point, Vector};
 
+use crate::field::magnitude;
 use crate::{Fallback, Field, Locate, Path, Segment, TraceError, TraceStatus};
 
 /// Options of the smooth tracer. Lengths are in scene units: build them with
@@ -131,7 +132,7 @@ fn eval<F: Field>(field: &F, cell: F::Cell, from: Point, q: Point) -> Eval<F::Ce
     match field.segment(cell, from, q) {
         Segment::Inside(c) => {
             let g = field.gradient(c, q);
-            let n = g.norm();
+            let n = magnitude(g);
             if n > 0.0 && n.is_finite() {
                 Eval::Dir(-g / n, c, n)
             } else {

@@ -259,3 +259,37 @@ fn plateaus_are_escaped_nearby_and_stall_far_away() {
     );
     assert_eq!(capped.status, TraceStatus::MaxSteps);
 }
+
+#[test]
+fn values_far_below_the_squared_norm_underflow() {
+    // ψ scaled by 1e-250: gradients near 1e-250, whose squared norm underflows to zero.
+    // Nothing may treat them as flat.
+    let g = scene();
+    let mesh = g.mesh();
+    let psi: Vec<f64> = laplace_psi(&mesh, 3000)
+        .iter()
+        .map(|v| v * 1e-250)
+        .collect();
+    let grads = common::nodal_gradients(&mesh, &psi);
+    let f = P1Field::ascending(&mesh, &psi).unwrap();
+    let smooth = harmonic_trajectory::SmoothP1Field::ascending(&mesh, &psi, &grads).unwrap();
+    for s in [
+        Point::new(1.0, 2.0),
+        Point::new(9.5, 9.5),
+        Point::new(5.0, 5.0),
+    ] {
+        let e = trace_exact(&f, s, &ExactOptions::default());
+        assert_eq!(e.status, TraceStatus::ReachedGoal(0), "exact from {s}");
+        assert!(e.min_gradient > 0.0 && e.min_gradient < 1e-240);
+        let sm = harmonic_trajectory::trace_smooth(&smooth, s, &Default::default()).unwrap();
+        assert_eq!(sm.status, TraceStatus::ReachedGoal(0), "smooth from {s}");
+        let car = harmonic_trajectory::drive(
+            &smooth,
+            [s.x, s.y, 0.0],
+            &harmonic_trajectory::CarOptions::new(0.2, 0.6, 0.02),
+            None,
+        )
+        .unwrap();
+        assert_eq!(car.status, TraceStatus::ReachedGoal(0), "car from {s}");
+    }
+}
