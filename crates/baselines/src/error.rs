@@ -46,11 +46,18 @@ pub enum BaselineError {
     /// The scene has no goal region at all.
     #[error("the scene has no goal region")]
     NoGoal,
-    /// The panel method's linear system for the source strengths is singular.
-    #[error("panel system is singular (panel {panel} has zero length or duplicates another)")]
-    SingularPanels {
-        /// A panel involved (zero-length or first one found degenerate).
+    /// A panel has zero length.
+    #[error("panel {panel} has zero length")]
+    ZeroLengthPanel {
+        /// The panel's index.
         panel: usize,
+    },
+    /// The panel method's linear system for the source strengths is singular or gave
+    /// non-finite strengths (coinciding or overlapping panels).
+    #[error("the panel system is singular: {panels} panels, some coincide or overlap")]
+    SingularPanels {
+        /// How many panels the system had.
+        panels: usize,
     },
     /// A sphere-world description is invalid.
     #[error("sphere world: {0}")]

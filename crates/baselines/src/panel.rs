@@ -105,7 +105,7 @@ impl PanelField {
             check_point(|| format!("panel {i}"), p.start)?;
             check_point(|| format!("panel {i}"), p.end)?;
             if p.start == p.end {
-                return Err(BaselineError::SingularPanels { panel: i });
+                return Err(BaselineError::ZeroLengthPanel { panel: i });
             }
         }
         let mut field = PanelField {
@@ -133,9 +133,9 @@ impl PanelField {
         let lu = a.lu();
         let lambda = lu
             .solve(&rhs)
-            .ok_or(BaselineError::SingularPanels { panel: 0 })?;
+            .ok_or(BaselineError::SingularPanels { panels: m })?;
         if lambda.iter().any(|v| !v.is_finite()) {
-            return Err(BaselineError::SingularPanels { panel: 0 });
+            return Err(BaselineError::SingularPanels { panels: m });
         }
         field.strengths = lambda.iter().copied().collect();
         Ok(field)
@@ -490,8 +490,16 @@ mod tests {
         };
         assert_eq!(
             PanelField::solve(vec![p], &[0.0], Vector::zeros(), None).unwrap_err(),
-            BaselineError::SingularPanels { panel: 0 }
+            BaselineError::ZeroLengthPanel { panel: 0 }
         );
         assert!(PanelField::solve(vec![], &[0.0], Vector::zeros(), None).is_err());
+        let q = Panel {
+            start: Point::new(0.0, 0.0),
+            end: Point::new(1.0, 0.0),
+        };
+        assert_eq!(
+            PanelField::solve(vec![q, q], &[0.0, 0.0], Vector::x(), None).unwrap_err(),
+            BaselineError::SingularPanels { panels: 2 }
+        );
     }
 }
