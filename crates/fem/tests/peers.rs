@@ -134,7 +134,7 @@ const ROBIN_1M: [[f64; 6]; 2] = [
 ];
 
 #[test]
-#[ignore = "1M triangles: about a minute in release; run with --ignored"]
+#[ignore = "1M triangles: about 10 s in release; run with --ignored"]
 fn agrees_with_peers_at_1m_triangles() {
     let mesh = Arc::new(reference::reference_mesh(0.000132));
     eprintln!("{} triangles", mesh.triangles().len());

@@ -374,3 +374,52 @@ fn systems_and_solutions_are_checked_against_their_assembler() {
         Err(FemError::NonFiniteData { .. })
     ));
 }
+
+/// ψ = c − φ keeps its relative precision where φ is within 1e-17 of the wall value: along a
+/// long corridor with the goal at one end, ψ decays like e^(−πx) far below f64 resolution of
+/// φ, yet stays positive and decreasing, at the rate of the exact first mode.
+#[test]
+fn psi_keeps_precision_in_a_long_corridor() {
+    let (len, per_unit) = (20usize, 8usize);
+    let (nx, ny) = (len * per_unit, per_unit);
+    let h = 1.0 / per_unit as f64;
+    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+    let mut vertices = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            vertices.push(Point::new(i as f64 * h, j as f64 * h));
+        }
+    }
+    let mut triangles = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    let mut boundary = Vec::new();
+    for i in 0..nx {
+        boundary.push((id(i, 0), id(i + 1, 0), BoundaryTag::Wall));
+        boundary.push((id(i, ny), id(i + 1, ny), BoundaryTag::Wall));
+    }
+    for j in 0..ny {
+        boundary.push((id(0, j), id(0, j + 1), BoundaryTag::Goal(0)));
+        boundary.push((id(nx, j), id(nx, j + 1), BoundaryTag::Wall));
+    }
+    let mesh = Arc::new(Mesh::from_parts(vertices, triangles, &boundary).expect("mesh"));
+    let p = solve_potential(Arc::clone(&mesh), &BoundaryConditions::default()).expect("solve");
+    let centre: Vec<f64> = (0..=nx).map(|i| p.psi()[id(i, ny / 2) as usize]).collect();
+    assert!(centre[1..nx].iter().all(|&s| s > 0.0));
+    assert!(centre.windows(2).all(|w| w[1] < w[0]));
+    // φ has no digits left there...
+    assert_eq!(p.phi_at_vertices()[id(nx - per_unit, ny / 2) as usize], 1.0);
+    // ...but ψ decays per unit length by about e^(−π) (first mode sin(πy)e^(−πx)).
+    let per_unit_decay = (centre[10 * per_unit] / centre[11 * per_unit]).ln();
+    assert!(
+        (per_unit_decay - std::f64::consts::PI).abs() < 0.05,
+        "decay {per_unit_decay}, ψ(19) = {}",
+        centre[19 * per_unit]
+    );
+    assert!(centre[19 * per_unit] < 1e-20);
+}
