@@ -138,6 +138,11 @@ impl MMatrix {
 pub struct AccurateLdlt {
     /// `perm[new] = old`.
     perm: Vec<usize>,
+    /// `inv[old] = new`.
+    inv: Vec<usize>,
+    /// Pattern of the factored matrix's off-diagonals, to check refactorisations.
+    w_col_ptr: Vec<usize>,
+    w_row_idx: Vec<usize>,
     /// Columns of `−L` (magnitudes `w_ij / d_j ≥ 0`), permuted numbering, rows sorted.
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -159,6 +164,45 @@ impl AccurateLdlt {
             inv[old] = new;
         }
         let (col_ptr, row_idx) = symbolic(&m.offdiag, &perm, &inv);
+        let mut f = Self {
+            perm,
+            inv,
+            w_col_ptr: m.offdiag.col_ptr().to_vec(),
+            w_row_idx: m.offdiag.row_idx().to_vec(),
+            col_ptr,
+            row_idx,
+            l: Vec::new(),
+            d: Vec::new(),
+        };
+        let (l, d) = f.numeric(m)?;
+        (f.l, f.d) = (l, d);
+        Ok(f)
+    }
+
+    /// Refactors for new values of an M-matrix with the same off-diagonal pattern, reusing the
+    /// ordering and the pattern of `L`. On error `self` is unchanged.
+    pub fn refactor(&mut self, m: &MMatrix) -> Result<(), SolverError> {
+        let w = &m.offdiag;
+        if w.col_ptr() != self.w_col_ptr.as_slice() || w.row_idx() != self.w_row_idx.as_slice() {
+            let n = self.n().min(w.n());
+            let column = (0..n)
+                .find(|&j| {
+                    w.col_ptr().get(j + 1) != self.w_col_ptr.get(j + 1)
+                        || w.column(j).0
+                            != &self.w_row_idx[self.w_col_ptr[j]..self.w_col_ptr[j + 1]]
+                })
+                .unwrap_or(n);
+            return Err(SolverError::PatternMismatch { column });
+        }
+        let (l, d) = self.numeric(m)?;
+        (self.l, self.d) = (l, d);
+        Ok(())
+    }
+
+    /// The numeric elimination on the stored pattern: returns (magnitudes of L, pivots).
+    fn numeric(&self, m: &MMatrix) -> Result<(Vec<f64>, Vec<f64>), SolverError> {
+        let (perm, inv, col_ptr, row_idx) = (&self.perm, &self.inv, &self.col_ptr, &self.row_idx);
+        let n = perm.len();
         let nnz = row_idx.len();
         let mut l = vec![0.0; nnz];
         let mut d = vec![0.0; n];
@@ -223,13 +267,7 @@ impl AccurateLdlt {
                 head[r] = j;
             }
         }
-        Ok(Self {
-            perm,
-            col_ptr,
-            row_idx,
-            l,
-            d,
-        })
+        Ok((l, d))
     }
 
     /// Number of unknowns.

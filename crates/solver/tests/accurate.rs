@@ -219,6 +219,32 @@ fn general_m_matrices_match_dense_solves() {
 }
 
 #[test]
+fn refactor_reuses_the_analysis_and_checks_the_pattern() {
+    let (m1, b, exact, coords) = corridor(300, 5);
+    let mut f = AccurateLdlt::factor(&m1, Ordering::NestedDissection { coords }).unwrap();
+    assert!(entrywise(&f.solve(&b).unwrap(), &exact) < 1e-10);
+    // Same pattern, every conductance and excess doubled: the solution halves.
+    let w2 = {
+        let mut w = m1.offdiag().clone();
+        for v in w.values_mut() {
+            *v *= 2.0;
+        }
+        w
+    };
+    let m2 = MMatrix::try_new(w2, m1.excess().iter().map(|s| 2.0 * s).collect()).unwrap();
+    f.refactor(&m2).unwrap();
+    let half: Vec<f64> = exact.iter().map(|e| e / 2.0).collect();
+    assert!(entrywise(&f.solve(&b).unwrap(), &half) < 1e-10);
+    // A different pattern is refused and leaves the factor as it was.
+    let (m3, ..) = corridor(300, 4);
+    assert!(matches!(
+        f.refactor(&m3),
+        Err(SolverError::PatternMismatch { .. })
+    ));
+    assert!(entrywise(&f.solve(&b).unwrap(), &half) < 1e-10);
+}
+
+#[test]
 fn ungrounded_component_is_singular() {
     // Components {0,1} (grounded) and {2,3} (no excess anywhere): singular, named in {2,3}.
     let m = MMatrix::try_new(
