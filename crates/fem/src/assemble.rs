@@ -141,6 +141,36 @@ pub fn offdiagonal_sign_violations(system: &LinearSystem) -> usize {
 /// a vertex on two Dirichlet parts with different values takes the **lower φ** (the goal's,
 /// for the usual conditions), so goals are never shrunk by a neighbouring wall. Vertices used
 /// by no triangle are prescribed too (ψ = 0).
+///
+/// Replanning with new values reuses the pattern and the symbolic factorisation:
+/// ```
+/// use std::sync::Arc;
+/// use harmonic_fem::{Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Ordering, Solver};
+/// use harmonic_mesh::{BoundaryTag, Mesh, Point};
+///
+/// let vertices = vec![
+///     Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0),
+///     Point::new(0.0, 1.0), Point::new(0.5, 0.5),
+/// ];
+/// let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+/// let boundary = [
+///     (0, 1, BoundaryTag::Goal(0)), (1, 2, BoundaryTag::Wall),
+///     (2, 3, BoundaryTag::Wall), (3, 0, BoundaryTag::Obstacle(0)),
+/// ];
+/// let mesh = Arc::new(Mesh::from_parts(vertices, triangles, &boundary)?);
+/// let mut bcs = BoundaryConditions::uniform(BoundaryCondition::Robin { a: 1.0, b: 1.0, g: 1.0 });
+/// let assembler = Assembler::new(mesh.clone(), &bcs, AssemblyOptions::default())?;
+/// let mut system = assembler.assemble(&bcs)?;
+/// let solver = Solver::new(&system, Ordering::Amd)?;
+/// let first = solver.potential(mesh.clone(), &system)?;
+///
+/// // Stiffer walls: same kinds (Robin stays Robin), so only values are re-assembled.
+/// bcs.walls = BoundaryCondition::Robin { a: 1.0, b: 10.0, g: 10.0 };
+/// assembler.assemble_into(&bcs, None, &mut system)?;
+/// let second = solver.potential(mesh, &system)?;
+/// assert!(second.phi_at_vertices()[2] > first.phi_at_vertices()[2]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct Assembler {
     mesh: Arc<Mesh>,

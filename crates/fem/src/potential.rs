@@ -11,7 +11,7 @@ use crate::FemError;
 ///
 /// The robot ascends ψ, i.e. descends φ: the direction of motion is
 /// [`Evaluation::grad_psi`] = −∇φ.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Potential {
     mesh: Arc<Mesh>,
     psi: Vec<f64>,
@@ -30,17 +30,6 @@ pub struct Evaluation {
     pub phi: f64,
     /// ∇ψ = −∇φ on the triangle (constant per triangle).
     pub grad_psi: Vector,
-}
-
-impl Clone for Potential {
-    fn clone(&self) -> Self {
-        Potential {
-            mesh: Arc::clone(&self.mesh),
-            psi: self.psi.clone(),
-            reference: self.reference,
-            nodal_gradients: self.nodal_gradients.clone(),
-        }
-    }
 }
 
 impl Potential {
