@@ -21,7 +21,8 @@
 //! - [`panel`]: Kim & Khosla (1992), *Real-time obstacle avoidance using harmonic potential
 //!   functions*: uniform stream + goal sink + constant-strength source panels on every
 //!   obstacle edge, strengths from the linear system `P λ = q` for prescribed normal
-//!   velocities, and the closed-form panel velocity field.
+//!   velocities, and the closed-form panel velocity field and potential; a query's flow is
+//!   also a [`harmonic_trajectory::Field`] ([`PanelFlow`]).
 //! - [`navigation`]: Rimon & Koditschek (1992), *Exact robot navigation using artificial
 //!   potential functions*: the sphere-world navigation function
 //!   `φ = γ / (γ^κ + β)^{1/κ}` with tunable κ, descended along its gradient.
@@ -68,7 +69,7 @@ pub use grid_harmonic::{
     GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown, WallCondition,
 };
 pub use navigation::{Disc, NavigationFunction, NavigationOptions};
-pub use panel::{Panel, PanelField, PanelOptions, PanelPlanner};
+pub use panel::{Panel, PanelField, PanelFlow, PanelOptions, PanelPlanner};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};
 pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};

@@ -10,7 +10,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use harmonic_mesh::{Point, Vector};
-use harmonic_trajectory::TraceStatus;
+use harmonic_trajectory::{Field, Locate, TraceStatus};
 use nalgebra::{DMatrix, DVector};
 
 use crate::geometry::{check_point, check_polygon, check_positive, contains};
@@ -58,6 +58,24 @@ impl Panel {
         let u = (r1 / r2).ln() / (4.0 * PI);
         let w = (z.atan2(x - len) - z.atan2(x)) / (2.0 * PI);
         t * u + n * w
+    }
+}
+
+impl Panel {
+    /// Velocity potential at `p` of a unit-strength source distribution on the panel, whose
+    /// gradient is [`Panel::unit_velocity`]: in panel coordinates
+    /// `(x ln r₁² − (x − L) ln r₂² + 2z(θ₂ − θ₁)) / (4π)`.
+    fn unit_potential(&self, p: Point) -> f64 {
+        let t = self.tangent();
+        let n = Vector::new(t.y, -t.x);
+        let len = (self.end - self.start).norm();
+        let d = p - self.start;
+        let (x, z) = (d.dot(&t), d.dot(&n));
+        let r1 = x * x + z * z;
+        let r2 = (x - len) * (x - len) + z * z;
+        // x ln x² → 0 at the end points.
+        let term = |a: f64, r: f64| if r > 0.0 { a * r.ln() } else { 0.0 };
+        (term(x, r1) - term(x - len, r2) + 2.0 * z * (z.atan2(x - len) - z.atan2(x))) / (4.0 * PI)
     }
 }
 
@@ -159,6 +177,19 @@ impl PanelField {
     /// The source strength per unit length of each panel.
     pub fn strengths(&self) -> &[f64] {
         &self.strengths
+    }
+
+    /// The velocity potential `Φ` at `p` (velocity = ∇Φ): uniform stream `U·p`, sink
+    /// `−Q ln|p − g| / (2π)`, panels `Σ λ_j Φ_j(p)`.
+    pub fn potential(&self, p: Point) -> f64 {
+        let mut phi = self.uniform.dot(&p.coords);
+        if let Some((g, q)) = self.sink {
+            phi -= q / (2.0 * PI) * (p - g).norm().ln();
+        }
+        self.panels
+            .iter()
+            .zip(&self.strengths)
+            .fold(phi, |acc, (panel, &s)| acc + panel.unit_potential(p) * s)
     }
 
     /// The flow velocity at `p` (off the panels).
@@ -335,6 +366,15 @@ impl PanelPlanner {
         contains(&self.workspace, p) && !self.obstacles.iter().any(|o| contains(o, p))
     }
 
+    /// The flow for a query from `start` as a [`Field`] the shared tracer and car stepper can
+    /// follow (its value is `−Φ`, decreasing along the flow toward the goal).
+    pub fn flow(&self, start: Point) -> Result<PanelFlow<'_>, BaselineError> {
+        Ok(PanelFlow {
+            planner: self,
+            field: self.field(start)?,
+        })
+    }
+
     /// Follows the flow from `start` in fixed-length steps along the velocity direction.
     /// Errors only if the panel system is singular.
     pub fn plan(&self, start: Point) -> Result<PlanResult, BaselineError> {
@@ -373,6 +413,47 @@ impl PanelPlanner {
             status
         };
         Ok(PlanResult::new(points, status, clock.elapsed()))
+    }
+}
+
+/// A panel flow over a planner's scene, as a [`Field`]: free space is the workspace minus the
+/// obstacles, the goal the disc of radius `goal_tolerance` around the goal point, the value
+/// `−Φ` and the gradient `−velocity`. Its only cell is `()`.
+#[derive(Clone, Debug)]
+pub struct PanelFlow<'a> {
+    planner: &'a PanelPlanner,
+    field: PanelField,
+}
+
+impl PanelFlow<'_> {
+    /// The underlying flow.
+    pub fn field(&self) -> &PanelField {
+        &self.field
+    }
+}
+
+impl Field for PanelFlow<'_> {
+    type Cell = ();
+
+    fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {
+        let pl = self.planner;
+        if !contains(&pl.workspace, p) {
+            Locate::OutsideWorkspace
+        } else if pl.obstacles.iter().any(|o| contains(o, p)) {
+            Locate::InObstacle
+        } else if (p - pl.goal).norm() < pl.options.goal_tolerance {
+            Locate::Goal(0)
+        } else {
+            Locate::Inside(())
+        }
+    }
+
+    fn value(&self, _cell: (), p: Point) -> f64 {
+        -self.field.potential(p)
+    }
+
+    fn gradient(&self, _cell: (), p: Point) -> Vector {
+        -self.field.velocity(p)
     }
 }
 
@@ -480,6 +561,48 @@ mod tests {
             planner.plan(Point::new(5.0, 5.0)).unwrap().status,
             TraceStatus::StartInObstacle
         );
+    }
+
+    #[test]
+    fn the_shared_tracer_follows_the_panel_flow() {
+        use harmonic_trajectory::{SmoothOptions, trace_smooth};
+        let ws = vec![
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let block = vec![
+            Point::new(4.0, 3.0),
+            Point::new(6.0, 3.0),
+            Point::new(6.0, 6.5),
+            Point::new(4.0, 6.5),
+        ];
+        let planner =
+            PanelPlanner::new(&ws, &[block], Point::new(9.0, 5.0), PanelOptions::default())
+                .unwrap();
+        let start = Point::new(1.0, 5.0);
+        let flow = planner.flow(start).unwrap();
+        // ∇(−Φ) = −velocity, checked against finite differences of the potential.
+        for p in [
+            Point::new(2.0, 2.0),
+            Point::new(7.0, 8.0),
+            Point::new(3.5, 5.0),
+        ] {
+            let h = 1e-6;
+            let fd = Vector::new(
+                flow.value((), p + Vector::x() * h) - flow.value((), p - Vector::x() * h),
+                flow.value((), p + Vector::y() * h) - flow.value((), p - Vector::y() * h),
+            ) / (2.0 * h);
+            let g = flow.gradient((), p);
+            assert!(
+                (g - fd).norm() < 1e-5 * (1.0 + g.norm()),
+                "at {p}: {g} vs {fd}"
+            );
+        }
+        let path = trace_smooth(&flow, start, &SmoothOptions::for_scale(10.0)).unwrap();
+        assert_eq!(path.status, TraceStatus::ReachedGoal(0));
+        assert!(path.points.iter().all(|&p| planner.is_free(p)));
     }
 
     #[test]
