@@ -156,3 +156,48 @@ fn recovered_gradient_beats_element_gradient() {
     assert!(errs.iter().all(|(r, e)| r < e), "{errs:?}");
     assert!(rates.iter().all(|&r| r >= 1.4), "{rates:?}");
 }
+
+/// The same on unstructured Delaunay meshes from `Domain::mesh`: outer walls Robin, a square
+/// obstacle Neumann, a square goal Dirichlet; h taken as 1/√(triangles).
+#[test]
+fn converges_on_unstructured_meshes() {
+    use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Shape};
+    let square = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        vec![
+            Point::new(x0, y0),
+            Point::new(x1, y0),
+            Point::new(x1, y1),
+            Point::new(x0, y1),
+        ]
+    };
+    let spec = DomainSpec {
+        workspace: square(0.0, 0.0, 2.0, 2.0),
+        obstacles: vec![Shape::Polygon(square(0.4, 0.5, 0.9, 1.5))],
+        goals: vec![GoalShape::Polygon(square(1.3, 0.8, 1.7, 1.2))],
+        robot_radius: 0.0,
+    };
+    for exact in [&EXP_SIN, &CUBIC] {
+        let mut rows = Vec::new();
+        for max_area in [0.02, 0.005, 0.00125, 0.0003125, 0.000078125] {
+            let opts = MeshOptions {
+                max_area: Some(max_area),
+                ..MeshOptions::default()
+            };
+            let domain = Domain::new(&spec, &opts).expect("domain");
+            let mesh = Arc::new(domain.mesh(&opts).expect("mesh").0);
+            let n = mesh.triangles().len() as f64;
+            let p = solve_mixed(mesh, exact, (1.0, 2.0));
+            assert_eq!(p.interior_local_extrema(), 0);
+            let (l2, h1) = errors(&p, exact);
+            rows.push((n, l2, h1));
+        }
+        let rate = |w: &[(f64, f64, f64)], e: fn(&(f64, f64, f64)) -> f64| {
+            (e(&w[0]) / e(&w[1])).ln() / (w[1].0 / w[0].0).sqrt().ln()
+        };
+        let l2: Vec<f64> = rows.windows(2).map(|w| rate(w, |r| r.1)).collect();
+        let h1: Vec<f64> = rows.windows(2).map(|w| rate(w, |r| r.2)).collect();
+        eprintln!("(triangles, L2, H1) {rows:?}\nL2 rates {l2:?}\nH1 rates {h1:?}");
+        assert!(l2.iter().all(|&r| r >= 1.9), "L2 rates {l2:?}");
+        assert!(h1.iter().all(|&r| r >= 0.95), "H1 rates {h1:?}");
+    }
+}
