@@ -400,7 +400,7 @@ mod tests {
     fn log_levels_reach_the_smallest_value() {
         let levels = isoline_levels(&[1e-40, 0.5, 1.0]);
         let lowest = levels.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
-        assert!(lowest <= 1e-39 && lowest >= 1e-41, "{lowest}");
+        assert!((1e-41..=1e-39).contains(&lowest), "{lowest}");
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! hplan export SCENE.json --potential OUT.json
 //! ```
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
@@ -121,7 +121,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn load(common_scene: &PathBuf, max_area: Option<f64>) -> Result<Scene, String> {
+fn load(common_scene: &Path, max_area: Option<f64>) -> Result<Scene, String> {
     let mut scene =
         Scene::from_file(common_scene).map_err(|e| format!("{}: {e}", common_scene.display()))?;
     if let Some(a) = max_area {
@@ -133,15 +133,12 @@ fn load(common_scene: &PathBuf, max_area: Option<f64>) -> Result<Scene, String> 
     Ok(scene)
 }
 
-fn write_file(path: &PathBuf, text: &str) -> Result<(), String> {
+fn write_file(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-fn build(scene: &Scene, path: &PathBuf, quiet: bool) -> Result<Planner, String> {
-    let opts = PlannerOptions {
-        progress: !quiet,
-        ..PlannerOptions::default()
-    };
+fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
+    let opts = PlannerOptions { progress: !quiet };
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
 }
 
