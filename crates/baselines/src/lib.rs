@@ -25,7 +25,8 @@
 //!   also a [`harmonic_trajectory::Field`] ([`PanelFlow`]).
 //! - [`navigation`]: Rimon & Koditschek (1992), *Exact robot navigation using artificial
 //!   potential functions*: the sphere-world navigation function
-//!   `φ = γ / (γ^κ + β)^{1/κ}` with tunable κ, descended along its gradient.
+//!   `φ = γ / (γ^κ + β)^{1/κ}` with tunable κ, descended along its gradient, or followed by
+//!   the shared tracer as a [`NavigationField`] (value `ln φ`, which does not underflow).
 //!
 //! Planners that produce paths directly return a [`PlanResult`] (points, status, length,
 //! compute time), with the same [`harmonic_trajectory::TraceStatus`] as the shared tracer.
@@ -68,7 +69,7 @@ pub use error::BaselineError;
 pub use grid_harmonic::{
     GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown, WallCondition,
 };
-pub use navigation::{Disc, NavigationFunction, NavigationOptions};
+pub use navigation::{Disc, NavigationField, NavigationFunction, NavigationOptions};
 pub use panel::{Panel, PanelField, PanelFlow, PanelOptions, PanelPlanner};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};

@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use harmonic_mesh::{Point, Vector};
-use harmonic_trajectory::TraceStatus;
+use harmonic_trajectory::{Field, Locate, TraceStatus};
 
 use crate::geometry::{check_point, check_positive};
 use crate::{BaselineError, PlanResult};
@@ -167,19 +167,49 @@ impl NavigationFunction {
     /// `φ(p)` in [0, 1] (computed through logarithms, so large κ neither overflows nor
     /// underflows); 1 outside free space.
     pub fn value(&self, p: Point) -> f64 {
-        let gamma = (p - self.goal).norm_squared();
-        let (beta, _) = self.beta(p);
+        match self.log_terms(p) {
+            None => 1.0,
+            // φ = (1 + β/γ^κ)^{−1/κ} = exp(−softplus(u)/κ)
+            Some((u, _)) => (-softplus(u) / self.kappa).exp(),
+        }
+    }
+
+    /// `u = ln β − κ ln γ` with `∇γ/γ − ∇β/(κβ)` (the direction of ∇φ), or `None` outside
+    /// free space.
+    fn log_terms(&self, p: Point) -> Option<(f64, Vector)> {
+        let r = p - self.goal;
+        let gamma = r.norm_squared();
+        let (beta, grad_beta) = self.beta(p);
         if !self.is_free(p) || beta <= 0.0 {
-            return 1.0;
+            return None;
         }
-        if gamma == 0.0 {
-            return 0.0;
+        let u = beta.ln() - self.kappa * gamma.ln();
+        Some((u, 2.0 * r / gamma - grad_beta / (self.kappa * beta)))
+    }
+
+    /// `ln(1 − φ)`: how far below its boundary value 1 the function is, in logarithms.
+    /// For large κ, `1 − φ ≈ β/(κγ^κ)` is far below the float spacing near 1 (φ rounds to 1
+    /// over most of the world), but its logarithm is an ordinary number. Takes
+    /// `u = ln β − κ ln γ`.
+    fn log_gap(&self, u: f64) -> f64 {
+        if u < -30.0 {
+            // softplus(u) ≈ e^u, 1 − φ ≈ e^u / κ
+            u - self.kappa.ln()
+        } else {
+            (-(-softplus(u) / self.kappa).exp_m1()).ln()
         }
-        // ln φ = ln γ − ln(γ^κ + β)/κ, with ln(e^a + e^b) evaluated stably.
-        let (a, b) = (self.kappa * gamma.ln(), beta.ln());
-        let (hi, lo) = if a > b { (a, b) } else { (b, a) };
-        let log_sum = hi + (lo - hi).exp().ln_1p();
-        (gamma.ln() - log_sum / self.kappa).exp().min(1.0)
+    }
+
+    /// The navigation function as a [`Field`] for the shared tracer and car stepper: value
+    /// `−ln(1 − φ)`, an increasing function of φ (same descent directions, same critical
+    /// points) that keeps its precision where φ rounds to 1 for large κ; goal the disc of
+    /// radius `goal_radius` around the goal.
+    pub fn field(&self, goal_radius: f64) -> Result<NavigationField<'_>, BaselineError> {
+        check_positive("goal_radius", goal_radius)?;
+        Ok(NavigationField {
+            nav: self,
+            goal_radius,
+        })
     }
 
     /// A positive multiple of `∇φ(p)`: `β∇γ − (γ/κ)∇β` (the factor
@@ -266,6 +296,57 @@ impl NavigationFunction {
     }
 }
 
+/// `ln(1 + eˣ)` without overflow or loss for large |x|.
+fn softplus(x: f64) -> f64 {
+    x.max(0.0) + (-x.abs()).exp().ln_1p()
+}
+
+/// A [`NavigationFunction`] as a [`Field`] (see [`NavigationFunction::field`]); its only cell
+/// is `()`.
+#[derive(Clone, Copy, Debug)]
+pub struct NavigationField<'a> {
+    nav: &'a NavigationFunction,
+    goal_radius: f64,
+}
+
+impl Field for NavigationField<'_> {
+    type Cell = ();
+
+    fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {
+        let w = self.nav.world;
+        let from_centre = (p - w.centre).norm();
+        if from_centre >= w.radius || from_centre.is_nan() {
+            Locate::OutsideWorkspace
+        } else if !self.nav.is_free(p) {
+            Locate::InObstacle
+        } else if (p - self.nav.goal).norm() < self.goal_radius {
+            Locate::Goal(0)
+        } else {
+            Locate::Inside(())
+        }
+    }
+
+    fn value(&self, _cell: (), p: Point) -> f64 {
+        match self.nav.log_terms(p) {
+            Some((u, _)) => -self.nav.log_gap(u),
+            None => f64::INFINITY,
+        }
+    }
+
+    /// `∇φ / (1 − φ) = φ (1 − s)/(1 − φ) (∇γ/γ − ∇β/(κβ))` with `1 − s = logistic(u)`, the
+    /// ratio taken in logarithms.
+    fn gradient(&self, _cell: (), p: Point) -> Vector {
+        match self.nav.log_terms(p) {
+            Some((u, dir)) => {
+                let phi = (-softplus(u) / self.nav.kappa).exp();
+                let log_one_minus_s = -softplus(-u);
+                dir * (phi * (log_one_minus_s - self.nav.log_gap(u)).exp())
+            }
+            None => Vector::zeros(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -341,6 +422,35 @@ mod tests {
             "{:?}",
             plan.status
         );
+    }
+
+    #[test]
+    fn the_shared_tracer_follows_the_navigation_function_for_large_kappa() {
+        use harmonic_trajectory::{SmoothOptions, trace_smooth};
+        let (w, obs) = world();
+        // κ = 40: 1 − φ ~ 1e-77 far from the goal, so φ is 1 in floats there; the field's
+        // value −ln(1 − φ) keeps a usable gradient.
+        let nav = NavigationFunction::new(w, obs, Point::new(6.0, 0.0), 40.0).unwrap();
+        let field = nav.field(0.05).unwrap();
+        for p in [Point::new(-5.0, 1.0), Point::new(4.0, 3.0)] {
+            let h = 1e-6;
+            let fd = Vector::new(
+                field.value((), p + Vector::x() * h) - field.value((), p - Vector::x() * h),
+                field.value((), p + Vector::y() * h) - field.value((), p - Vector::y() * h),
+            ) / (2.0 * h);
+            let g = field.gradient((), p);
+            assert_eq!(nav.value(p), 1.0);
+            assert!(g.norm() > 1e-3, "{g}");
+            assert!(
+                (g - fd).norm() < 1e-5 * (1.0 + g.norm()),
+                "at {p}: {g} vs {fd}"
+            );
+        }
+        for start in [Point::new(-6.0, 0.3), Point::new(0.0, -8.0)] {
+            let path = trace_smooth(&field, start, &SmoothOptions::for_scale(20.0)).unwrap();
+            assert_eq!(path.status, TraceStatus::ReachedGoal(0), "from {start}");
+            assert!(path.points.iter().all(|&p| nav.is_free(p)));
+        }
     }
 
     #[test]
