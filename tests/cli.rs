@@ -19,7 +19,7 @@ fn scenes() -> Vec<PathBuf> {
             .filter(|p| p.extension().is_some_and(|e| e == "json"))
             .collect();
     v.sort();
-    assert!(v.len() >= 2, "expected the bundled scenes, found {v:?}");
+    assert!(v.len() >= 6, "expected the bundled scenes, found {v:?}");
     v
 }
 
