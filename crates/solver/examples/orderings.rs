@@ -2,7 +2,8 @@
 //! single-threaded symbolic / numeric / solve times (best of `REPS` runs, default 3, since the
 //! machine may be shared; `cpu s` is the process CPU time of the best total, from /proc, which a
 //! loaded machine inflates less than wall time), the accurate M-matrix LDLᵀ with the nested
-//! dissection ordering, and IC(0)-PCG (skipped when `NOPCG` is set).
+//! dissection ordering (skipped, with the PCG, when `NOGTH` is set), and IC(0)-PCG (skipped when
+//! `NOPCG` is set).
 //!
 //! `cargo run -p harmonic-solver --release --example orderings -- 707` (grid side lengths as
 //! arguments; default 39 122 387 707, i.e. about 1.5k, 15k, 150k and 500k unknowns).
@@ -109,6 +110,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 best.iter().sum::<f64>(),
                 cpu
             );
+        }
+        if std::env::var_os("NOGTH").is_some() {
+            continue;
         }
         let m = as_mmatrix(&a)?;
         let mut best = [f64::INFINITY; 2];
