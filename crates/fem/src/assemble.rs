@@ -413,6 +413,7 @@ impl Assembler {
 
     /// Re-assembles values into an existing system of this assembler (no allocation of the
     /// pattern). `data`, if given, overrides the constant values (see [`BoundaryData`]).
+    /// On error the system's contents are unspecified: assemble again before solving it.
     pub fn assemble_into(
         &self,
         bcs: &BoundaryConditions,
