@@ -40,12 +40,14 @@ const SNAP: f64 = 1e-12;
 enum At {
     /// At `p` in the closed triangle `t`, about to descend through `t` with gradient `g`.
     Face { t: u32, p: Point, g: Vector },
-    /// On edge `k` of triangle `t`, at `a + mu (b - a)`; `g` is the gradient in `t`.
+    /// On edge `k` of triangle `t`, at `a + mu (b - a)`; `g` is the gradient in `t` and `n`
+    /// the triangle across the edge (or `NO_NEIGHBOR`).
     Edge {
         t: u32,
         k: usize,
         mu: f64,
         g: Vector,
+        n: u32,
     },
     /// At vertex `v`, with `t` one of its triangles.
     Vertex { v: u32, t: u32 },
@@ -156,6 +158,7 @@ fn classify(field: &P1Field<'_>, t: u32, p: Point) -> At {
                     k,
                     mu,
                     g: field.triangle_gradient(t),
+                    n: field.mesh().neighbors()[t as usize][k],
                 }
             }
             None => At::Face {
@@ -211,7 +214,7 @@ impl Tracer<'_, '_> {
     ) -> Result<At, TraceStatus> {
         let next = match at {
             At::Face { t, p, g } => self.face(t, p, g),
-            At::Edge { t, k, mu, g } => self.edge(t, k, mu, g),
+            At::Edge { t, k, mu, g, n } => self.edge(t, k, mu, g, n),
             At::Vertex { v, t } => self.vertex(v, t),
         };
         match next {
@@ -244,6 +247,8 @@ impl Tracer<'_, '_> {
         self.min_gradient = self.min_gradient.min(gn);
         let mesh = self.field.mesh();
         let tri = mesh.triangles()[t as usize];
+        // Read early: the load overlaps the ray cast below.
+        let nbs = mesh.neighbors()[t as usize];
         let pts = mesh.triangle_points(t);
         let d = -g;
         let mut h = [0.0; 3];
@@ -282,11 +287,17 @@ impl Tracer<'_, '_> {
             return Next::Go(At::Vertex { v: tri[ib], t });
         }
         self.push(pts[ia] + (pts[ib] - pts[ia]) * mu);
-        Next::Go(At::Edge { t, k, mu, g })
+        Next::Go(At::Edge {
+            t,
+            k,
+            mu,
+            g,
+            n: nbs[k],
+        })
     }
 
     /// At a point of edge `k` of `t`: cross, descend into `t`, slide, or stop at a goal.
-    fn edge(&mut self, t: u32, k: usize, mu: f64, gt: Vector) -> Next {
+    fn edge(&mut self, t: u32, k: usize, mu: f64, gt: Vector, n: u32) -> Next {
         let field = self.field;
         let mesh = field.mesh();
         let tri = mesh.triangles()[t as usize];
@@ -298,7 +309,6 @@ impl Tracer<'_, '_> {
         // Outward normal of `t` on this edge (not normalised).
         let nu = Vector::new(e.y, -e.x);
         let into_t = (-gt).dot(&nu) < 0.0;
-        let n = mesh.neighbors()[t as usize][k];
         let choice = if n == NO_NEIGHBOR {
             if let Some(BoundaryTag::Goal(j)) = mesh.boundary_edge_of(t, k).map(|e| e.tag) {
                 return Next::Done(TraceStatus::ReachedGoal(j));
