@@ -40,14 +40,15 @@ const SNAP: f64 = 1e-12;
 enum At {
     /// At `p` in the closed triangle `t`, about to descend through `t` with gradient `g`.
     Face { t: u32, p: Point, g: Vector },
-    /// On edge `k` of triangle `t`, at `a + mu (b - a)`; `g` is the gradient in `t` and `n`
-    /// the triangle across the edge (or `NO_NEIGHBOR`).
+    /// On edge `k` of triangle `t`, at `a + mu (b - a)`; `g` is the gradient in `t`, `n` the
+    /// triangle across the edge (or `NO_NEIGHBOR`) and `gn` the gradient there.
     Edge {
         t: u32,
         k: usize,
         mu: f64,
         g: Vector,
         n: u32,
+        gn: Vector,
     },
     /// At vertex `v`, with `t` one of its triangles.
     Vertex { v: u32, t: u32 },
@@ -138,6 +139,16 @@ pub(crate) fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32>
     Fallback::Stuck
 }
 
+/// The gradient in triangle `n`, or zero across a boundary edge (`NO_NEIGHBOR`).
+#[inline]
+fn neighbour_gradient(field: &P1Field<'_>, n: u32) -> Vector {
+    if n == NO_NEIGHBOR {
+        Vector::zeros()
+    } else {
+        field.triangle_gradient(n)
+    }
+}
+
 /// The state of a point `p` lying in the closed triangle `t`: on a vertex, on an edge, or inside.
 fn classify(field: &P1Field<'_>, t: u32, p: Point) -> At {
     let mesh = field.mesh();
@@ -159,6 +170,7 @@ fn classify(field: &P1Field<'_>, t: u32, p: Point) -> At {
                     mu,
                     g: field.triangle_gradient(t),
                     n: field.mesh().neighbors()[t as usize][k],
+                    gn: neighbour_gradient(field, field.mesh().neighbors()[t as usize][k]),
                 }
             }
             None => At::Face {
@@ -214,7 +226,7 @@ impl Tracer<'_, '_> {
     ) -> Result<At, TraceStatus> {
         let next = match at {
             At::Face { t, p, g } => self.face(t, p, g),
-            At::Edge { t, k, mu, g, n } => self.edge(t, k, mu, g, n),
+            At::Edge { t, k, mu, g, n, gn } => self.edge(t, k, mu, g, n, gn),
             At::Vertex { v, t } => self.vertex(v, t),
         };
         match next {
@@ -272,6 +284,9 @@ impl Tracer<'_, '_> {
         let Some(k) = best else {
             return Next::Stuck(p, t);
         };
+        // The next triangle's gradient, fetched as early as possible (memory latency).
+        let n = nbs[k];
+        let gn = neighbour_gradient(self.field, n);
         // Twice-areas of the exit point against the edges at the exit edge's ends.
         let ia = (k + 1) % 3;
         let ib = (k + 2) % 3;
@@ -287,17 +302,11 @@ impl Tracer<'_, '_> {
             return Next::Go(At::Vertex { v: tri[ib], t });
         }
         self.push(pts[ia] + (pts[ib] - pts[ia]) * mu);
-        Next::Go(At::Edge {
-            t,
-            k,
-            mu,
-            g,
-            n: nbs[k],
-        })
+        Next::Go(At::Edge { t, k, mu, g, n, gn })
     }
 
     /// At a point of edge `k` of `t`: cross, descend into `t`, slide, or stop at a goal.
-    fn edge(&mut self, t: u32, k: usize, mu: f64, gt: Vector, n: u32) -> Next {
+    fn edge(&mut self, t: u32, k: usize, mu: f64, gt: Vector, n: u32, gn: Vector) -> Next {
         let field = self.field;
         let mesh = field.mesh();
         let tri = mesh.triangles()[t as usize];
@@ -315,7 +324,6 @@ impl Tracer<'_, '_> {
             }
             into_t.then_some((t, gt))
         } else {
-            let gn = field.triangle_gradient(n);
             let into_n = (-gn).dot(&nu) > 0.0;
             match (into_t, into_n) {
                 (true, true) if magnitude(gt) >= magnitude(gn) => Some((t, gt)),
