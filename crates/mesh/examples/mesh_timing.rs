@@ -57,7 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let t2 = std::time::Instant::now();
     let q = mesh.quality();
     println!(
-        "max_area {max_area}: domain {:.4} s, mesh {:.4} s, {} triangles, {} vertices, min angle {:.3}, complete {}, non-Delaunay {}, obtuse boundary {}",
+        "max_area {max_area}: domain {:.4} s, mesh {:.4} s, {} triangles, {} vertices, min angle {:.3}, complete {}, non-Delaunay {}, obtuse boundary {}, bridges split {}",
         (t1 - t0).as_secs_f64(),
         (t2 - t1).as_secs_f64(),
         q.triangles,
@@ -65,7 +65,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         q.min_angle_deg,
         report.refinement_complete,
         q.non_delaunay_edges,
-        q.obtuse_boundary_edges
+        q.obtuse_boundary_edges,
+        report.bridges_split
     );
     Ok(())
 }

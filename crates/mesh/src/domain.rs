@@ -21,7 +21,12 @@ pub enum Shape {
     /// A simple polygon, either orientation, not closed (the last vertex is not repeated).
     Polygon(Vec<Point>),
     /// A disc, meshed as a regular polygon whose edges are at most the target edge length.
-    Circle { center: Point, radius: f64 },
+    Circle {
+        /// Centre of the disc.
+        center: Point,
+        /// Radius, positive.
+        radius: f64,
+    },
 }
 
 /// A goal region, in workspace coordinates.
@@ -31,7 +36,12 @@ pub enum GoalShape {
     /// A simple polygon, either orientation.
     Polygon(Vec<Point>),
     /// A disc.
-    Circle { center: Point, radius: f64 },
+    Circle {
+        /// Centre of the disc.
+        center: Point,
+        /// Radius, positive.
+        radius: f64,
+    },
     /// A point; it becomes a small disc of radius twice the target edge length (at most half
     /// the distance to the nearest wall or obstacle).
     Point(Point),
@@ -57,7 +67,9 @@ pub struct DomainSpec {
 /// are counter-clockwise and holes clockwise, so free space is always on the left.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TaggedRing {
+    /// The ring's vertices, not repeated at the end.
     pub points: Vec<Point>,
+    /// `tags[k]` is the tag of the edge from `points[k]` to the next point.
     pub tags: Vec<BoundaryTag>,
 }
 

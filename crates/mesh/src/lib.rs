@@ -38,7 +38,7 @@ pub mod io;
 mod mesh;
 mod triangulate;
 
-pub use domain::{Domain, DomainSpec, GoalShape, Shape, TaggedRing};
+pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
 pub use triangulate::{MAX_MIN_ANGLE_DEG, MeshOptions, MeshReport};
 

@@ -81,7 +81,9 @@ pub struct Mesh {
 /// M-matrix (no non-Delaunay interior edge, no obtuse angle opposite a boundary edge).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct QualityReport {
+    /// Number of vertices.
     pub vertices: usize,
+    /// Number of triangles.
     pub triangles: usize,
     /// Smallest interior angle of any triangle, degrees.
     pub min_angle_deg: f64,

@@ -30,6 +30,11 @@ pub struct MeshOptions {
     /// faster than inserting every vertex during refinement, and the interior triangles are
     /// equilateral. With `false`, all interior vertices come from Delaunay refinement.
     pub prefill: bool,
+    /// Split every interior edge whose two end vertices lie on the boundary, and refine again
+    /// (default true). Such an edge (or a triangle with all three vertices on the boundary)
+    /// carries no unknown when the boundary is Dirichlet, and in a passage one triangle wide
+    /// it seals the passage. Afterwards every triangle has a vertex off the boundary.
+    pub split_boundary_bridges: bool,
 }
 
 impl Default for MeshOptions {
@@ -39,6 +44,7 @@ impl Default for MeshOptions {
             min_angle_deg: 30.0,
             max_triangles: 20_000_000,
             prefill: true,
+            split_boundary_bridges: true,
         }
     }
 }
@@ -95,6 +101,12 @@ pub struct MeshReport {
     pub min_angle_deg: f64,
     /// The triangle count estimated before meshing (checked against the budget).
     pub estimated_triangles: usize,
+    /// Interior edges joining two boundary vertices that were split (see
+    /// [`MeshOptions::split_boundary_bridges`]).
+    pub bridges_split: usize,
+    /// Such edges left after the last round (0 unless features are much narrower than the
+    /// target edge length).
+    pub bridges_remaining: usize,
 }
 
 /// Area of the lattice triangles relative to `max_area` (about the mean triangle area that
@@ -162,6 +174,41 @@ fn lattice_points(domain: &Domain, area: f64, n_ring: usize) -> Vec<Point> {
         }
     }
     out
+}
+
+/// Rounds of bridge splitting (each followed by refinement if needed).
+const BRIDGE_ROUNDS: usize = 8;
+
+fn sort3(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
+    let mut v = [a, b, c];
+    v.sort_by(f64::total_cmp);
+    (v[0], v[1], v[2])
+}
+
+/// Midpoints of the non-constraint edges of free faces whose two ends lie on constraint edges.
+fn boundary_bridges(cdt: &Cdt, excluded: &[bool]) -> Vec<Point2<f64>> {
+    let mut on_boundary = vec![false; cdt.num_vertices()];
+    for e in cdt.undirected_edges() {
+        if e.is_constraint_edge() {
+            for v in e.vertices() {
+                on_boundary[v.fix().index()] = true;
+            }
+        }
+    }
+    cdt.undirected_edges()
+        .filter(|e| !e.is_constraint_edge())
+        .filter(|e| e.vertices().iter().all(|v| on_boundary[v.fix().index()]))
+        .filter(|e| {
+            e.as_directed()
+                .face()
+                .as_inner()
+                .is_some_and(|f| !excluded[f.fix().index()])
+        })
+        .map(|e| {
+            let [a, b] = e.positions();
+            Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y))
+        })
+        .collect()
 }
 
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
@@ -292,11 +339,72 @@ impl Domain {
             .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
             .with_max_allowed_area(max_area)
             .with_max_additional_vertices(cap);
-        let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(params)))
-            .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
-        let mut excluded = vec![false; cdt.num_all_faces()];
-        for f in &result.excluded_faces {
-            excluded[f.index()] = true;
+        let refine = |cdt: &mut Cdt| {
+            let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(params.clone())))
+                .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
+            let mut excluded = vec![false; cdt.num_all_faces()];
+            for f in &result.excluded_faces {
+                excluded[f.index()] = true;
+            }
+            Ok::<_, MeshError>((excluded, result.refinement_complete))
+        };
+        let (mut excluded, mut complete) = refine(&mut cdt)?;
+        let mut bridges_split = 0;
+        let mut bridges_remaining = 0;
+        if opts.split_boundary_bridges {
+            let min_sin = opts.min_angle_deg.to_radians().sin();
+            for round in 0..=BRIDGE_ROUNDS {
+                let mids = boundary_bridges(&cdt, &excluded);
+                if round == BRIDGE_ROUNDS || mids.is_empty() {
+                    bridges_remaining = mids.len();
+                    break;
+                }
+                bridges_split += mids.len();
+                let mut inserted = Vec::with_capacity(mids.len());
+                for m in mids {
+                    inserted.push(
+                        catch_unwind(AssertUnwindSafe(|| cdt.insert(m)))
+                            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+                            .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?,
+                    );
+                }
+                // Insertion only changes faces around the new vertices: refine again (a pass
+                // over the whole mesh) only if one of them breaks the angle or area bound.
+                let bad = inserted.iter().any(|&v| {
+                    cdt.vertex(v).out_edges().any(|e| {
+                        e.face().as_inner().is_some_and(|f| {
+                            let [a, b, c] = f.positions();
+                            let area =
+                                0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+                            let (la, lb, lc) = (
+                                ((b.x - c.x).powi(2) + (b.y - c.y).powi(2)).sqrt(),
+                                ((c.x - a.x).powi(2) + (c.y - a.y).powi(2)).sqrt(),
+                                ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt(),
+                            );
+                            // sin of the smallest angle = 2·area / (product of the two longer sides).
+                            let (_, mid, hi) = sort3(la, lb, lc);
+                            // An obtuse angle opposite a boundary edge breaks the M-matrix property.
+                            let obtuse_boundary = f.adjacent_edges().into_iter().any(|e| {
+                                e.is_constraint_edge()
+                                    && e.opposite_position().is_some_and(|o| {
+                                        let [p, q] = e.positions();
+                                        (p.x - o.x) * (q.x - o.x) + (p.y - o.y) * (q.y - o.y) < 0.0
+                                    })
+                            });
+                            area > max_area
+                                || 2.0 * area < min_sin * mid * hi * (1.0 - 1e-12)
+                                || obtuse_boundary
+                        })
+                    })
+                });
+                if bad {
+                    let (e, c) = refine(&mut cdt)?;
+                    excluded = e;
+                    complete &= c;
+                } else {
+                    excluded.resize(cdt.num_all_faces(), false);
+                }
+            }
         }
 
         // Free faces, their vertices and boundary edges.
@@ -381,7 +489,9 @@ impl Domain {
         Ok((
             mesh,
             MeshReport {
-                refinement_complete: result.refinement_complete,
+                refinement_complete: complete,
+                bridges_split,
+                bridges_remaining,
                 input_vertices,
                 added_vertices,
                 max_area,

@@ -456,3 +456,30 @@ fn clearance_is_exact() {
     assert!(!domain.contains_free(p(8.5, 1.5))); // inside the goal
     assert!(!domain.contains_free(p(-1.0, 5.0)));
 }
+
+#[test]
+fn narrow_door_keeps_unknowns_across_it() {
+    // A wall with a door 0.1 wide, a third of the target edge length (0.34).
+    let spec = square_with(
+        vec![
+            Shape::Polygon(rect(0.0, 4.9, 4.95, 5.1)),
+            Shape::Polygon(rect(5.05, 4.9, 10.0, 5.1)),
+        ],
+        vec![GoalShape::Point(p(5.0, 9.0))],
+    );
+    let domain = Domain::new(&spec, &opts()).unwrap();
+    let (mesh, report) = domain.mesh(&opts()).unwrap();
+    assert!(report.bridges_split > 0);
+    assert_eq!(report.bridges_remaining, 0);
+    check_invariants(&mesh, domain.free_area(), 1e-9).unwrap();
+    // Some vertex strictly inside the door carries an unknown (is not on the boundary).
+    let inside_door = mesh
+        .vertices()
+        .iter()
+        .zip(mesh.vertex_tags())
+        .filter(|(v, t)| t.is_none() && v.x > 4.95 && v.x < 5.05 && v.y > 4.9 && v.y < 5.1)
+        .count();
+    assert!(inside_door > 0);
+    // The door is a passage: one component.
+    assert_eq!(mesh.component_count(), 1);
+}

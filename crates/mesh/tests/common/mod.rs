@@ -64,6 +64,16 @@ pub fn seg_dist(p: Point, a: Point, b: Point) -> f64 {
 
 /// Checks the invariants every mesh must satisfy, returning a description of the first failure.
 pub fn check_invariants(mesh: &Mesh, expected_area: f64, rel_tol: f64) -> Result<(), String> {
+    check_invariants_with_bridges(mesh, expected_area, rel_tol, 0)
+}
+
+/// Like [`check_invariants`], with `bridges` interior edges joining two boundary vertices allowed.
+pub fn check_invariants_with_bridges(
+    mesh: &Mesh,
+    expected_area: f64,
+    rel_tol: f64,
+    bridges: usize,
+) -> Result<(), String> {
     let q = mesh.quality();
     let rel = (q.area - expected_area).abs() / expected_area;
     if rel > rel_tol {
@@ -91,6 +101,26 @@ pub fn check_invariants(mesh: &Mesh, expected_area: f64, rel_tol: f64) -> Result
         if mesh.triangle_area(t as u32) <= 0.0 {
             return Err(format!("triangle {t} {tri:?} not CCW"));
         }
+    }
+    // No interior edge joins two boundary vertices (split_boundary_bridges, the default).
+    let mut found = 0;
+    for (t, tri) in mesh.triangles().iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            if mesh.neighbors()[t][k] != harmonic_mesh::NO_NEIGHBOR
+                && mesh.vertex_tags()[a].is_some()
+                && mesh.vertex_tags()[b].is_some()
+            {
+                found += 1;
+            }
+        }
+    }
+    // Each interior edge is seen from both sides.
+    if found != 2 * bridges {
+        return Err(format!(
+            "{} interior edges join two boundary vertices, {bridges} reported",
+            found / 2
+        ));
     }
     let _ = BoundaryTag::Wall;
     Ok(())
