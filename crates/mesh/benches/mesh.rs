@@ -57,16 +57,13 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);
     for (name, max_area) in sizes {
-        for prefill in [true, false] {
-            if !prefill && name == "1M" {
-                continue;
-            }
+        for prefill in [false, true] {
             let opts = MeshOptions {
                 max_area: Some(max_area),
                 prefill,
                 ..MeshOptions::default()
             };
-            let id = format!("{name}{}", if prefill { "" } else { "_refine_only" });
+            let id = format!("{name}{}", if prefill { "_lattice" } else { "" });
             group.bench_function(id, |b| {
                 b.iter(|| {
                     let domain = Domain::new(black_box(&spec), &opts).expect("valid scene");

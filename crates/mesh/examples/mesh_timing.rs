@@ -1,5 +1,7 @@
 //! Times `Domain::mesh` on the reference scene at a given maximum area and prints the
 //! quality report: `cargo run -p harmonic-mesh --release --example mesh_timing -- 0.000132`.
+//! Further arguments `prefill` (switch the lattice prefill on) and `no-bridges` (switch bridge
+//! splitting off).
 
 use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
 
@@ -45,9 +47,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }],
         robot_radius: 0.0,
     };
+    let flags: Vec<String> = std::env::args().skip(2).collect();
     let opts = MeshOptions {
         max_area: Some(max_area),
         min_angle_deg: 30.0,
+        prefill: flags.iter().any(|f| f == "prefill"),
+        split_boundary_bridges: !flags.iter().any(|f| f == "no-bridges"),
         ..MeshOptions::default()
     };
     let t0 = std::time::Instant::now();

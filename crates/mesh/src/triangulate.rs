@@ -25,10 +25,11 @@ pub struct MeshOptions {
     pub min_angle_deg: f64,
     /// Budget: a mesh estimated to need more triangles is refused at once (default 20 M).
     pub max_triangles: usize,
-    /// Seed the interior with a triangular lattice (triangle area 0.6 × `max_area`) before
-    /// refinement, away from the boundary (default true): bulk insertion is several times
-    /// faster than inserting every vertex during refinement, and the interior triangles are
-    /// equilateral. With `false`, all interior vertices come from Delaunay refinement.
+    /// Seed the interior with a triangular lattice (triangle area 0.6 × `max_area`, boundary
+    /// segments pre-split to the lattice spacing) and bulk-load it before refinement (default
+    /// false). Interior triangles are then equilateral; the run time is about the same as
+    /// plain refinement (spade's refinement pass over all faces dominates either way), and the
+    /// pre-split corners need bridge splitting (and another refinement pass) more often.
     pub prefill: bool,
     /// Split every interior edge whose two end vertices lie on the boundary, and refine again
     /// (default true). Such an edge (or a triangle with all three vertices on the boundary)
@@ -43,7 +44,7 @@ impl Default for MeshOptions {
             max_area: None,
             min_angle_deg: 30.0,
             max_triangles: 20_000_000,
-            prefill: true,
+            prefill: false,
             split_boundary_bridges: true,
         }
     }
