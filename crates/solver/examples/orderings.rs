@@ -3,7 +3,7 @@
 //! machine may be shared; `cpu s` is the process CPU time of the best total, from /proc, which a
 //! loaded machine inflates less than wall time), the accurate M-matrix LDLᵀ with the nested
 //! dissection ordering (skipped, with the PCG, when `NOGTH` is set), and IC(0)-PCG (skipped when
-//! `NOPCG` is set).
+//! `NOPCG` is set). `SHUFFLE` renumbers the unknowns randomly first, as an unstructured mesh would.
 //!
 //! `cargo run -p harmonic-solver --release --example orderings -- 707` (grid side lengths as
 //! arguments; default 39 122 387 707, i.e. about 1.5k, 15k, 150k and 500k unknowns).
@@ -13,6 +13,44 @@ use std::time::Instant;
 use harmonic_solver::{
     AccurateLdlt, MMatrix, Ordering, PcgOptions, SymbolicCholesky, SymmetricCsc, gallery, pcg,
 };
+
+/// Renumbers the unknowns randomly (deterministic), as an unstructured mesh generator would.
+fn shuffled(a: &SymmetricCsc, coords: &[[f64; 2]]) -> (SymmetricCsc, Vec<[f64; 2]>) {
+    let n = a.n();
+    let mut perm: Vec<usize> = (0..n).collect();
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    for i in (1..n).rev() {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        perm.swap(i, (state % (i as u64 + 1)) as usize);
+    }
+    let mut inv = vec![0; n];
+    for (new, &old) in perm.iter().enumerate() {
+        inv[old] = new;
+    }
+    let (mut col_ptr, mut row_idx, mut values) = (vec![0], vec![], vec![]);
+    for &old in &perm {
+        let (rows, vals) = a.column(old);
+        let mut col: Vec<(usize, f64)> = rows
+            .iter()
+            .map(|&r| inv[r])
+            .zip(vals.iter().copied())
+            .collect();
+        col.sort_unstable_by_key(|e| e.0);
+        for (r, v) in col {
+            row_idx.push(r);
+            values.push(v);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let coords = perm.iter().map(|&old| coords[old]).collect();
+    (
+        SymmetricCsc::try_new(n, col_ptr, row_idx, values)
+            .expect("a permutation keeps the structure valid"),
+        coords,
+    )
+}
 
 /// Process CPU time (user + system) in seconds, from /proc/self/stat; `None` off Linux.
 fn cpu_seconds() -> Option<f64> {
@@ -65,6 +103,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     for side in sides {
         let (a, coords) = gallery::triangulated_grid_laplacian(side, side);
+        let (a, coords) = if std::env::var_os("SHUFFLE").is_some() {
+            shuffled(&a, &coords)
+        } else {
+            (a, coords)
+        };
         let b: Vec<f64> = (0..a.n()).map(|i| 1.0 + (i % 7) as f64).collect();
         for (name, ord) in [
             ("amd", Ordering::Amd),

@@ -91,27 +91,50 @@ impl Dissector<'_> {
         piece.select_nth_unstable_by(half, |&u, &v| {
             coords[u][axis].total_cmp(&coords[v][axis]).then(u.cmp(&v))
         });
-        self.next_stamp += 1;
-        let stamp = self.next_stamp;
-        for &v in &piece[half..] {
-            self.stamp[v] = stamp;
+        // Mark the halves, then take as separator the smaller of the two one-sided boundaries
+        // (vertices of one half that touch the other), which is a vertex separator either way.
+        self.next_stamp += 2;
+        let (stamp_a, stamp_b) = (self.next_stamp - 1, self.next_stamp);
+        for &v in &piece[..half] {
+            self.stamp[v] = stamp_a;
         }
-        // Separator: vertices of the first half that touch the second half. Move them to the end
-        // of the first half, then rotate them to the end of the piece.
-        let (first, _) = piece.split_at_mut(half);
-        let mut keep = 0;
-        for k in 0..first.len() {
-            let v = first[k];
-            let rows = self.a.column(v).0;
-            if !rows.iter().any(|&u| self.stamp[u] == stamp) {
-                first.swap(keep, k);
+        for &v in &piece[half..] {
+            self.stamp[v] = stamp_b;
+        }
+        let touches = |stamp: &[u32], v: usize, other: u32| {
+            self.a.column(v).0.iter().any(|&u| stamp[u] == other)
+        };
+        let count_a = piece[..half]
+            .iter()
+            .filter(|&&v| touches(&self.stamp, v, stamp_b))
+            .count();
+        let count_b = piece[half..]
+            .iter()
+            .filter(|&&v| touches(&self.stamp, v, stamp_a))
+            .count();
+        // Move the separator to the end of its half (stable for the rest), then, if it is in the
+        // first half, rotate it past the second half to the end of the piece.
+        let (lo_end, other) = if count_a <= count_b {
+            (half, stamp_b)
+        } else {
+            (len, stamp_a)
+        };
+        let lo_start = if count_a <= count_b { 0 } else { half };
+        let mut keep = lo_start;
+        for k in lo_start..lo_end {
+            let v = piece[k];
+            if !touches(&self.stamp, v, other) {
+                piece.swap(keep, k);
                 keep += 1;
             }
         }
-        let sep = half - keep;
-        piece[keep..].rotate_left(sep);
-        let (a_part, rest) = piece.split_at_mut(keep);
-        let (b_part, separator) = rest.split_at_mut(len - half);
+        let sep = lo_end - keep;
+        if count_a <= count_b {
+            piece[keep..].rotate_left(sep);
+        }
+        let a_len = if count_a <= count_b { keep } else { half };
+        let (a_part, rest) = piece.split_at_mut(a_len);
+        let (b_part, separator) = rest.split_at_mut(len - a_len - sep);
         if a_part.is_empty() || b_part.is_empty() {
             // Degenerate cut (e.g. a dense block): stop dissecting this piece.
             piece.sort_unstable();
