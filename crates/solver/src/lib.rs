@@ -20,12 +20,16 @@
 //! vertices: on 2D meshes it factors faster than [`Ordering::Amd`] (the default, which needs no
 //! coordinates). Measured on the 7-point triangulated-grid Laplacian with 499 849 unknowns and
 //! 3.49 M stored entries (`cargo run -p harmonic-solver --release --example orderings -- 707`,
-//! best of 5, on a shared 2-core machine under load, so wall times are pessimistic):
+//! best of 3 per stage, on a shared 2-core machine at load average 6, so wall times are
+//! pessimistic; CPU time is that of the fastest run):
 //!
 //! | ordering | len(L) | symbolic | numeric | solve | total wall | total CPU |
 //! |----------|--------|----------|---------|-------|------------|-----------|
-//! | AMD      | 37.6 M | 0.40 s   | 0.63 s  | 0.09 s | 1.12 s    | 1.11 s    |
-//! | ND       | 37.0 M | 0.24 s   | 0.72 s  | 0.10 s | 1.07 s    | 0.71 s    |
+//! | AMD      | 37.6 M | 0.47 s   | 0.74 s  | 0.10 s | 1.32 s    | 0.97 s    |
+//! | ND       | 36.9 M | 0.27 s   | 0.60 s  | 0.12 s | 1.00 s    | 0.72 s    |
+//!
+//! With the unknowns numbered randomly (as an unstructured mesh numbers them; `SHUFFLE=1`), ND
+//! is unaffected while AMD's analysis slows down (150k unknowns: 0.65 s vs 1.05 s in total).
 //!
 //! IC(0)-PCG needs 574 iterations (≈ 11 s) on the same system to reach 1e-10: it is the fallback
 //! for systems whose factor does not fit in memory, not a competitor. [`AccurateLdlt`] is
