@@ -91,8 +91,14 @@ pub struct QualityReport {
     pub max_angle_deg: f64,
     /// Total area of the triangles.
     pub area: f64,
-    /// Holes: boundary loops minus connected components.
+    /// Holes: boundary loops minus connected components. Loops are followed within the
+    /// triangle fans, so two holes touching at a vertex (or a hole touching the outer
+    /// boundary) form one loop, as in the free space seen as an open set.
     pub holes: usize,
+    /// Extra wedges of free space at vertices where the boundary touches itself (a vertex
+    /// with `w` boundary edges leaving it counts `w − 1`). Euler's formula for the mesh is
+    /// `V − E + T + pinch_vertices = components − holes`.
+    pub pinch_vertices: usize,
     /// Connected components.
     pub components: usize,
     /// Interior edges whose two opposite angles sum to more than π (+1e-9).
@@ -411,6 +417,11 @@ impl Mesh {
             }
         }
         let loops = self.boundary_loops();
+        let mut leaving = vec![0u32; self.vertices.len()];
+        for e in &self.boundary_edges {
+            leaving[e.vertices[0] as usize] += 1;
+        }
+        let pinch_vertices = leaving.iter().map(|&w| w.saturating_sub(1) as usize).sum();
         QualityReport {
             vertices: self.vertices.len(),
             triangles: self.triangles.len(),
@@ -423,6 +434,7 @@ impl Mesh {
             area,
             holes: loops.saturating_sub(self.component_count as usize),
             components: self.component_count as usize,
+            pinch_vertices,
             non_delaunay_edges: non_delaunay,
             obtuse_boundary_edges: obtuse_boundary,
         }

@@ -31,10 +31,12 @@ pub struct MeshOptions {
     /// plain refinement (spade's refinement pass over all faces dominates either way), and the
     /// pre-split corners need bridge splitting (and another refinement pass) more often.
     pub prefill: bool,
-    /// Split every interior edge whose two end vertices lie on the boundary, and refine again
-    /// (default true). Such an edge (or a triangle with all three vertices on the boundary)
-    /// carries no unknown when the boundary is Dirichlet, and in a passage one triangle wide
-    /// it seals the passage. Afterwards every triangle has a vertex off the boundary.
+    /// Split every interior edge whose two end vertices lie on the boundary (a "bridge"), and
+    /// refine again where that spoils the angle, area or boundary-angle bounds (default true).
+    /// A bridge carries no unknown when the boundary is Dirichlet, and across a passage one
+    /// triangle wide it seals the passage. Ears (a triangle with two boundary edges at a
+    /// corner) are left alone: their third edge seals nothing. Up to 8 rounds;
+    /// [`MeshReport::bridges_remaining`] counts what is left (sharp input corners).
     pub split_boundary_bridges: bool,
 }
 
@@ -186,7 +188,8 @@ fn sort3(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
     (v[0], v[1], v[2])
 }
 
-/// Midpoints of the non-constraint edges of free faces whose two ends lie on constraint edges.
+/// Midpoints of the non-constraint edges of free faces whose two ends lie on constraint edges,
+/// except the third edges of ears.
 fn boundary_bridges(cdt: &Cdt, excluded: &[bool]) -> Vec<Point2<f64>> {
     let mut on_boundary = vec![false; cdt.num_vertices()];
     for e in cdt.undirected_edges() {
@@ -204,6 +207,14 @@ fn boundary_bridges(cdt: &Cdt, excluded: &[bool]) -> Vec<Point2<f64>> {
                 .face()
                 .as_inner()
                 .is_some_and(|f| !excluded[f.fix().index()])
+        })
+        // The third edge of an ear (a triangle with two boundary edges, at a corner) seals
+        // nothing: splitting it would only chase the corner.
+        .filter(|e| {
+            let d = e.as_directed();
+            [d, d.rev()]
+                .iter()
+                .all(|h| !(h.next().is_constraint_edge() && h.prev().is_constraint_edge()))
         })
         .map(|e| {
             let [a, b] = e.positions();

@@ -483,3 +483,42 @@ fn narrow_door_keeps_unknowns_across_it() {
     // The door is a passage: one component.
     assert_eq!(mesh.component_count(), 1);
 }
+
+#[test]
+fn obstacles_touching_at_a_corner_and_along_the_wall() {
+    // Two boxes meeting at one corner (a pinch vertex of free space), a box flush with the
+    // wall (its wall-side edge disappears) and a triangle touching the wall at one vertex.
+    let spec = square_with(
+        vec![
+            Shape::Polygon(rect(2.0, 2.0, 3.0, 3.0)),
+            Shape::Polygon(rect(3.0, 3.0, 4.0, 4.0)),
+            Shape::Polygon(rect(0.0, 6.0, 1.0, 7.0)),
+            Shape::Polygon(vec![p(6.0, 0.0), p(7.0, 1.0), p(5.0, 1.0)]),
+        ],
+        goal(),
+    );
+    let domain = Domain::new(&spec, &opts()).unwrap();
+    let exact = 100.0 - 1.0 - 1.0 - 1.0 - 1.0 - 1.0;
+    assert!(
+        (domain.free_area() - exact).abs() < 1e-12 * exact,
+        "{}",
+        domain.free_area()
+    );
+    let (mesh, report) = domain.mesh(&opts()).unwrap();
+    assert!(report.refinement_complete);
+    check_invariants_with_bridges(&mesh, exact, 1e-9, report.bridges_remaining).unwrap();
+    assert_eq!(mesh.component_count(), 1);
+    let q = mesh.quality();
+    // Pinches at (3, 3) and (6, 0); holes: the two boxes (one figure-eight loop) and the goal.
+    assert_eq!((q.pinch_vertices, q.holes), (2, 2), "{q:?}");
+    for e in mesh.boundary_edges() {
+        let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
+        let m = Point::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
+        if m.x < 1e-9 && m.y > 6.0 && m.y < 7.0 {
+            panic!("the flush box's wall edge is not free boundary: {m}");
+        }
+        if m.x > 1e-9 && m.x < 1.0 - 1e-9 && (m.y - 6.0).abs() < 1e-9 {
+            assert_eq!(e.tag, BoundaryTag::Obstacle(2));
+        }
+    }
+}

@@ -82,7 +82,7 @@ pub fn check_invariants_with_bridges(
             q.area, expected_area
         ));
     }
-    // Euler per component: V - E + T = 1 - holes; summed: V - E + T = C - H.
+    // Euler per component: V - E + T = 1 - holes; summed: V - E + T = C - H (plus pinches).
     let v = mesh.vertices().len() as i64;
     let t = mesh.triangles().len() as i64;
     let nb = mesh.boundary_edges().len() as i64;
@@ -90,10 +90,22 @@ pub fn check_invariants_with_bridges(
     if (3 * t + nb) % 2 != 0 {
         return Err("odd edge count".into());
     }
-    if v - e + t != q.components as i64 - q.holes as i64 {
+    // Vertices where the boundary touches itself count once per extra wedge of free space.
+    let mut leaving = vec![0i64; mesh.vertices().len()];
+    for b in mesh.boundary_edges() {
+        leaving[b.vertices[0] as usize] += 1;
+    }
+    let pinch: i64 = leaving.iter().map(|&w| (w - 1).max(0)).sum();
+    if pinch != q.pinch_vertices as i64 {
         return Err(format!(
-            "Euler: V-E+T = {} but C-H = {}",
-            v - e + t,
+            "{pinch} pinch wedges, report says {}",
+            q.pinch_vertices
+        ));
+    }
+    if v - e + t + pinch != q.components as i64 - q.holes as i64 {
+        return Err(format!(
+            "Euler: V-E+T+P = {} but C-H = {}",
+            v - e + t + pinch,
             q.components as i64 - q.holes as i64
         ));
     }
@@ -102,16 +114,29 @@ pub fn check_invariants_with_bridges(
             return Err(format!("triangle {t} {tri:?} not CCW"));
         }
     }
-    // No interior edge joins two boundary vertices (split_boundary_bridges, the default).
+    // No interior edge joins two boundary vertices, ears aside (split_boundary_bridges).
     let mut found = 0;
     for (t, tri) in mesh.triangles().iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
-            if mesh.neighbors()[t][k] != harmonic_mesh::NO_NEIGHBOR
+            let u = mesh.neighbors()[t][k];
+            // An ear: the other two edges of the triangle are boundary edges.
+            let ear = |s: usize, j: usize| {
+                let n = mesh.neighbors()[s];
+                n[(j + 1) % 3] == harmonic_mesh::NO_NEIGHBOR
+                    && n[(j + 2) % 3] == harmonic_mesh::NO_NEIGHBOR
+            };
+            if u != harmonic_mesh::NO_NEIGHBOR
                 && mesh.vertex_tags()[a].is_some()
                 && mesh.vertex_tags()[b].is_some()
             {
-                found += 1;
+                let j = mesh.neighbors()[u as usize]
+                    .iter()
+                    .position(|&x| x == t as u32)
+                    .unwrap();
+                if !ear(t, k) && !ear(u as usize, j) {
+                    found += 1;
+                }
             }
         }
     }
