@@ -131,22 +131,49 @@ pub struct PotentialSummary {
     pub min_psi: f64,
 }
 
-/// What `hplan plan --json` prints.
+/// What `hplan plan --json` and `hplan car --json` print: the mesh, the stage timings, the
+/// potential's figures and one entry per path.
 #[derive(Clone, Debug, Serialize)]
-pub struct PlanReport {
+pub struct Report<P> {
     pub mesh: MeshSummary,
     pub timings_ms: Timings,
     pub potential: PotentialSummary,
-    pub paths: Vec<PlannedPath>,
+    pub paths: Vec<P>,
 }
 
-/// What `hplan car --json` prints.
-#[derive(Clone, Debug, Serialize)]
-pub struct CarReport {
-    pub mesh: MeshSummary,
-    pub timings_ms: Timings,
-    pub potential: PotentialSummary,
-    pub paths: Vec<CarRun>,
+/// The report of `hplan plan`.
+pub type PlanReport = Report<PlannedPath>;
+/// The report of `hplan car`.
+pub type CarReport = Report<CarRun>;
+
+/// What a summary line says of a path or a car run.
+pub trait PathSummary {
+    /// Start, status, length, clearance, smallest |∇φ|.
+    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64);
+}
+
+impl PathSummary for PlannedPath {
+    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
+        (
+            self.start.to_vec(),
+            self.status,
+            self.length,
+            self.min_clearance,
+            self.min_gradient,
+        )
+    }
+}
+
+impl PathSummary for CarRun {
+    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
+        (
+            self.start.to_vec(),
+            self.status,
+            self.length,
+            self.min_clearance,
+            self.min_gradient,
+        )
+    }
 }
 
 /// The mesh and the potential for outside tools (`hplan export --potential`).
@@ -663,42 +690,14 @@ impl Progress {
     }
 }
 
-impl PlanReport {
+impl<P: PathSummary> Report<P> {
     /// A human-readable summary.
     pub fn summary(&self) -> String {
         summary(
             &self.mesh,
             &self.timings_ms,
             &self.potential,
-            self.paths.iter().map(|p| {
-                (
-                    p.start.to_vec(),
-                    p.status,
-                    p.length,
-                    p.min_clearance,
-                    p.min_gradient,
-                )
-            }),
-        )
-    }
-}
-
-impl CarReport {
-    /// A human-readable summary.
-    pub fn summary(&self) -> String {
-        summary(
-            &self.mesh,
-            &self.timings_ms,
-            &self.potential,
-            self.paths.iter().map(|p| {
-                (
-                    p.start.to_vec(),
-                    p.status,
-                    p.length,
-                    p.min_clearance,
-                    p.min_gradient,
-                )
-            }),
+            self.paths.iter().map(P::line),
         )
     }
 }
