@@ -289,3 +289,51 @@ fn non_delaunay_mesh_is_refused_by_the_accurate_solve() {
     assert_eq!(report.method, SolveMethod::Cholesky);
     assert_eq!(report.fell_back, Some(reason));
 }
+
+/// Cost of the accurate solve against faer's Cholesky on the reference scene at about 30k and
+/// 300k triangles (nested dissection for both; best of 3; first solve = ordering, analysis,
+/// factorisation and solve; re-solve = numeric factorisation and solve only):
+/// `cargo test --release --test flat_fields -- --ignored --nocapture accurate_solve_cost`
+#[test]
+#[ignore = "timing, several seconds"]
+fn accurate_solve_cost() {
+    use std::time::Instant;
+    let mut scene = scene("reference");
+    for max_area in [0.0044, 0.00044] {
+        scene.mesh.max_area = Some(max_area);
+        let mesh = mesh_of(&scene);
+        let bcs = scene.boundary_conditions();
+        let assembler =
+            Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default()).expect("assembler");
+        let system = assembler.assemble(&bcs).expect("assembly");
+        let time = |method| {
+            let (mut first, mut again) = (f64::INFINITY, f64::INFINITY);
+            let mut psi = Vec::new();
+            for _ in 0..3 {
+                let t = Instant::now();
+                let solver = Solver::with_method(&system, assembler.nested_dissection(), method)
+                    .expect("solver");
+                psi = solver.solve(&system).expect("solve");
+                first = first.min(t.elapsed().as_secs_f64());
+                let t = Instant::now();
+                psi = solver.solve(&system).expect("solve");
+                again = again.min(t.elapsed().as_secs_f64());
+            }
+            (first, again, psi)
+        };
+        let (cf, ca, psi_c) = time(SolveMethod::Cholesky);
+        let (af, aa, psi_a) = time(SolveMethod::Accurate);
+        eprintln!(
+            "reference max_area {max_area}: {} triangles, {} unknowns | Cholesky first {:.1} ms, re-solve {:.1} ms | accurate first {:.1} ms ({:.2}×), re-solve {:.1} ms ({:.2}×) | max rel diff {:e}",
+            mesh.triangles().len(),
+            system.unknown_count(),
+            cf * 1e3,
+            ca * 1e3,
+            af * 1e3,
+            af / cf,
+            aa * 1e3,
+            aa / ca,
+            max_relative_error(&psi_c, &psi_a)
+        );
+    }
+}
