@@ -2,6 +2,7 @@
 //!
 //! ```text
 //! hplan plan SCENE.json [--json] [--svg OUT.svg] [--start X,Y]...
+//! hplan plan --map MAP.yaml --goal X,Y [--robot-radius R] [--start X,Y]... [--json] [--svg OUT.svg]
 //! hplan car  SCENE.json --pose X,Y,THETA [--wheelbase L] [--max-steer DEG] [--json] [--svg OUT.svg]
 //! hplan export SCENE.json --potential OUT.json
 //! ```
@@ -9,7 +10,8 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{ArgGroup, Args, Parser, Subcommand};
+use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{CarParams, Planner, PlannerOptions, Scene, SvgOptions};
 
 #[derive(Parser)]
@@ -31,12 +33,28 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Plan paths from start points to the goal.
+    #[command(group(ArgGroup::new("input").required(true).args(["scene", "map"])))]
     Plan {
         #[command(flatten)]
         common: Common,
         /// A start point (repeatable); defaults to the scene's "starts".
         #[arg(long = "start", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
         starts: Vec<[f64; 2]>,
+        /// Plan on a ROS map_server occupancy map (YAML + PGM/PNG) instead of a scene file;
+        /// unknown cells are obstacles.
+        #[arg(
+            long,
+            value_name = "MAP.yaml",
+            conflicts_with = "scene",
+            requires = "goal"
+        )]
+        map: Option<PathBuf>,
+        /// The goal on the map, in the map's world coordinates.
+        #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+        goal: Option<[f64; 2]>,
+        /// Radius of a disc robot on the map.
+        #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
+        robot_radius: f64,
     },
     /// Drive a car-like robot (front-wheel steering) along the potential.
     Car {
@@ -68,7 +86,7 @@ enum Command {
 #[derive(Args)]
 struct Common {
     /// The scene file (see SCENE_FORMAT in the README).
-    scene: PathBuf,
+    scene: Option<PathBuf>,
     /// Print one JSON object on stdout instead of a summary.
     #[arg(long)]
     json: bool,
@@ -144,9 +162,33 @@ fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Plan { common, starts } => {
-            let scene = load(&common.scene, common.max_area)?;
-            let planner = build(&scene, &common.scene, common.json)?;
+        Command::Plan {
+            common,
+            starts,
+            map,
+            goal,
+            robot_radius,
+        } => {
+            let (scene, path) = match (&common.scene, &map, goal) {
+                (_, Some(map), Some(goal)) => {
+                    let opts = MapOptions {
+                        max_area: common.max_area,
+                        ..MapOptions::default()
+                    };
+                    let scene = OccupancyMap::load(map)
+                        .and_then(|m| m.to_scene(goal, robot_radius, &opts))
+                        .map_err(|e| e.to_string())?;
+                    (scene, map.clone())
+                }
+                (Some(path), None, None) => (load(path, common.max_area)?, path.clone()),
+                (Some(_), None, Some(_)) => {
+                    return Err(
+                        "--goal goes with --map MAP.yaml (a scene file names its goal)".into(),
+                    );
+                }
+                _ => return Err("plan needs SCENE.json or --map MAP.yaml --goal X,Y".into()),
+            };
+            let planner = build(&scene, &path, common.json)?;
             let starts = if starts.is_empty() {
                 scene.starts.clone()
             } else {
@@ -179,11 +221,12 @@ fn run(cli: Cli) -> Result<(), String> {
             wheelbase,
             max_steer,
         } => {
-            let scene = load(&common.scene, common.max_area)?;
+            let path = common.scene.ok_or("car needs a SCENE.json")?;
+            let scene = load(&path, common.max_area)?;
             if pose.is_empty() {
                 return Err("car needs at least one --pose X,Y,THETA".into());
             }
-            let planner = build(&scene, &common.scene, common.json)?;
+            let planner = build(&scene, &path, common.json)?;
             let mut params = CarParams::for_scene(&planner);
             if let Some(l) = wheelbase {
                 params.wheelbase = l;

@@ -1,0 +1,883 @@
+//! Occupancy-grid maps in the ROS `map_server` format, turned into scenes.
+//!
+//! A map is a YAML file (`image`, `resolution`, `origin: [x, y, yaw]`, `occupied_thresh`,
+//! `free_thresh`, `negate`, `mode`) naming a PGM or PNG image. Each pixel becomes a free,
+//! occupied or unknown cell by the `map_server` rules. [`OccupancyMap::to_scene`] traces the
+//! free area that holds the goal (marching squares on the cell centres), simplifies its
+//! boundary to about half a cell (Douglas–Peucker) and returns a [`Scene`] whose workspace is
+//! that area's outer boundary and whose obstacles are its holes, so the planner, the command
+//! line and the pictures work on maps unchanged.
+//!
+//! The traced polygons never expose an occupied cell: free space is traced a quarter cell
+//! inside the free cells, free gaps narrower than three cells are closed first (no robot passes
+//! them), and the scene's robot radius is the requested one plus [`MapPolygons::margin`], the
+//! most the simplified polygons can cut into an occupied cell. A path that keeps the scene's
+//! radius from the polygons therefore keeps the requested radius from every occupied cell.
+//! Free islands inside occupied blobs (a closed room) and free areas not connected to the
+//! goal are outside the scene.
+//!
+//! ```
+//! use harmonic_planner::map::{Cell, MapOptions, OccupancyMap};
+//! use harmonic_planner::Planner;
+//! // A 40 × 30 cell room at 10 cm with a wall in the middle that leaves a door at the top.
+//! let (w, h) = (40, 30);
+//! let mut cells = vec![Cell::Free; w * h];
+//! for j in 0..22 {
+//!     for i in 19..21 {
+//!         cells[j * w + i] = Cell::Occupied;
+//!     }
+//! }
+//! let map = OccupancyMap::from_cells(w, h, 0.1, [0.0, 0.0, 0.0], cells)?;
+//! let scene = map.to_scene([3.5, 0.5], 0.0, &MapOptions::default())?;
+//! let planner = Planner::new(&scene)?;
+//! let path = planner.plan([0.5, 0.5]);
+//! assert_eq!(path.status, "reached_goal");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use geo::{Coord, LineString, Simplify};
+use serde_yaml_ng::Value;
+
+use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
+
+/// One cell of an occupancy grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cell {
+    /// Known to be free.
+    Free,
+    /// Known to be occupied.
+    Occupied,
+    /// Not observed (grey in a `map_server` image).
+    Unknown,
+}
+
+/// How `map_server` reads pixel values (`mode` in the YAML).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Occupied, free or unknown by the two thresholds (the default).
+    Trinary,
+    /// As trinary; values between the thresholds would be costs, and a binary planner treats
+    /// them as unknown.
+    Scale,
+    /// The pixel value is the occupancy in percent (0 free … 100 occupied, above 100 unknown),
+    /// compared with the thresholds; `negate` does not apply.
+    Raw,
+}
+
+/// What the map's unknown cells are to the planner.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UnknownCells {
+    /// Unknown cells are obstacles (the safe default).
+    #[default]
+    Obstacle,
+    /// Unknown cells are free space.
+    Free,
+}
+
+/// Options of [`OccupancyMap::to_scene`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapOptions {
+    /// What unknown cells are.
+    pub unknown: UnknownCells,
+    /// Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every traced
+    /// vertex; at most 0.5 so that no occupied cell centre is ever cut off).
+    pub simplify_cells: f64,
+    /// Largest triangle area of the scene's mesh (m²); `None` lets the mesher choose.
+    pub max_area: Option<f64>,
+}
+
+impl Default for MapOptions {
+    fn default() -> Self {
+        MapOptions {
+            unknown: UnknownCells::Obstacle,
+            simplify_cells: 0.45,
+            max_area: None,
+        }
+    }
+}
+
+/// Why a map could not be read or turned into a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum MapError {
+    /// A file could not be read.
+    #[error("cannot read {file}: {source}")]
+    Io {
+        file: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The YAML is malformed.
+    #[error("{file}: not valid YAML: {message}")]
+    Yaml { file: String, message: String },
+    /// A required field is missing.
+    #[error("{file}: missing field `{field}`")]
+    MissingField { file: String, field: &'static str },
+    /// A field has a wrong type or value.
+    #[error("{file}: field `{field}`: {message}")]
+    BadField {
+        file: String,
+        field: &'static str,
+        message: String,
+    },
+    /// `mode` names none of trinary, scale, raw.
+    #[error("{file}: field `mode`: unsupported mode `{mode}` (expected trinary, scale or raw)")]
+    UnsupportedMode { file: String, mode: String },
+    /// The image could not be decoded.
+    #[error("{file}: cannot decode the map image: {message}")]
+    Image { file: String, message: String },
+    /// The grid has no cells, or the cell list does not match its size.
+    #[error("{0}")]
+    BadGrid(String),
+    /// No cell is free.
+    #[error("{file}: the map has no free cell")]
+    EmptyMap { file: String },
+    /// A map option is out of range.
+    #[error("map option `{option}`: {message}")]
+    BadOption {
+        option: &'static str,
+        message: String,
+    },
+    /// The goal lies outside the map.
+    #[error("goal ({x}, {y}) is outside the map ({file}), which covers x {x0}..{x1}, y {y0}..{y1}")]
+    GoalOutsideMap {
+        file: String,
+        x: f64,
+        y: f64,
+        x0: f64,
+        x1: f64,
+        y0: f64,
+        y1: f64,
+    },
+    /// The goal lies in a cell that is not free.
+    #[error(
+        "goal ({x}, {y}) is in {what} cell (column {column}, row {row} from the bottom) of {file}"
+    )]
+    GoalNotFree {
+        file: String,
+        x: f64,
+        y: f64,
+        column: usize,
+        row: usize,
+        /// `an occupied` or `an unknown`.
+        what: &'static str,
+    },
+    /// The goal's free cell is in a gap narrower than three cells.
+    #[error(
+        "goal ({x}, {y}) (column {column}, row {row} from the bottom of {file}) is in a free gap narrower than three cells next to an obstacle; move it into open space"
+    )]
+    GoalInNarrowGap {
+        file: String,
+        x: f64,
+        y: f64,
+        column: usize,
+        row: usize,
+    },
+    /// The robot radius is negative or not a number.
+    #[error("robot radius must be zero or positive, got {0}")]
+    BadRadius(f64),
+}
+
+/// An occupancy grid with its place in the world.
+///
+/// Cell `(column, row)` with row 0 at the bottom (the image's last line) covers
+/// `[column, column + 1] × [row, row + 1]` cells from `origin`, rotated by the origin's yaw.
+#[derive(Clone, Debug)]
+pub struct OccupancyMap {
+    width: usize,
+    height: usize,
+    resolution: f64,
+    origin: [f64; 3],
+    cells: Vec<Cell>,
+    source: String,
+}
+
+/// The traced geometry of a map, in world coordinates, before any inflation.
+#[derive(Clone, Debug)]
+pub struct MapPolygons {
+    /// The outer boundary of the free area holding the goal (counter-clockwise).
+    pub workspace: Vec<[f64; 2]>,
+    /// The holes of that area: obstacles, each a simple polygon (clockwise).
+    pub obstacles: Vec<Vec<[f64; 2]>>,
+    /// How far (in world units) the polygons may cut into an occupied cell: a quarter-cell
+    /// chamfer at cell corners plus the simplification tolerance.
+    pub margin: f64,
+}
+
+fn field<'a>(doc: &'a Value, file: &str, name: &'static str) -> Result<&'a Value, MapError> {
+    doc.get(name).ok_or_else(|| MapError::MissingField {
+        file: file.to_string(),
+        field: name,
+    })
+}
+
+fn bad(file: &str, field: &'static str, message: String) -> MapError {
+    MapError::BadField {
+        file: file.to_string(),
+        field,
+        message,
+    }
+}
+
+fn number(v: &Value, file: &str, name: &'static str) -> Result<f64, MapError> {
+    v.as_f64()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| bad(file, name, format!("expected a finite number, got {v:?}")))
+}
+
+/// The map_server header of a map.
+struct Header {
+    image: PathBuf,
+    resolution: f64,
+    origin: [f64; 3],
+    occupied_thresh: f64,
+    free_thresh: f64,
+    negate: bool,
+    mode: Mode,
+}
+
+fn parse_header(text: &str, file: &str, dir: &Path) -> Result<Header, MapError> {
+    let doc: Value = serde_yaml_ng::from_str(text).map_err(|e| MapError::Yaml {
+        file: file.to_string(),
+        message: e.to_string(),
+    })?;
+    if !doc.is_mapping() {
+        return Err(MapError::Yaml {
+            file: file.to_string(),
+            message: "expected a mapping of fields (image, resolution, origin, ...)".into(),
+        });
+    }
+    let image = field(&doc, file, "image")?;
+    let image = image.as_str().filter(|s| !s.is_empty()).ok_or_else(|| {
+        bad(
+            file,
+            "image",
+            format!("expected a file name, got {image:?}"),
+        )
+    })?;
+    let resolution = number(field(&doc, file, "resolution")?, file, "resolution")?;
+    if resolution <= 0.0 {
+        return Err(bad(
+            file,
+            "resolution",
+            format!("must be positive (metres per cell), got {resolution}"),
+        ));
+    }
+    let origin_v = field(&doc, file, "origin")?;
+    let origin_seq = origin_v
+        .as_sequence()
+        .filter(|s| s.len() == 3 || s.len() == 2)
+        .ok_or_else(|| {
+            bad(
+                file,
+                "origin",
+                format!("expected [x, y, yaw], got {origin_v:?}"),
+            )
+        })?;
+    let mut origin = [0.0; 3];
+    for (o, v) in origin.iter_mut().zip(origin_seq) {
+        *o = number(v, file, "origin")?;
+    }
+    let thresh = |name: &'static str, default: f64| -> Result<f64, MapError> {
+        match doc.get(name) {
+            None => Ok(default),
+            Some(v) => {
+                let t = number(v, file, name)?;
+                if (0.0..=1.0).contains(&t) {
+                    Ok(t)
+                } else {
+                    Err(bad(file, name, format!("must be between 0 and 1, got {t}")))
+                }
+            }
+        }
+    };
+    let occupied_thresh = thresh("occupied_thresh", 0.65)?;
+    let free_thresh = thresh("free_thresh", 0.196)?;
+    if free_thresh > occupied_thresh {
+        return Err(bad(
+            file,
+            "free_thresh",
+            format!("{free_thresh} is above occupied_thresh {occupied_thresh}"),
+        ));
+    }
+    let negate = match doc.get("negate") {
+        None => false,
+        Some(v) => match (v.as_bool(), v.as_i64()) {
+            (Some(b), _) => b,
+            (None, Some(0)) => false,
+            (None, Some(1)) => true,
+            _ => return Err(bad(file, "negate", format!("expected 0 or 1, got {v:?}"))),
+        },
+    };
+    let mode = match doc.get("mode") {
+        None => Mode::Trinary,
+        Some(v) => match v.as_str() {
+            Some("trinary") => Mode::Trinary,
+            Some("scale") => Mode::Scale,
+            Some("raw") => Mode::Raw,
+            Some(other) => {
+                return Err(MapError::UnsupportedMode {
+                    file: file.to_string(),
+                    mode: other.to_string(),
+                });
+            }
+            None => return Err(bad(file, "mode", format!("expected a name, got {v:?}"))),
+        },
+    };
+    Ok(Header {
+        image: dir.join(image),
+        resolution,
+        origin,
+        occupied_thresh,
+        free_thresh,
+        negate,
+        mode,
+    })
+}
+
+/// The map_server rule for one pixel, from the average of its colour channels (0..=255).
+fn classify(avg: f64, h: &Header) -> Cell {
+    let occ = match h.mode {
+        Mode::Raw => {
+            if avg > 100.0 {
+                return Cell::Unknown;
+            }
+            avg / 100.0
+        }
+        Mode::Trinary | Mode::Scale => {
+            let v = if h.negate { 255.0 - avg } else { avg };
+            (255.0 - v) / 255.0
+        }
+    };
+    if occ > h.occupied_thresh {
+        Cell::Occupied
+    } else if occ < h.free_thresh {
+        Cell::Free
+    } else {
+        Cell::Unknown
+    }
+}
+
+impl OccupancyMap {
+    /// Reads a `map_server` YAML file and the image it names (relative to the YAML's folder).
+    pub fn load(yaml: impl AsRef<Path>) -> Result<OccupancyMap, MapError> {
+        let yaml = yaml.as_ref();
+        let file = yaml.display().to_string();
+        let text = std::fs::read_to_string(yaml).map_err(|source| MapError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        let dir = yaml.parent().unwrap_or(Path::new("."));
+        let header = parse_header(&text, &file, dir)?;
+        let image_file = header.image.display().to_string();
+        let bytes = std::fs::read(&header.image).map_err(|source| MapError::Io {
+            file: format!("{image_file} (field `image` of {file})"),
+            source,
+        })?;
+        let img = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| MapError::Image {
+                file: image_file.clone(),
+                message: e.to_string(),
+            })?
+            .decode()
+            .map_err(|e| MapError::Image {
+                file: image_file.clone(),
+                message: e.to_string(),
+            })?;
+        let (width, height) = (img.width() as usize, img.height() as usize);
+        if width == 0 || height == 0 {
+            return Err(MapError::EmptyMap { file: image_file });
+        }
+        let rgb = img.to_rgb8();
+        let mut cells = vec![Cell::Unknown; width * height];
+        for (x, y, p) in rgb.enumerate_pixels() {
+            let avg = (f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])) / 3.0;
+            let row = height - 1 - y as usize;
+            cells[row * width + x as usize] = classify(avg, &header);
+        }
+        let mut map =
+            OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)?;
+        map.source = file;
+        Ok(map)
+    }
+
+    /// A map from cells listed row by row, row 0 at the bottom.
+    pub fn from_cells(
+        width: usize,
+        height: usize,
+        resolution: f64,
+        origin: [f64; 3],
+        cells: Vec<Cell>,
+    ) -> Result<OccupancyMap, MapError> {
+        if width == 0 || height == 0 || cells.len() != width * height {
+            return Err(MapError::BadGrid(format!(
+                "a {width} × {height} grid needs {} cells, got {}",
+                width * height,
+                cells.len()
+            )));
+        }
+        if !(resolution.is_finite() && resolution > 0.0) {
+            return Err(MapError::BadGrid(format!(
+                "resolution must be positive, got {resolution}"
+            )));
+        }
+        if !origin.iter().all(|v| v.is_finite()) {
+            return Err(MapError::BadGrid(format!(
+                "origin must be finite, got {origin:?}"
+            )));
+        }
+        Ok(OccupancyMap {
+            width,
+            height,
+            resolution,
+            origin,
+            cells,
+            source: "map".into(),
+        })
+    }
+
+    /// Cells per row.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+    /// Rows.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+    /// Metres per cell.
+    pub fn resolution(&self) -> f64 {
+        self.resolution
+    }
+    /// World pose `[x, y, yaw]` of the lower-left corner of cell (0, 0).
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
+    /// The cell in `column`, `row` (row 0 at the bottom).
+    pub fn cell(&self, column: usize, row: usize) -> Cell {
+        self.cells[row * self.width + column]
+    }
+
+    /// World coordinates of a point given in cells from the origin.
+    pub fn grid_to_world(&self, g: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.origin[2].sin_cos();
+        let (x, y) = (g[0] * self.resolution, g[1] * self.resolution);
+        [
+            self.origin[0] + c * x - s * y,
+            self.origin[1] + s * x + c * y,
+        ]
+    }
+
+    /// Cells from the origin of a world point (inverse of [`OccupancyMap::grid_to_world`]).
+    pub fn world_to_grid(&self, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.origin[2].sin_cos();
+        let (dx, dy) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        [
+            (c * dx + s * dy) / self.resolution,
+            (-s * dx + c * dy) / self.resolution,
+        ]
+    }
+
+    /// The cell `(column, row)` holding a world point, if it is on the map.
+    pub fn cell_at(&self, p: [f64; 2]) -> Option<(usize, usize)> {
+        let g = self.world_to_grid(p);
+        if g[0] >= 0.0 && g[1] >= 0.0 && g[0] < self.width as f64 && g[1] < self.height as f64 {
+            Some((g[0] as usize, g[1] as usize))
+        } else {
+            None
+        }
+    }
+
+    /// World coordinates of a cell's centre.
+    pub fn cell_center(&self, column: usize, row: usize) -> [f64; 2] {
+        self.grid_to_world([column as f64 + 0.5, row as f64 + 0.5])
+    }
+
+    /// Whether a cell blocks the robot under the given treatment of unknown cells.
+    pub fn is_blocked(&self, column: usize, row: usize, unknown: UnknownCells) -> bool {
+        match self.cell(column, row) {
+            Cell::Free => false,
+            Cell::Occupied => true,
+            Cell::Unknown => unknown == UnknownCells::Obstacle,
+        }
+    }
+
+    /// Traces the free area that holds `goal` and its holes (see the module documentation).
+    pub fn polygons(&self, goal: [f64; 2], opts: &MapOptions) -> Result<MapPolygons, MapError> {
+        if !(opts.simplify_cells.is_finite() && (0.0..=0.5).contains(&opts.simplify_cells)) {
+            return Err(MapError::BadOption {
+                option: "simplify_cells",
+                message: format!(
+                    "must be between 0 and 0.5 cells, got {}",
+                    opts.simplify_cells
+                ),
+            });
+        }
+        let (w, h) = (self.width, self.height);
+        let free: Vec<bool> = (0..w * h)
+            .map(|k| !self.is_blocked(k % w, k / w, opts.unknown))
+            .collect();
+        if !free.iter().any(|&f| f) {
+            return Err(MapError::EmptyMap {
+                file: self.source.clone(),
+            });
+        }
+        let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
+        let open = opening(&free, w, h);
+        if !open[gr * w + gc] {
+            return Err(MapError::GoalInNarrowGap {
+                file: self.source.clone(),
+                x: goal[0],
+                y: goal[1],
+                column: gc,
+                row: gr,
+            });
+        }
+        let component = flood_fill(&open, w, h, gr * w + gc);
+        let rings = march(&component, w, h);
+        let eps = opts.simplify_cells;
+        let mut workspace: Option<(f64, Vec<[f64; 2]>)> = None;
+        let mut obstacles = Vec::new();
+        for ring in rings {
+            let ring = simplify(ring, eps);
+            let area = signed_area(&ring);
+            let world: Vec<[f64; 2]> = ring.iter().map(|&g| self.grid_to_world(g)).collect();
+            if area > 0.0 {
+                // One outer ring is expected (the component is connected); keep the largest.
+                if workspace.as_ref().is_none_or(|(a, _)| area > *a) {
+                    workspace = Some((area, world));
+                }
+            } else if area < 0.0 {
+                obstacles.push(world);
+            }
+        }
+        let (_, workspace) = workspace.ok_or_else(|| MapError::EmptyMap {
+            file: self.source.clone(),
+        })?;
+        Ok(MapPolygons {
+            workspace,
+            obstacles,
+            margin: self.resolution * ((1.0 - CROSSING) / std::f64::consts::SQRT_2 + eps),
+        })
+    }
+
+    /// A scene for planning towards `goal` (world coordinates) with a disc robot of
+    /// `robot_radius`: the workspace and obstacles of [`OccupancyMap::polygons`], a point goal,
+    /// and a robot radius of `robot_radius` plus the tracing margin.
+    pub fn to_scene(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<Scene, MapError> {
+        if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+            return Err(MapError::BadRadius(robot_radius));
+        }
+        if let Some(a) = opts.max_area
+            && !(a.is_finite() && a > 0.0)
+        {
+            return Err(MapError::BadOption {
+                option: "max_area",
+                message: format!("must be a positive number, got {a}"),
+            });
+        }
+        let polys = self.polygons(goal, opts)?;
+        Ok(Scene {
+            name: Some(self.source.clone()),
+            workspace: polys.workspace,
+            obstacles: polys
+                .obstacles
+                .into_iter()
+                .map(|p| Region {
+                    polygon: Some(p),
+                    ..Region::default()
+                })
+                .collect(),
+            goal: Goals(vec![Region {
+                point: Some(goal),
+                ..Region::default()
+            }]),
+            starts: Vec::new(),
+            boundary: Default::default(),
+            mesh: MeshSpec {
+                max_area: opts.max_area,
+                min_angle_deg: None,
+            },
+            robot: RobotSpec {
+                radius: robot_radius + polys.margin,
+            },
+        })
+    }
+
+    fn goal_cell(&self, goal: [f64; 2], unknown: UnknownCells) -> Result<(usize, usize), MapError> {
+        let Some((c, r)) = self
+            .cell_at(goal)
+            .filter(|_| goal.iter().all(|v| v.is_finite()))
+        else {
+            let corners = [
+                [0.0, 0.0],
+                [self.width as f64, 0.0],
+                [0.0, self.height as f64],
+                [self.width as f64, self.height as f64],
+            ]
+            .map(|g| self.grid_to_world(g));
+            let fold = |k: usize, f: fn(f64, f64) -> f64| {
+                corners.iter().map(|p| p[k]).reduce(f).unwrap_or(0.0)
+            };
+            return Err(MapError::GoalOutsideMap {
+                file: self.source.clone(),
+                x: goal[0],
+                y: goal[1],
+                x0: fold(0, f64::min),
+                x1: fold(0, f64::max),
+                y0: fold(1, f64::min),
+                y1: fold(1, f64::max),
+            });
+        };
+        if self.is_blocked(c, r, unknown) {
+            return Err(MapError::GoalNotFree {
+                file: self.source.clone(),
+                x: goal[0],
+                y: goal[1],
+                column: c,
+                row: r,
+                what: if self.cell(c, r) == Cell::Occupied {
+                    "an occupied"
+                } else {
+                    "an unknown"
+                },
+            });
+        }
+        Ok((c, r))
+    }
+}
+
+/// Where the traced boundary crosses a lattice edge between a blocked and a free cell centre,
+/// as a fraction of the way from the blocked one: a quarter cell past the cell edge, inside
+/// the free cell.
+const CROSSING: f64 = 0.75;
+
+/// Morphological opening of the free cells by a 3 × 3 square: free cells that are in no
+/// all-free 3 × 3 block (gaps narrower than three cells) become blocked. Outside the grid is
+/// blocked.
+fn opening(free: &[bool], w: usize, h: usize) -> Vec<bool> {
+    let at = |i: isize, j: isize| -> bool {
+        i >= 0
+            && j >= 0
+            && (i as usize) < w
+            && (j as usize) < h
+            && free[j as usize * w + i as usize]
+    };
+    let block = |i: isize, j: isize, f: &dyn Fn(isize, isize) -> bool| -> bool {
+        (-1..=1).all(|dj| (-1..=1).all(|di| f(i + di, j + dj)))
+    };
+    let eroded: Vec<bool> = (0..w * h)
+        .map(|k| block((k % w) as isize, (k / w) as isize, &at))
+        .collect();
+    let er = |i: isize, j: isize| -> bool {
+        i >= 0
+            && j >= 0
+            && (i as usize) < w
+            && (j as usize) < h
+            && eroded[j as usize * w + i as usize]
+    };
+    (0..w * h)
+        .map(|k| {
+            let (i, j) = ((k % w) as isize, (k / w) as isize);
+            free[k] && (-1..=1).any(|dj| (-1..=1).any(|di| er(i + di, j + dj)))
+        })
+        .collect()
+}
+
+/// The 4-connected set of `cells` holding `seed`.
+fn flood_fill(cells: &[bool], w: usize, h: usize, seed: usize) -> Vec<bool> {
+    let mut inside = vec![false; w * h];
+    let mut stack = vec![seed];
+    inside[seed] = true;
+    while let Some(k) = stack.pop() {
+        let (i, j) = (k % w, k / w);
+        let mut push = |n: usize| {
+            if cells[n] && !inside[n] {
+                inside[n] = true;
+                stack.push(n);
+            }
+        };
+        if i > 0 {
+            push(k - 1);
+        }
+        if i + 1 < w {
+            push(k + 1);
+        }
+        if j > 0 {
+            push(k - w);
+        }
+        if j + 1 < h {
+            push(k + w);
+        }
+    }
+    inside
+}
+
+/// Marching squares on the cell centres of the `inside` indicator (outside the grid counts
+/// as not inside). Returns closed rings in grid coordinates with the inside on their left:
+/// outer rings counter-clockwise, holes clockwise. Where two inside cells touch only
+/// diagonally, the outside cells between them are taken as connected, so the inside never
+/// squeezes through a corner.
+fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
+    // Lattice nodes (I, J) = cell centres (I - 1, J - 1), with a ring of outside nodes.
+    let (nx, ny) = (w + 2, h + 2);
+    let node = |i: usize, j: usize| -> bool {
+        i >= 1 && j >= 1 && i <= w && j <= h && inside[(j - 1) * w + (i - 1)]
+    };
+    // Edge ids: horizontal (I, J)–(I+1, J) is 2 (I ny + J), vertical (I, J)–(I, J+1) is +1.
+    let hid = |i: usize, j: usize| 2 * (i * ny + j);
+    let vid = |i: usize, j: usize| 2 * (i * ny + j) + 1;
+    const NONE: usize = usize::MAX;
+    let mut next = vec![NONE; 2 * nx * ny];
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            let v = [
+                node(i, j),
+                node(i + 1, j),
+                node(i + 1, j + 1),
+                node(i, j + 1),
+            ];
+            if v.iter().all(|&b| b) || v.iter().all(|&b| !b) {
+                continue;
+            }
+            // Counter-clockwise edges: k joins corner k to corner k + 1.
+            let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
+            for k in 0..4 {
+                if v[k] && !v[(k + 1) % 4] {
+                    // Leaving the inside at edge k: the boundary runs to the nearest edge
+                    // before it where the inside is entered.
+                    let m = (1..4)
+                        .map(|d| (k + 4 - d) % 4)
+                        .find(|&m| !v[m] && v[(m + 1) % 4])
+                        .expect("a cell with an exit has an entry");
+                    next[e[k]] = e[m];
+                }
+            }
+        }
+    }
+    let point = |id: usize| -> [f64; 2] {
+        let (i, j) = ((id / 2) / ny, (id / 2) % ny);
+        let (a, b) = if id.is_multiple_of(2) {
+            ((i, j), (i + 1, j))
+        } else {
+            ((i, j), (i, j + 1))
+        };
+        let (blocked, open) = if node(a.0, a.1) { (b, a) } else { (a, b) };
+        let p = |n: (usize, usize)| [n.0 as f64 - 0.5, n.1 as f64 - 0.5];
+        let (pb, po) = (p(blocked), p(open));
+        [
+            pb[0] + CROSSING * (po[0] - pb[0]),
+            pb[1] + CROSSING * (po[1] - pb[1]),
+        ]
+    };
+    let mut rings = Vec::new();
+    for start in 0..next.len() {
+        if next[start] == NONE {
+            continue;
+        }
+        let mut ring = Vec::new();
+        let mut id = start;
+        while next[id] != NONE {
+            ring.push(point(id));
+            let n = next[id];
+            next[id] = NONE;
+            id = n;
+        }
+        rings.push(ring);
+    }
+    rings
+}
+
+/// Douglas–Peucker on a closed ring (tolerance in cells); rings that would collapse are kept.
+fn simplify(ring: Vec<[f64; 2]>, eps: f64) -> Vec<[f64; 2]> {
+    if eps <= 0.0 {
+        return ring;
+    }
+    let mut coords: Vec<Coord<f64>> = ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
+    coords.push(coords[0]);
+    let simplified = LineString::new(coords).simplify(eps);
+    let mut out: Vec<[f64; 2]> = simplified.0.iter().map(|c| [c.x, c.y]).collect();
+    out.pop();
+    if out.len() < 3 { ring } else { out }
+}
+
+fn signed_area(ring: &[[f64; 2]]) -> f64 {
+    let n = ring.len();
+    (0..n)
+        .map(|k| {
+            let (p, q) = (ring[k], ring[(k + 1) % n]);
+            p[0] * q[1] - q[0] * p[1]
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(rows: &[&str]) -> (Vec<bool>, usize, usize) {
+        let h = rows.len();
+        let w = rows[0].len();
+        let mut v = vec![false; w * h];
+        for (r, line) in rows.iter().enumerate() {
+            for (i, ch) in line.chars().enumerate() {
+                v[(h - 1 - r) * w + i] = ch == '.';
+            }
+        }
+        (v, w, h)
+    }
+
+    #[test]
+    fn a_free_square_traces_one_counter_clockwise_ring() {
+        let (v, w, h) = grid(&["...", "...", "..."]);
+        let rings = march(&v, w, h);
+        assert_eq!(rings.len(), 1);
+        let s = simplify(rings[0].clone(), 0.1);
+        // A quarter cell inside the 3 × 3 cells, corners cut by a quarter cell.
+        assert_eq!(s.len(), 8, "{s:?}");
+        assert!((signed_area(&s) - (2.5 * 2.5 - 4.0 * 0.25 * 0.25 / 2.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_blocked_cell_inside_is_a_clockwise_hole_and_diagonals_stay_blocked() {
+        let (v, w, h) = grid(&[".....", ".#...", "..#..", ".....", "....."]);
+        let rings = march(&v, w, h);
+        assert_eq!(rings.len(), 2, "the two diagonal cells make one hole");
+        let holes: Vec<_> = rings.iter().filter(|r| signed_area(r) < 0.0).collect();
+        assert_eq!(holes.len(), 1);
+        // Both blocked centres are inside the hole.
+        for c in [[1.5, 3.5], [2.5, 2.5]] {
+            assert!(inside_ring(holes[0], c), "{c:?}");
+        }
+    }
+
+    #[test]
+    fn opening_closes_gaps_narrower_than_three_cells() {
+        let (v, w, h) = grid(&["...#...", "...#...", ".......", "...#...", "...#..."]);
+        let o = opening(&v, w, h);
+        // The one-cell door in the middle column closes; the open sides stay.
+        assert!(!o[2 * w + 3]);
+        assert!(o[2 * w + 1] && o[2 * w + 5]);
+    }
+
+    fn inside_ring(ring: &[[f64; 2]], p: [f64; 2]) -> bool {
+        let n = ring.len();
+        let mut c = false;
+        for k in 0..n {
+            let (a, b) = (ring[k], ring[(k + 1) % n]);
+            if (a[1] > p[1]) != (b[1] > p[1])
+                && p[0] < a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
+            {
+                c = !c;
+            }
+        }
+        c
+    }
+}

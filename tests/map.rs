@@ -1,0 +1,623 @@
+//! Occupancy-grid maps: the bundled warehouse map, tracing, planning on it, the command line
+//! and the errors of bad maps.
+//!
+//! The warehouse map in `meshes/` is made by [`warehouse_pixels`]; regenerate it with
+//! `cargo test --release --test map -- --ignored write_warehouse_map`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use assert_cmd::Command;
+use geo::{Contains, Coord, LineString, Polygon};
+use harmonic_planner::Planner;
+use harmonic_planner::map::{Cell, MapError, MapOptions, OccupancyMap, UnknownCells};
+
+const W: usize = 400;
+const H: usize = 300;
+const FREE: u8 = 254;
+const OCCUPIED: u8 = 0;
+const UNKNOWN: u8 = 205;
+
+/// The goal of the warehouse tests, in the office's lower room (world coordinates).
+const GOAL: [f64; 2] = [16.5, 1.5];
+/// Starts that reach the goal: warehouse corner, an aisle between racks, top aisle, upper office.
+const REACHABLE: [[f64; 2]; 4] = [[-0.75, -0.5], [3.0, 4.0], [7.0, 12.0], [13.0, 8.5]];
+/// Starts that cannot: inside the closed closet, in the scanned patch outside the building.
+const UNREACHABLE: [[f64; 2]; 2] = [[16.4, 11.8], [0.25, -1.3]];
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn warehouse_yaml() -> PathBuf {
+    root().join("meshes/warehouse_map.yaml")
+}
+
+/// A small deterministic generator (linear congruential).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self, n: usize) -> usize {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 33) % n as u64) as usize
+    }
+}
+
+/// The warehouse map, cells row by row with row 0 at the bottom: 400 × 300 cells at 5 cm.
+/// A walled building in unknown surroundings; a warehouse hall with two rows of five racks,
+/// pallets, pillars, a hollow column, sensor speckles and an unscanned shadow behind a rack;
+/// a wall with two doors to the offices, which a wall with one door splits into a lower room
+/// (desks, chairs) and an upper room (a diagonal partition, a round table, an unscanned
+/// corner and a closed closet). A patch outside the building was seen through a window.
+fn warehouse_cells() -> Vec<u8> {
+    let mut g = vec![UNKNOWN; W * H];
+    let rect = |g: &mut Vec<u8>, i0: usize, j0: usize, i1: usize, j1: usize, v: u8| {
+        for j in j0..j1 {
+            for i in i0..i1 {
+                g[j * W + i] = v;
+            }
+        }
+    };
+    // Building: 4-cell walls, free inside.
+    rect(&mut g, 8, 8, 392, 292, OCCUPIED);
+    rect(&mut g, 12, 12, 388, 288, FREE);
+    // Seen through a window: free cells outside the building.
+    rect(&mut g, 30, 0, 60, 7, FREE);
+    // Wall between the hall and the offices, with two 1 m doors.
+    rect(&mut g, 258, 12, 262, 288, OCCUPIED);
+    rect(&mut g, 258, 60, 262, 80, FREE);
+    rect(&mut g, 258, 210, 262, 230, FREE);
+    // Offices: lower and upper room, door at i 310..330.
+    rect(&mut g, 262, 148, 388, 152, OCCUPIED);
+    rect(&mut g, 310, 148, 330, 152, FREE);
+    // Desks.
+    for (i, j) in [(280, 30), (320, 30), (280, 100), (320, 100)] {
+        rect(&mut g, i, j, i + 20, j + 12, OCCUPIED);
+    }
+    let disc = |g: &mut Vec<u8>, ci: f64, cj: f64, r: f64, v: u8| {
+        for j in 0..H {
+            for i in 0..W {
+                let (dx, dy) = (i as f64 + 0.5 - ci, j as f64 + 0.5 - cj);
+                if dx * dx + dy * dy <= r * r {
+                    g[j * W + i] = v;
+                }
+            }
+        }
+    };
+    // Chairs.
+    for (i, j) in [(290.0, 48.0), (330.0, 48.0), (290.0, 92.0), (330.0, 92.0)] {
+        disc(&mut g, i, j, 3.5, OCCUPIED);
+    }
+    // Upper room: a diagonal partition 3 cells thick, a round table.
+    for t in 0..=200 {
+        let s = t as f64 / 200.0;
+        disc(&mut g, 285.0 + 45.0 * s, 175.0 + 45.0 * s, 1.6, OCCUPIED);
+    }
+    disc(&mut g, 355.0, 200.0, 10.0, OCCUPIED);
+    // A closed closet in the upper right corner (free inside, no door).
+    rect(&mut g, 345, 245, 388, 288, OCCUPIED);
+    rect(&mut g, 349, 249, 384, 284, FREE);
+    // An unscanned corner.
+    rect(&mut g, 265, 255, 300, 288, UNKNOWN);
+    // Hall: two rows of five racks (50 cm × 4.5 m), aisles of 1.6 m.
+    for k in 0..5 {
+        let i0 = 35 + 42 * k;
+        rect(&mut g, i0, 40, i0 + 10, 130, OCCUPIED);
+        rect(&mut g, i0, 160, i0 + 10, 250, OCCUPIED);
+    }
+    // Unscanned shadow behind the last rack.
+    rect(&mut g, 213, 60, 218, 110, UNKNOWN);
+    // Pillars between the rack rows and a hollow column with a free core.
+    disc(&mut g, 98.0, 145.0, 4.0, OCCUPIED);
+    disc(&mut g, 182.0, 145.0, 4.0, OCCUPIED);
+    disc(&mut g, 236.0, 145.0, 7.0, OCCUPIED);
+    disc(&mut g, 236.0, 145.0, 3.0, FREE);
+    // Pallets and boxes where they leave 60 cm around them.
+    let mut rng = Lcg(20_101);
+    let mut placed = 0;
+    while placed < 14 {
+        let (w, h) = (4 + rng.next(6), 4 + rng.next(6));
+        let (i0, j0) = (14 + rng.next(240 - w), 14 + rng.next(270 - h));
+        let m = 12;
+        let clear = (j0 - m..j0 + h + m)
+            .all(|j| (i0.saturating_sub(m)..i0 + w + m).all(|i| g[j * W + i] == FREE));
+        if clear {
+            rect(&mut g, i0, j0, i0 + w, j0 + h, OCCUPIED);
+            placed += 1;
+        }
+    }
+    // Sensor speckles: single occupied cells in the hall.
+    let mut speckles = 0;
+    while speckles < 25 {
+        let (i, j) = (14 + rng.next(240), 14 + rng.next(270));
+        let clear = (j - 6..=j + 6).all(|jj| (i - 6..=i + 6).all(|ii| g[jj * W + ii] == FREE));
+        if clear {
+            g[j * W + i] = OCCUPIED;
+            speckles += 1;
+        }
+    }
+    g
+}
+
+/// The map as image pixels (row 0 at the top).
+fn warehouse_pixels() -> Vec<u8> {
+    let g = warehouse_cells();
+    let mut px = Vec::with_capacity(W * H);
+    for row in 0..H {
+        let j = H - 1 - row;
+        px.extend_from_slice(&g[j * W..(j + 1) * W]);
+    }
+    px
+}
+
+const WAREHOUSE_YAML: &str = "image: warehouse_map.pgm
+resolution: 0.05
+origin: [-2.0, -1.5, 0.0]
+negate: 0
+occupied_thresh: 0.65
+free_thresh: 0.196
+mode: trinary
+";
+
+fn write_pgm(path: &Path, w: usize, h: usize, px: &[u8]) {
+    use image::ImageEncoder;
+    use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
+    let file = std::fs::File::create(path).expect("create the image");
+    PnmEncoder::new(std::io::BufWriter::new(file))
+        .with_subtype(PnmSubtype::Graymap(SampleEncoding::Binary))
+        .write_image(px, w as u32, h as u32, image::ExtendedColorType::L8)
+        .expect("write the image");
+}
+
+#[test]
+#[ignore = "writes meshes/warehouse_map.{yaml,pgm}; run to regenerate them"]
+fn write_warehouse_map() {
+    write_pgm(
+        &root().join("meshes/warehouse_map.pgm"),
+        W,
+        H,
+        &warehouse_pixels(),
+    );
+    std::fs::write(warehouse_yaml(), WAREHOUSE_YAML).expect("write the yaml");
+}
+
+#[test]
+fn the_committed_map_is_the_generated_one() {
+    let img = image::open(root().join("meshes/warehouse_map.pgm"))
+        .expect("meshes/warehouse_map.pgm decodes")
+        .to_luma8();
+    assert_eq!((img.width(), img.height()), (W as u32, H as u32));
+    assert!(
+        img.as_raw() == &warehouse_pixels(),
+        "meshes/warehouse_map.pgm differs from the generator"
+    );
+    let yaml = std::fs::read_to_string(warehouse_yaml()).expect("yaml");
+    assert_eq!(yaml, WAREHOUSE_YAML);
+    // The map_server reading gives back the drawn cells.
+    let map = OccupancyMap::load(warehouse_yaml()).expect("the map loads");
+    let g = warehouse_cells();
+    for j in 0..H {
+        for i in 0..W {
+            let want = match g[j * W + i] {
+                FREE => Cell::Free,
+                OCCUPIED => Cell::Occupied,
+                _ => Cell::Unknown,
+            };
+            assert_eq!(map.cell(i, j), want, "cell ({i}, {j})");
+        }
+    }
+    assert_eq!(map.origin(), [-2.0, -1.5, 0.0]);
+    assert_eq!(map.resolution(), 0.05);
+}
+
+fn polygon(ring: &[[f64; 2]]) -> Polygon<f64> {
+    Polygon::new(
+        LineString::new(ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()),
+        vec![],
+    )
+}
+
+/// Whether a cell's centre is at least `d` cells (Chebyshev) from every blocked cell.
+fn deep(map: &OccupancyMap, i: usize, j: usize, d: usize, unknown: UnknownCells) -> bool {
+    let (w, h) = (map.width(), map.height());
+    (j.saturating_sub(d)..=(j + d).min(h - 1)).all(|jj| {
+        (i.saturating_sub(d)..=(i + d).min(w - 1)).all(|ii| !map.is_blocked(ii, jj, unknown))
+    }) && i >= d
+        && j >= d
+        && i + d < w
+        && j + d < h
+}
+
+fn check_polygons(map: &OccupancyMap, unknown: UnknownCells) {
+    let opts = MapOptions {
+        unknown,
+        ..MapOptions::default()
+    };
+    let polys = map.polygons(GOAL, &opts).expect("traces");
+    let ws = polygon(&polys.workspace);
+    let obstacles: Vec<(Polygon<f64>, [f64; 4])> = polys
+        .obstacles
+        .iter()
+        .map(|r| {
+            let bb = r.iter().fold(
+                [
+                    f64::INFINITY,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                    f64::NEG_INFINITY,
+                ],
+                |b, p| {
+                    [
+                        b[0].min(p[0]),
+                        b[1].min(p[1]),
+                        b[2].max(p[0]),
+                        b[3].max(p[1]),
+                    ]
+                },
+            );
+            (polygon(r), bb)
+        })
+        .collect();
+    let in_obstacle = |p: [f64; 2]| {
+        let c = Coord { x: p[0], y: p[1] };
+        obstacles.iter().any(|(poly, b)| {
+            p[0] >= b[0] && p[0] <= b[2] && p[1] >= b[1] && p[1] <= b[3] && poly.contains(&c)
+        })
+    };
+    let free_space = |p: [f64; 2]| ws.contains(&Coord { x: p[0], y: p[1] }) && !in_obstacle(p);
+    // Every blocked cell centre is out of free space.
+    let (w, h) = (map.width(), map.height());
+    let mut blocked = 0;
+    for j in 0..h {
+        for i in 0..w {
+            if map.is_blocked(i, j, unknown) {
+                blocked += 1;
+                let c = map.cell_center(i, j);
+                assert!(
+                    !free_space(c),
+                    "blocked cell ({i}, {j}) at {c:?} is in free space"
+                );
+            }
+        }
+    }
+    assert!(blocked > 10_000);
+    // Every free cell more than one cell from any blocked cell (no blocked cell in its 3 × 3
+    // block) and connected to the goal through such cells is in free space.
+    let (gi, gj) = map.cell_at(GOAL).expect("goal on the map");
+    assert!(deep(map, gi, gj, 1, unknown));
+    let mut seen = vec![false; w * h];
+    let mut stack = vec![(gi, gj)];
+    seen[gj * w + gi] = true;
+    let mut checked = 0;
+    while let Some((i, j)) = stack.pop() {
+        let c = map.cell_center(i, j);
+        assert!(
+            free_space(c),
+            "free cell ({i}, {j}) at {c:?} is not in free space"
+        );
+        checked += 1;
+        for (di, dj) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            let (ni, nj) = (i as isize + di, j as isize + dj);
+            if ni < 0 || nj < 0 || ni as usize >= w || nj as usize >= h {
+                continue;
+            }
+            let (ni, nj) = (ni as usize, nj as usize);
+            if !seen[nj * w + ni] && deep(map, ni, nj, 1, unknown) {
+                seen[nj * w + ni] = true;
+                stack.push((ni, nj));
+            }
+        }
+    }
+    assert!(checked > 50_000, "only {checked} free cells reached");
+    // Simplification keeps the polygons small: long walls are single edges.
+    let vertices: usize =
+        polys.workspace.len() + polys.obstacles.iter().map(Vec::len).sum::<usize>();
+    println!(
+        "{unknown:?}: {} obstacles, {vertices} vertices, {checked} free cells checked, margin {}",
+        polys.obstacles.len(),
+        polys.margin
+    );
+    assert!(vertices < 3000, "{vertices} vertices");
+    assert!(polys.margin < 0.65 * map.resolution());
+}
+
+#[test]
+fn polygons_cover_blocked_cells_and_keep_free_ones() {
+    let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    check_polygons(&map, UnknownCells::Obstacle);
+    check_polygons(&map, UnknownCells::Free);
+}
+
+/// Distance from a world point to the square of cell (i, j).
+fn distance_to_cell(map: &OccupancyMap, p: [f64; 2], i: usize, j: usize) -> f64 {
+    let g = map.world_to_grid(p);
+    let dx = (i as f64 - g[0]).max(g[0] - (i as f64 + 1.0)).max(0.0);
+    let dy = (j as f64 - g[1]).max(g[1] - (j as f64 + 1.0)).max(0.0);
+    dx.hypot(dy) * map.resolution()
+}
+
+/// Samples every segment of `points` at quarter-cell spacing; returns the smallest distance to
+/// a blocked cell's square (0 inside one).
+fn path_clearance(map: &OccupancyMap, points: &[[f64; 2]], radius: f64) -> f64 {
+    let res = map.resolution();
+    let reach = (radius / res).ceil() as isize + 2;
+    let mut min = f64::INFINITY;
+    for seg in points.windows(2) {
+        let (a, b) = (seg[0], seg[1]);
+        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let n = (len / (0.25 * res)).ceil().max(1.0) as usize;
+        for k in 0..=n {
+            let t = k as f64 / n as f64;
+            let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            let g = map.world_to_grid(p);
+            let (ci, cj) = (g[0].floor() as isize, g[1].floor() as isize);
+            for dj in -reach..=reach {
+                for di in -reach..=reach {
+                    let (i, j) = (ci + di, cj + dj);
+                    if i < 0 || j < 0 || i as usize >= map.width() || j as usize >= map.height() {
+                        continue;
+                    }
+                    if map.is_blocked(i as usize, j as usize, UnknownCells::Obstacle) {
+                        min = min.min(distance_to_cell(map, p, i as usize, j as usize));
+                    }
+                }
+            }
+        }
+    }
+    min
+}
+
+#[test]
+fn paths_on_the_warehouse_map_reach_the_goal_and_keep_the_radius() {
+    let radius = 0.2;
+    let t = Instant::now();
+    let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let t = Instant::now();
+    let scene = map
+        .to_scene(GOAL, radius, &MapOptions::default())
+        .expect("scene");
+    let trace_ms = t.elapsed().as_secs_f64() * 1e3;
+    let planner = Planner::new(&scene).expect("planner");
+    let starts: Vec<[f64; 2]> = REACHABLE.iter().chain(&UNREACHABLE).copied().collect();
+    let report = planner.plan_report(&starts);
+    println!(
+        "load {load_ms:.1} ms, trace {trace_ms:.1} ms, timings {:?}, mesh {} vertices / {} triangles",
+        report.timings_ms, report.mesh.vertices, report.mesh.triangles
+    );
+    assert_eq!(report.potential.interior_local_minima, 0);
+    for path in &report.paths {
+        let reachable = REACHABLE.contains(&path.start);
+        println!(
+            "{:?}: {} length {:.2} clearance {:.3}",
+            path.start, path.status, path.length, path.min_clearance
+        );
+        if !reachable {
+            assert_ne!(path.status, "reached_goal", "{:?}", path.start);
+            continue;
+        }
+        assert_eq!(path.status, "reached_goal", "{:?}", path.start);
+        let clearance = path_clearance(&map, &path.points, radius);
+        assert!(
+            clearance >= radius - 0.1 * map.resolution(),
+            "path from {:?} comes {clearance} from an occupied or unknown cell",
+            path.start
+        );
+    }
+}
+
+#[test]
+fn the_command_line_plans_on_a_map() {
+    let out = Command::cargo_bin("hplan")
+        .expect("hplan is built")
+        .args(["plan", "--map"])
+        .arg(warehouse_yaml())
+        .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
+        .args(["--start", "3.0,4.0", "--start", "16.4,11.8"])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let paths = report["paths"].as_array().expect("paths");
+    assert_eq!(paths[0]["status"], "reached_goal");
+    assert_ne!(paths[1]["status"], "reached_goal");
+
+    let fails = |args: &[&str], needle: &str| {
+        let out = Command::cargo_bin("hplan")
+            .expect("hplan is built")
+            .current_dir(root())
+            .args(args)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    };
+    fails(&["plan", "--json"], "required");
+    fails(
+        &[
+            "plan",
+            "meshes/reference.json",
+            "--map",
+            "meshes/warehouse_map.yaml",
+        ],
+        "cannot be used with",
+    );
+    fails(&["plan", "--map", "meshes/warehouse_map.yaml"], "--goal");
+    fails(
+        &[
+            "plan",
+            "--map",
+            "meshes/warehouse_map.yaml",
+            "--goal",
+            "0.0,2.5",
+        ],
+        "occupied",
+    );
+    fails(&["plan", "meshes/reference.json", "--goal", "1,1"], "--map");
+}
+
+/// A scratch folder for map files.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hplan-map-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+fn load_err(dir: &Path, yaml: &str) -> String {
+    let path = dir.join("m.yaml");
+    std::fs::write(&path, yaml).expect("write");
+    OccupancyMap::load(&path)
+        .expect_err("must be rejected")
+        .to_string()
+}
+
+#[test]
+fn bad_maps_are_named() {
+    let dir = scratch("bad");
+    // A 4 × 3 image: top row occupied, one unknown, the rest free.
+    let px = [
+        0, 0, 0, 0, //
+        254, 205, 254, 254, //
+        254, 254, 254, 254,
+    ];
+    write_pgm(&dir.join("m.pgm"), 4, 3, &px);
+    let ok = "image: m.pgm\nresolution: 0.5\norigin: [1.0, 2.0, 0.0]\n";
+    let e = load_err(
+        &dir,
+        "image: missing.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n",
+    );
+    assert!(
+        e.contains("missing.pgm") && e.contains("field `image`"),
+        "{e}"
+    );
+    let e = load_err(&dir, "resolution: 0.1\norigin: [0, 0, 0]\n");
+    assert!(e.contains("missing field `image`"), "{e}");
+    let e = load_err(&dir, "image: m.pgm\nresolution: -1\norigin: [0, 0, 0]\n");
+    assert!(e.contains("`resolution`") && e.contains("positive"), "{e}");
+    let e = load_err(&dir, "image: m.pgm\nresolution: abc\norigin: [0, 0, 0]\n");
+    assert!(e.contains("`resolution`"), "{e}");
+    let e = load_err(&dir, "image: m.pgm\nresolution: 0.1\norigin: [0, 0]\nx\n");
+    assert!(e.contains("YAML"), "{e}");
+    let e = load_err(&dir, "image: m.pgm\nresolution: 0.1\norigin: 3\n");
+    assert!(e.contains("`origin`"), "{e}");
+    let e = load_err(&dir, &format!("{ok}mode: fancy\n"));
+    assert!(e.contains("unsupported mode `fancy`"), "{e}");
+    let e = load_err(&dir, &format!("{ok}negate: 2\n"));
+    assert!(e.contains("`negate`"), "{e}");
+    let e = load_err(&dir, &format!("{ok}occupied_thresh: 1.5\n"));
+    assert!(e.contains("`occupied_thresh`"), "{e}");
+    std::fs::write(dir.join("junk.pgm"), b"not an image").expect("write");
+    let e = load_err(
+        &dir,
+        "image: junk.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n",
+    );
+    assert!(e.contains("junk.pgm") && e.contains("decode"), "{e}");
+
+    // The good header: cells are read bottom-up, the frame is the origin's.
+    std::fs::write(dir.join("m.yaml"), ok).expect("write");
+    let map = OccupancyMap::load(dir.join("m.yaml")).expect("loads");
+    assert_eq!((map.width(), map.height()), (4, 3));
+    assert_eq!(map.cell(0, 2), Cell::Occupied);
+    assert_eq!(map.cell(1, 1), Cell::Unknown);
+    assert_eq!(map.cell(1, 0), Cell::Free);
+    assert_eq!(map.cell_center(1, 0), [1.75, 2.25]);
+    assert_eq!(map.cell_at([1.75, 3.25]), Some((1, 2)));
+    let opts = MapOptions::default();
+    let err = |goal: [f64; 2]| {
+        map.to_scene(goal, 0.0, &opts)
+            .expect_err("must be rejected")
+            .to_string()
+    };
+    assert!(err([1.75, 3.25]).contains("occupied cell (column 1, row 2"));
+    assert!(err([1.75, 2.75]).contains("an unknown cell"));
+    assert!(err([0.0, 0.0]).contains("outside the map"));
+    assert!(err([f64::NAN, 2.5]).contains("outside the map"));
+    // Too narrow to keep any free cell after closing gaps under three cells.
+    assert!(err([1.25, 2.25]).contains("narrower than three cells"));
+    assert!(matches!(
+        map.to_scene([1.25, 2.25], -1.0, &opts),
+        Err(MapError::BadRadius(_))
+    ));
+
+    // An all-occupied map is empty.
+    write_pgm(&dir.join("full.pgm"), 2, 2, &[0, 0, 0, 0]);
+    std::fs::write(
+        dir.join("full.yaml"),
+        "image: full.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n",
+    )
+    .expect("write");
+    let full = OccupancyMap::load(dir.join("full.yaml")).expect("loads");
+    let e = full.to_scene([0.05, 0.05], 0.0, &opts).expect_err("empty");
+    assert!(matches!(e, MapError::EmptyMap { .. }), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn modes_negate_and_png() {
+    let dir = scratch("modes");
+    // Grey levels 0, 100, 205, 254 in one row, as a PNG.
+    image::GrayImage::from_raw(4, 1, vec![0, 100, 205, 254])
+        .expect("image")
+        .save(dir.join("m.png"))
+        .expect("png");
+    let cells = |extra: &str| {
+        std::fs::write(
+            dir.join("m.yaml"),
+            format!("image: m.png\nresolution: 0.1\norigin: [0, 0, 0]\n{extra}"),
+        )
+        .expect("write");
+        let map = OccupancyMap::load(dir.join("m.yaml")).expect("loads");
+        (0..4).map(|i| map.cell(i, 0)).collect::<Vec<_>>()
+    };
+    use Cell::{Free, Occupied, Unknown};
+    // Occupancy (255 - v) / 255: 1.0, 0.61, 0.196.., 0.004.
+    assert_eq!(cells(""), [Occupied, Unknown, Unknown, Free]);
+    assert_eq!(cells("mode: scale\n"), [Occupied, Unknown, Unknown, Free]);
+    // Negated: v / 255.
+    assert_eq!(cells("negate: 1\n"), [Free, Unknown, Occupied, Occupied]);
+    // Raw: percent, above 100 unknown.
+    assert_eq!(cells("mode: raw\n"), [Free, Occupied, Unknown, Unknown]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_rotated_map_traces_in_its_frame() {
+    // A 12 × 8 free room with one occupied block, rotated by 90° about (5, 1).
+    let (w, h) = (12, 8);
+    let mut cells = vec![Cell::Free; w * h];
+    for j in 3..5 {
+        for i in 5..7 {
+            cells[j * w + i] = Cell::Occupied;
+        }
+    }
+    let yaw = std::f64::consts::FRAC_PI_2;
+    let map = OccupancyMap::from_cells(w, h, 0.5, [5.0, 1.0, yaw], cells).expect("map");
+    // Cell (0, 0)'s centre is a quarter metre along the rotated x (world +y) and y (world -x).
+    let c = map.cell_center(0, 0);
+    assert!(
+        (c[0] - 4.75).abs() < 1e-12 && (c[1] - 1.25).abs() < 1e-12,
+        "{c:?}"
+    );
+    let goal = map.cell_center(1, 1);
+    let polys = map.polygons(goal, &MapOptions::default()).expect("traces");
+    assert_eq!(polys.obstacles.len(), 1);
+    let hole = polygon(&polys.obstacles[0]);
+    for (i, j) in [(5, 3), (6, 4)] {
+        let p = map.cell_center(i, j);
+        assert!(hole.contains(&Coord { x: p[0], y: p[1] }), "({i}, {j})");
+    }
+    let scene = map
+        .to_scene(goal, 0.1, &MapOptions::default())
+        .expect("scene");
+    let planner = Planner::new(&scene).expect("planner");
+    let path = planner.plan(map.cell_center(10, 6));
+    assert_eq!(path.status, "reached_goal");
+    assert!(path_clearance(&map, &path.points, 0.1) >= 0.1 - 0.01);
+}
