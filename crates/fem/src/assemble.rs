@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use harmonic_mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, orient2d};
-use harmonic_solver::{Ordering, SymmetricCsc};
+use harmonic_solver::{MMatrix, Ordering, SymmetricCsc};
 
 use crate::FemError;
 use crate::bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
@@ -62,7 +62,52 @@ pub struct LinearSystem {
     /// ψ at every vertex whose value is prescribed (0 at free vertices).
     psi_fixed: Vec<f64>,
     reference: f64,
+    /// Row excesses `a_ii − Σ_j |a_ij|` computed as sums of non-negative terms (Dirichlet
+    /// edge weights and lumped Robin mass), for the entrywise-accurate solve.
+    excess: Vec<f64>,
+    /// Why the matrix is not an M-matrix given by non-negative data, if it is not.
+    not_m_matrix: Option<NotMMatrix>,
     dofs: Arc<DofMap>,
+}
+
+/// Why a reduced system cannot be handed to the entrywise-accurate solver
+/// ([`crate::SolveMethod::Accurate`]) as an M-matrix with non-negative primary data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NotMMatrix {
+    /// The cotangent weight of the mesh edge between `vertices` is negative beyond round-off
+    /// (`weight`, i.e. the off-diagonal entry is positive): the edge is not locally Delaunay,
+    /// or it is a boundary edge facing an obtuse angle.
+    NegativeEdgeWeight {
+        /// The edge's mesh vertices.
+        vertices: [u32; 2],
+        /// Its midpoint.
+        midpoint: Point,
+        /// The weight `(cot α + cot β)/2` (negative).
+        weight: f64,
+    },
+    /// The consistent Robin mass ([`RobinMass::Consistent`]) adds positive off-diagonal
+    /// entries; assemble with [`RobinMass::Lumped`].
+    ConsistentRobinMass,
+}
+
+impl std::fmt::Display for NotMMatrix {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NotMMatrix::NegativeEdgeWeight {
+                vertices,
+                midpoint,
+                weight,
+            } => write!(
+                f,
+                "the edge between vertices {} and {} (midpoint ({}, {})) has cotangent weight {weight:e} < 0: the mesh is not Delaunay there",
+                vertices[0], vertices[1], midpoint.x, midpoint.y
+            ),
+            NotMMatrix::ConsistentRobinMass => write!(
+                f,
+                "the consistent Robin mass has positive off-diagonal entries; use the lumped mass"
+            ),
+        }
+    }
 }
 
 impl LinearSystem {
@@ -73,6 +118,53 @@ impl LinearSystem {
     /// The right-hand side (loads and Dirichlet lifting `−A_ID ψ_D`).
     pub fn rhs(&self) -> &[f64] {
         &self.rhs
+    }
+    /// The row excesses `s_i = a_ii − Σ_{j≠i} |a_ij|` of the matrix, each computed directly as
+    /// a sum of non-negative terms — the weights of the edges from unknown `i` to prescribed
+    /// vertices plus its lumped Robin mass — never as a difference. With
+    /// [`off_diagonal_magnitudes`](Self::off_diagonal_magnitudes) they are the primary data of
+    /// the entrywise-accurate solve.
+    pub fn excess(&self) -> &[f64] {
+        &self.excess
+    }
+    /// `None` if the matrix is a diagonally dominant M-matrix given by non-negative data (so
+    /// [`crate::SolveMethod::Accurate`] applies), else the first reason it is not.
+    pub fn not_m_matrix(&self) -> Option<NotMMatrix> {
+        self.not_m_matrix
+    }
+    /// The matrix as an [`MMatrix`]: off-diagonal magnitudes `w_ij = −a_ij` (those within
+    /// round-off of zero on the wrong side clamped to 0) and the row [`excess`](Self::excess).
+    /// Fails with [`FemError::NotMMatrix`] when [`not_m_matrix`](Self::not_m_matrix) is set.
+    pub fn m_matrix(&self) -> Result<MMatrix, FemError> {
+        if let Some(reason) = self.not_m_matrix {
+            return Err(FemError::NotMMatrix(reason));
+        }
+        Ok(MMatrix::try_new(
+            self.off_diagonal_magnitudes(),
+            self.excess.clone(),
+        )?)
+    }
+    /// The off-diagonal magnitudes `max(−a_ij, 0)` with the matrix's pattern minus its
+    /// diagonal (exactly symmetric, as the matrix is).
+    pub fn off_diagonal_magnitudes(&self) -> SymmetricCsc {
+        let a = &self.matrix;
+        let n = a.n();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(a.nnz().saturating_sub(n));
+        let mut values = Vec::with_capacity(a.nnz().saturating_sub(n));
+        col_ptr.push(0);
+        for j in 0..n {
+            let (rows, vals) = a.column(j);
+            for (&i, &v) in rows.iter().zip(vals) {
+                if i != j {
+                    row_idx.push(i);
+                    values.push((-v).max(0.0));
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        SymmetricCsc::try_new(n, col_ptr, row_idx, values)
+            .expect("dropping the diagonal of a valid symmetric pattern keeps it valid")
     }
     /// The reference value `c` of the transform ψ = c − φ.
     pub fn reference(&self) -> f64 {
@@ -184,6 +276,11 @@ pub struct Assembler {
     tri_pos: Vec<[u32; 6]>,
     /// Per unknown: position of its diagonal entry.
     diag_pos: Vec<u32>,
+    /// Per triangle and local edge `k`: the slot in `lift_edges` of the edge if exactly one
+    /// end is an unknown, or `NONE`.
+    lift_pos: Vec<[u32; 3]>,
+    /// Edges from an unknown to a prescribed vertex: (unknown index, prescribed vertex).
+    lift_edges: Vec<(u32, u32)>,
     /// Per component of free space: whether it has a prescribed vertex.
     component_fixed: Vec<bool>,
     /// Per component: one of its vertices (for error messages).
@@ -323,6 +420,35 @@ impl Assembler {
             }
         }
         let diag_pos: Vec<u32> = (0..n).map(|j| to_t[col_ptr[j]]).collect();
+
+        // Lifting edges (one end unknown, one prescribed), each once, so their weights are
+        // summed over both triangles before use: a single triangle's share may be negative.
+        let mut lift_pos = vec![[NONE; 3]; triangles.len()];
+        let mut lift_edges = Vec::new();
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = unknowns_of(tri, k);
+                if (a == NONE) == (b == NONE) {
+                    continue;
+                }
+                let nb = neighbors[t][k];
+                if nb == NO_NEIGHBOR || nb as usize > t {
+                    lift_pos[t][k] = lift_edges.len() as u32;
+                    let (u, v) = if a != NONE {
+                        (a, tri[(k + 2) % 3])
+                    } else {
+                        (b, tri[(k + 1) % 3])
+                    };
+                    lift_edges.push((u, v));
+                } else {
+                    let nb = nb as usize;
+                    let kn = (0..3)
+                        .find(|&m| neighbors[nb][m] as usize == t)
+                        .expect("adjacency is symmetric");
+                    lift_pos[t][k] = lift_pos[nb][kn];
+                }
+            }
+        }
         let template = SymmetricCsc::try_new(n, col_ptr, row_idx, vec![0.0; nnz])?;
 
         let components = mesh.component_count() as usize;
@@ -346,6 +472,8 @@ impl Assembler {
             template,
             tri_pos,
             diag_pos,
+            lift_pos,
+            lift_edges,
             component_fixed,
             component_vertex,
         })
@@ -388,6 +516,8 @@ impl Assembler {
             rhs: vec![0.0; self.unknown_count()],
             psi_fixed: vec![0.0; self.mesh.vertices().len()],
             reference: 0.0,
+            excess: vec![0.0; self.unknown_count()],
+            not_m_matrix: None,
             dofs: Arc::clone(&self.dofs),
         }
     }
@@ -544,9 +674,17 @@ impl Assembler {
         let rhs = &mut system.rhs;
         rhs.fill(0.0);
         let diag_pos = &self.diag_pos;
+        let excess = &mut system.excess;
+        excess.fill(0.0);
+        let mut lift_weight = vec![0.0; self.lift_edges.len()];
 
         // Stiffness: K_pq = −(cot θ_k)/2 for the edge opposite local vertex k.
-        for (tri, pos) in mesh.triangles().iter().zip(&self.tri_pos) {
+        for ((tri, pos), lift) in mesh
+            .triangles()
+            .iter()
+            .zip(&self.tri_pos)
+            .zip(&self.lift_pos)
+        {
             let [p0, p1, p2] = tri.map(|v| vertices[v as usize]);
             let half_inv = 0.5 / orient2d(p0, p1, p2);
             let w = [
@@ -563,17 +701,41 @@ impl Assembler {
                     if ub != NONE {
                         values[pos[2 * k] as usize] -= wk;
                         values[pos[2 * k + 1] as usize] -= wk;
-                    } else {
-                        rhs[ua as usize] += wk * psi_fixed[b];
                     }
                 }
                 if ub != NONE {
                     values[diag_pos[ub as usize] as usize] += wk;
-                    if ua == NONE {
-                        rhs[ub as usize] += wk * psi_fixed[a];
-                    }
+                }
+                if lift[k] != NONE {
+                    lift_weight[lift[k] as usize] += wk;
                 }
             }
+        }
+
+        // Lifting, per edge with both triangles' shares summed: rhs_u += w ψ_v, and the
+        // excess of row u gains w. A weight below zero beyond round-off means the edge is not
+        // Delaunay; within round-off (right angles) it is clamped to 0.
+        let mut not_m_matrix = (self.options.robin_mass == RobinMass::Consistent)
+            .then_some(NotMMatrix::ConsistentRobinMass);
+        for (&(u, v), &w) in self.lift_edges.iter().zip(&lift_weight) {
+            let diag = values[diag_pos[u as usize] as usize];
+            if w < -1e-12 * diag && not_m_matrix.is_none() {
+                let (p, q) = (
+                    vertices[self.dofs.free_vertices[u as usize] as usize],
+                    vertices[v as usize],
+                );
+                not_m_matrix = Some(NotMMatrix::NegativeEdgeWeight {
+                    vertices: [self.dofs.free_vertices[u as usize], v],
+                    midpoint: nalgebra::center(&p, &q),
+                    weight: w,
+                });
+            }
+            let w = w.max(0.0);
+            rhs[u as usize] += w * psi_fixed[v as usize];
+            excess[u as usize] += w;
+        }
+        if not_m_matrix.is_none() {
+            not_m_matrix = self.positive_off_diagonal(values);
         }
 
         // Neumann and Robin edges: ∫ f v with f linear along the edge is |e|(2f_i + f_j)/6.
@@ -609,6 +771,7 @@ impl Assembler {
                     for u in [ui, uj] {
                         if u != NONE {
                             values[diag_pos[u as usize] as usize] += beta * length / 2.0;
+                            excess[u as usize] += beta * length / 2.0;
                         }
                     }
                 }
@@ -632,7 +795,30 @@ impl Assembler {
                 }
             }
         }
+        system.not_m_matrix = not_m_matrix;
         Ok(())
+    }
+
+    /// The first off-diagonal entry of the stiffness part that is positive beyond round-off
+    /// (`1e-12·max(a_ii, a_jj)`), as a [`NotMMatrix`].
+    fn positive_off_diagonal(&self, values: &[f64]) -> Option<NotMMatrix> {
+        let a = &self.template;
+        let vertices = self.mesh.vertices();
+        let free = &self.dofs.free_vertices;
+        let diag = |j: usize| values[self.diag_pos[j] as usize];
+        (0..a.n()).find_map(|j| {
+            (a.col_ptr()[j]..a.col_ptr()[j + 1]).find_map(|p| {
+                let i = a.row_idx()[p];
+                (i > j && values[p] > 1e-12 * diag(i).max(diag(j))).then(|| {
+                    let (vi, vj) = (free[i], free[j]);
+                    NotMMatrix::NegativeEdgeWeight {
+                        vertices: [vi, vj],
+                        midpoint: nalgebra::center(&vertices[vi as usize], &vertices[vj as usize]),
+                        weight: -values[p],
+                    }
+                })
+            })
+        })
     }
 }
 

@@ -53,11 +53,14 @@ mod potential;
 mod solve;
 
 pub use assemble::{
-    Assembler, AssemblyOptions, BoundaryData, LinearSystem, RobinMass, offdiagonal_sign_violations,
+    Assembler, AssemblyOptions, BoundaryData, LinearSystem, NotMMatrix, RobinMass,
+    offdiagonal_sign_violations,
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 pub use potential::{Evaluation, Potential, blend};
-pub use solve::{Solver, solve_potential};
+pub use solve::{
+    AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
+};
 
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
 pub use harmonic_solver::Ordering;
@@ -173,6 +176,10 @@ pub enum FemError {
         /// The weight.
         k: f64,
     },
+    /// The entrywise-accurate solve was asked for a system that is not an M-matrix with
+    /// non-negative primary data.
+    #[error("the accurate (M-matrix) solve does not apply: {0}")]
+    NotMMatrix(NotMMatrix),
     /// The sparse solver failed.
     #[error("linear solve failed: {0}")]
     Solver(#[from] harmonic_solver::SolverError),
