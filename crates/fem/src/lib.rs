@@ -14,6 +14,61 @@
 //! is transformed exactly: Dirichlet `v` → ψ = c − v; Neumann `g` → ∂ψ/∂n = −g; Robin
 //! `a∂φ/∂n + bφ = g` → `a∂ψ/∂n + bψ = b·c − g`. The robot ascends ψ (descends φ).
 //!
+//! ## Accurate far fields (issue #11)
+//! ψ in f64 keeps its relative precision only if the solve does too. On a Delaunay mesh with
+//! Dirichlet and lumped-Robin walls the reduced matrix is a diagonally dominant M-matrix, and
+//! the assembler also records each row's excess (edge weights to prescribed vertices plus
+//! Robin mass, a sum of non-negative terms — [`LinearSystem::excess`]). [`SolveMethod::Accurate`]
+//! eliminates with the off-diagonal weights and these excesses as primary data
+//! ([`harmonic_solver::AccurateLdlt`]), so every ψ has a small relative error down to 1e-300.
+//! A Cholesky pivot `a_ii − Σ l² d` instead loses the excess when it is tiny against the
+//! diagonal: on a 2-row strip with Robin walls `b/a = 1e-6` (ψ down to 1e-61) Cholesky is off by
+//! 8e-9 relative, the accurate solve by 3e-14 (`tests/flat_fields.rs` at the workspace root).
+//! Costs measured on the reference scene with nested dissection (first solve = analysis,
+//! factorisation and solve; `cargo test --release --test flat_fields -- --ignored --nocapture
+//! accurate_solve_cost`): 30k triangles (14k unknowns) 24 ms for both; 300k triangles (148k
+//! unknowns) 0.27 s Cholesky against 0.60 s accurate. Hence the default
+//! [`SolveMethod::Auto`]: accurate up to [`AUTO_ACCURATE_MAX_UNKNOWNS`], above that Cholesky,
+//! redone accurately only when ψ spans more than 1/[`AUTO_FLAT_RATIO`].
+//!
+//! ```
+//! use std::sync::Arc;
+//! use harmonic_fem::{
+//!     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, SolveMethod, Solver,
+//! };
+//! use harmonic_mesh::{BoundaryTag, Mesh, Point};
+//!
+//! // A 40 × 1 strip of right triangles, goal on the left side, Robin walls ∂ψ/∂n + 50ψ = 0.
+//! let n = 80u32;
+//! let vertices = (0..=n)
+//!     .flat_map(|i| [Point::new(0.5 * i as f64, 0.0), Point::new(0.5 * i as f64, 1.0)])
+//!     .collect();
+//! let triangles = (0..n)
+//!     .flat_map(|i| [[2 * i, 2 * i + 2, 2 * i + 3], [2 * i, 2 * i + 3, 2 * i + 1]])
+//!     .collect();
+//! let mut boundary = vec![(1, 0, BoundaryTag::Goal(0)), (2 * n, 2 * n + 1, BoundaryTag::Wall)];
+//! for i in 0..n {
+//!     boundary.push((2 * i, 2 * i + 2, BoundaryTag::Wall));
+//!     boundary.push((2 * i + 3, 2 * i + 1, BoundaryTag::Wall));
+//! }
+//! let mesh = Arc::new(Mesh::from_parts(vertices, triangles, &boundary)?);
+//! let bcs = BoundaryConditions::uniform(BoundaryCondition::Robin { a: 1.0, b: 50.0, g: 50.0 });
+//! let bcs = BoundaryConditions { goals: BoundaryCondition::Dirichlet(0.0), ..bcs };
+//! let assembler = Assembler::new(mesh.clone(), &bcs, AssemblyOptions::default())?;
+//! let system = assembler.assemble(&bcs)?;
+//! assert!(system.not_m_matrix().is_none());
+//! let solver = Solver::with_method(&system, assembler.nested_dissection(), SolveMethod::Accurate)?;
+//! let potential = solver.potential(mesh, &system)?;
+//! let bottom: Vec<f64> = potential.psi().iter().step_by(2).copied().collect();
+//! // ψ falls by a factor of about 30 per column, to about 1e-118 at the far end, and keeps
+//! // every digit: each column's ratio to the next stays the same.
+//! let far = bottom[n as usize];
+//! assert!(far > 0.0 && far < 1e-100);
+//! let ratio = |i: usize| bottom[i] / bottom[i + 1];
+//! assert!((ratio(10) - ratio(60)).abs() < 1e-10 * ratio(10));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## Flow
 //! [`Assembler::new`] computes the sparsity pattern and the Dirichlet map once for a mesh and
 //! the *kinds* of its boundary conditions; [`Assembler::assemble`] fills values for any
