@@ -928,6 +928,66 @@ mod tests {
     }
 
     #[test]
+    fn excess_is_the_row_sum_and_consistent_mass_is_not_an_m_matrix() {
+        let mesh = small_mesh();
+        let bcs = BoundaryConditions {
+            walls: BoundaryCondition::Robin {
+                a: 1.0,
+                b: 3.0,
+                g: 3.0,
+            },
+            ..BoundaryConditions::default()
+        };
+        let system = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())
+            .expect("pattern")
+            .assemble(&bcs)
+            .expect("assembly");
+        assert_eq!(system.not_m_matrix(), None);
+        let a = system.matrix();
+        let m = system.m_matrix().expect("M-matrix");
+        for j in 0..a.n() {
+            let (rows, vals) = a.column(j);
+            let row_sum: f64 = vals.iter().sum();
+            assert!(
+                row_sum > 0.0,
+                "every row here touches the goal or a Robin wall"
+            );
+            assert!(
+                (system.excess()[j] - row_sum).abs() < 1e-14 * a.diagonal()[j],
+                "row {j}: excess {} vs row sum {row_sum}",
+                system.excess()[j]
+            );
+            let (mrows, mvals) = m.offdiag().column(j);
+            let off: Vec<(usize, f64)> = rows
+                .iter()
+                .zip(vals)
+                .filter(|(i, _)| **i != j)
+                .map(|(&i, &v)| (i, -v))
+                .collect();
+            let got: Vec<(usize, f64)> = mrows.iter().copied().zip(mvals.iter().copied()).collect();
+            assert_eq!(got, off);
+        }
+        let consistent = Assembler::new(
+            Arc::clone(&mesh),
+            &bcs,
+            AssemblyOptions {
+                robin_mass: RobinMass::Consistent,
+            },
+        )
+        .expect("pattern")
+        .assemble(&bcs)
+        .expect("assembly");
+        assert_eq!(
+            consistent.not_m_matrix(),
+            Some(NotMMatrix::ConsistentRobinMass)
+        );
+        assert!(matches!(
+            consistent.m_matrix(),
+            Err(FemError::NotMMatrix(NotMMatrix::ConsistentRobinMass))
+        ));
+    }
+
+    #[test]
     fn lifting_moves_dirichlet_columns_to_the_right_hand_side() {
         let mesh = small_mesh();
         let bcs = BoundaryConditions::default(); // walls 1, goal 0: c = 1

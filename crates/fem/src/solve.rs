@@ -44,8 +44,8 @@ pub enum SolveMethod {
 pub struct SolveReport {
     /// The factorisation whose solution was returned: `Cholesky` or `Accurate`.
     pub method: SolveMethod,
-    /// Set when [`SolveMethod::Auto`] wanted the accurate solve but the system is not an
-    /// M-matrix, so the Cholesky solution (normwise accurate only) was returned.
+    /// Set when [`SolveMethod::Auto`] could not use the accurate solve because the system is
+    /// not an M-matrix, so the Cholesky solution (normwise accurate only) was returned.
     pub fell_back: Option<NotMMatrix>,
 }
 
@@ -143,11 +143,10 @@ impl Solver {
             SolveMethod::Cholesky => (self.cholesky(system)?, report(SolveMethod::Cholesky, None)),
             SolveMethod::Accurate => (self.accurate(system)?, report(SolveMethod::Accurate, None)),
             SolveMethod::Auto => match system.not_m_matrix() {
-                Some(reason) if self.n <= AUTO_ACCURATE_MAX_UNKNOWNS => (
+                Some(reason) => (
                     self.cholesky(system)?,
                     report(SolveMethod::Cholesky, Some(reason)),
                 ),
-                Some(_) => (self.cholesky(system)?, report(SolveMethod::Cholesky, None)),
                 None if self.n <= AUTO_ACCURATE_MAX_UNKNOWNS => {
                     (self.accurate(system)?, report(SolveMethod::Accurate, None))
                 }
