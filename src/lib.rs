@@ -25,6 +25,7 @@
 //! ```
 
 pub mod compare;
+pub mod dynamic;
 pub mod map;
 pub mod planner;
 pub mod render;
