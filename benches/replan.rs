@@ -9,7 +9,7 @@ use std::sync::Arc;
 use criterion::{Criterion, criterion_group, criterion_main};
 use harmonic_planner::Scene;
 use harmonic_planner::dynamic::{DynamicPlanner, LocalMapOptions};
-use harmonic_planner::fem::{Assembler, AssemblyOptions, Solver};
+use harmonic_planner::fem::{Assembler, AssemblyOptions, SolveMethod, Solver};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::solver::Ordering;
 
@@ -59,12 +59,28 @@ fn replan(c: &mut Criterion) {
     let assembler =
         Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default()).expect("assembler");
     let system = assembler.assemble(&bcs).expect("system");
-    group.bench_function("stage_factor_solve", |b| {
-        b.iter(|| {
-            let solver = Solver::new(&system, Ordering::Amd).expect("factor");
-            black_box(solver.potential(Arc::clone(&mesh), &system).expect("solve"))
-        })
-    });
+    // What the planner does (nested dissection, the accurate solve at this size) against
+    // plain AMD + supernodal Cholesky.
+    for (name, ordering, method) in [
+        (
+            "stage_factor_solve_planner",
+            assembler.nested_dissection(),
+            SolveMethod::Auto,
+        ),
+        (
+            "stage_factor_solve_amd_cholesky",
+            Ordering::Amd,
+            SolveMethod::Cholesky,
+        ),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let solver =
+                    Solver::with_method(&system, ordering.clone(), method).expect("factor");
+                black_box(solver.potential(Arc::clone(&mesh), &system).expect("solve"))
+            })
+        });
+    }
     group.finish();
 }
 
