@@ -102,6 +102,67 @@ pub struct Domain {
     wall_index: SegmentIndex,
 }
 
+/// Drops the edges that two oriented rings of one polygon share in opposite directions and
+/// chains the remaining edges into rings again.
+///
+/// Boolean operations can return an obstacle flush with the workspace boundary as a hole whose
+/// edge coincides with an edge of the exterior ring (after snapping, exactly). Such a pair
+/// bounds nothing — free space lies on neither side — and as triangulation constraints it makes
+/// every face look like a hole. Cancelling the pair turns exterior and hole into one notched
+/// exterior, which is what the region is.
+fn cancel_shared_edges(rings: Vec<TaggedRing>) -> Vec<TaggedRing> {
+    type Key = (u64, u64);
+    let key = |p: Point| -> Key { (p.x.to_bits(), p.y.to_bits()) };
+    let edges: Vec<(Point, Point, BoundaryTag)> = rings
+        .iter()
+        .flat_map(|r| {
+            let n = r.points.len();
+            (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], r.tags[k]))
+        })
+        .collect();
+    let directed: std::collections::HashSet<(Key, Key)> =
+        edges.iter().map(|&(a, b, _)| (key(a), key(b))).collect();
+    let shared = |&(a, b, _): &(Point, Point, BoundaryTag)| directed.contains(&(key(b), key(a)));
+    if !edges.iter().any(shared) {
+        return rings;
+    }
+    let kept: Vec<(Point, Point, BoundaryTag)> =
+        edges.iter().copied().filter(|e| !shared(e)).collect();
+    let mut leaving: HashMap<Key, Vec<usize>> = HashMap::new();
+    for (i, &(a, _, _)) in kept.iter().enumerate() {
+        leaving.entry(key(a)).or_default().push(i);
+    }
+    let mut used = vec![false; kept.len()];
+    let mut out = Vec::new();
+    for first in 0..kept.len() {
+        if used[first] {
+            continue;
+        }
+        let (mut points, mut tags) = (Vec::new(), Vec::new());
+        let mut e = first;
+        loop {
+            used[e] = true;
+            points.push(kept[e].0);
+            tags.push(kept[e].2);
+            let end = key(kept[e].1);
+            if end == key(kept[first].0) {
+                break;
+            }
+            match leaving
+                .get(&end)
+                .and_then(|next| next.iter().copied().find(|&k| !used[k]))
+            {
+                Some(k) => e = k,
+                None => break,
+            }
+        }
+        if points.len() >= 3 && ring_area(&points) != 0.0 {
+            out.push(TaggedRing { points, tags });
+        }
+    }
+    out
+}
+
 /// The target edge length of an equilateral triangle of area `max_area`.
 pub(crate) fn edge_for_area(max_area: f64) -> f64 {
     (4.0 * max_area / 3f64.sqrt()).sqrt()
@@ -580,6 +641,7 @@ impl Domain {
         let tol = 1e-7 * scale;
         let mut free = Vec::new();
         for poly in &free_mp.0 {
+            let mut rings = Vec::new();
             for (r, ls) in std::iter::once(poly.exterior())
                 .chain(poly.interiors())
                 .enumerate()
@@ -599,8 +661,9 @@ impl Domain {
                 if (r == 0) != ccw {
                     pts.reverse();
                 }
-                free.push(tag_ring(&pts, &sources, &source_index, tol));
+                rings.push(tag_ring(&pts, &sources, &source_index, tol));
             }
+            free.extend(cancel_shared_edges(rings));
         }
         let free_area: f64 = free.iter().map(|r| ring_area(&r.points)).sum();
         let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {

@@ -497,6 +497,13 @@ impl Domain {
             boundary.push((new_id[a], new_id[b], seg_tags[s as usize].2));
         }
         let added_vertices = positions.len() - input_vertices;
+        if triangles.is_empty() {
+            // Free space has positive area (checked by `Domain::new`), so no triangle at all
+            // means the boundary rings were inconsistent: say so rather than return nothing.
+            return Err(MeshError::Triangulation(
+                "no triangle lies in free space (inconsistent boundary rings)".to_string(),
+            ));
+        }
         let mesh = Mesh::from_parts(vertices, triangles, &boundary)?;
         Ok((
             mesh,
