@@ -40,6 +40,6 @@ pub use harmonic_solver as solver;
 pub use harmonic_trajectory as trajectory;
 pub use planner::{
     CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
-    PlannerOptions, SvgOptions, Timings,
+    PlannerOptions, Report, SvgOptions, Timings,
 };
 pub use scene::{Scene, SceneError};
