@@ -544,7 +544,6 @@ fn inconsistent_triangle_meshes_are_refused() {
 
 /// A count in a header is trusted for `Vec::with_capacity` before any data is read.
 #[test]
-#[ignore = "harmonic_mesh::io::parse_nodes panics (capacity overflow) on a huge vertex count; see report"]
 fn huge_counts_in_headers_are_refused() {
     let (_, line, m) = triangle_error("1000000000000000000 2 0 0\n0 0 0\n", ELE, None);
     assert!(line == 1 && m.contains("expected"), "{m}");
@@ -657,7 +656,6 @@ fn bad_flag_values_fail_with_one_line() {
 /// Errors found by the argument parser (unknown flags, missing arguments, values its
 /// `value_parser`s refuse) also fail with one line.
 #[test]
-#[ignore = "src/bin/hplan.rs main() uses Cli::parse(), whose usage errors are several lines; see report"]
 fn usage_errors_fail_with_one_line() {
     let s = reference();
     let cases: &[(&[&str], &str)] = &[

@@ -64,10 +64,15 @@ enum Command {
         #[arg(long, value_name = "X,Y,THETA", value_parser = parse_pose, allow_hyphen_values = true)]
         pose: Vec<[f64; 3]>,
         /// Distance between the rear and the front axle.
-        #[arg(long, value_name = "L")]
+        #[arg(long, value_name = "L", allow_negative_numbers = true)]
         wheelbase: Option<f64>,
         /// Steering limit of the front wheels, in degrees.
-        #[arg(long, value_name = "DEG", default_value_t = 35.0)]
+        #[arg(
+            long,
+            value_name = "DEG",
+            default_value_t = 35.0,
+            allow_negative_numbers = true
+        )]
         max_steer: f64,
     },
     /// Write the mesh and the potential for outside tools.
@@ -129,7 +134,18 @@ fn parse_pose(s: &str) -> Result<[f64; 3], String> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            // --help and --version: clap prints them as usual.
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("hplan: {}", one_line(&e.render().to_string()));
+            return ExitCode::from(2);
+        }
+    };
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
@@ -137,6 +153,17 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// A clap error as one line: the message and its notes, without the usage block.
+fn one_line(rendered: &str) -> String {
+    rendered
+        .lines()
+        .take_while(|l| !l.starts_with("Usage:"))
+        .map(|l| l.trim().trim_start_matches("error: "))
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 fn load(common_scene: &Path, max_area: Option<f64>) -> Result<Scene, String> {

@@ -183,6 +183,9 @@ fn num<T: std::str::FromStr>(
         })
 }
 
+/// The most entries reserved up front from a file header's count.
+const RESERVE_CAP: usize = 1 << 16;
+
 /// Parses `.node` content (or the vertex block of a `.poly`): points, markers, the first index
 /// (0 or 1), and the remaining lines.
 #[allow(clippy::type_complexity)]
@@ -202,8 +205,10 @@ fn parse_nodes<'a>(
     } else {
         0
     };
-    let mut pts = Vec::with_capacity(n);
-    let mut marks = Vec::with_capacity(n);
+    // A header may claim any count: reserve a bounded amount and let the vectors grow.
+    let reserve = n.min(RESERVE_CAP);
+    let mut pts = Vec::with_capacity(reserve);
+    let mut marks = Vec::with_capacity(reserve);
     let mut base = 0;
     for k in 0..n {
         let (ln, f) = lines
@@ -246,7 +251,7 @@ pub fn from_triangle(node: &str, ele: &str, poly: Option<&str>) -> Result<Mesh, 
     let mut lines = data_lines(ele);
     let (ln, head) = lines.next().ok_or_else(|| err(".ele", 0, "empty file"))?;
     let nt: usize = num(".ele", ln, &head, 0)?;
-    let mut triangles = Vec::with_capacity(nt);
+    let mut triangles = Vec::with_capacity(nt.min(RESERVE_CAP));
     for k in 0..nt {
         let (ln, f) = lines
             .next()
@@ -300,7 +305,7 @@ pub fn from_triangle(node: &str, ele: &str, poly: Option<&str>) -> Result<Mesh, 
         }
     }
     // Boundary edges: those used by one triangle only.
-    let mut count: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * nt);
+    let mut count: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
     for t in &triangles {
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
