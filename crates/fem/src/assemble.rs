@@ -163,7 +163,7 @@ impl LinearSystem {
             }
             col_ptr.push(row_idx.len());
         }
-        SymmetricCsc::try_new(n, col_ptr, row_idx, values)
+        SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, values)
             .expect("dropping the diagonal of a valid symmetric pattern keeps it valid")
     }
     /// The reference value `c` of the transform ψ = c − φ.
@@ -449,7 +449,9 @@ impl Assembler {
                 }
             }
         }
-        let template = SymmetricCsc::try_new(n, col_ptr, row_idx, vec![0.0; nnz])?;
+        // Built from undirected mesh edges: symmetric by construction.
+        let template =
+            SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])?;
 
         let components = mesh.component_count() as usize;
         let mut component_fixed = vec![false; components];

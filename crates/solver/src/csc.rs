@@ -40,6 +40,24 @@ impl SymmetricCsc {
         values: Vec<f64>,
     ) -> Result<Self, SolverError> {
         let bad = |column, issue| Err(SolverError::InvalidStructure { column, issue });
+        let a = Self::try_from_symmetric_pattern(n, col_ptr, row_idx, values)?;
+        if let Some((row, column)) = a.missing_mirror() {
+            return bad(column, StructureIssue::MissingMirror { row });
+        }
+        Ok(a)
+    }
+
+    /// Like [`SymmetricCsc::try_new`], for a pattern symmetric by construction (built from
+    /// undirected edges, as a finite element assembler does): every structural check except
+    /// the search for each entry's mirror, which costs about as much as the rest together
+    /// (40 ms at 3.5 M entries). Debug builds still check the mirror.
+    pub fn try_from_symmetric_pattern(
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Result<Self, SolverError> {
+        let bad = |column, issue| Err(SolverError::InvalidStructure { column, issue });
         if col_ptr.len() != n + 1 {
             return bad(
                 0,
@@ -78,22 +96,29 @@ impl SymmetricCsc {
                 }
             }
         }
-        for j in 0..n {
-            for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-                if i != j
-                    && row_idx[col_ptr[i]..col_ptr[i + 1]]
-                        .binary_search(&j)
-                        .is_err()
-                {
-                    return bad(j, StructureIssue::MissingMirror { row: i });
-                }
-            }
-        }
-        Ok(Self {
+        let a = Self {
             n,
             col_ptr,
             row_idx,
             values,
+        };
+        debug_assert_eq!(a.missing_mirror(), None, "pattern is not symmetric");
+        Ok(a)
+    }
+
+    /// The first stored `(row, column)` whose mirror is not stored, if any.
+    fn missing_mirror(&self) -> Option<(usize, usize)> {
+        let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
+        (0..self.n).find_map(|j| {
+            row_idx[col_ptr[j]..col_ptr[j + 1]]
+                .iter()
+                .find(|&&i| {
+                    i != j
+                        && row_idx[col_ptr[i]..col_ptr[i + 1]]
+                            .binary_search(&j)
+                            .is_err()
+                })
+                .map(|&i| (i, j))
         })
     }
 
