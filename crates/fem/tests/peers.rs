@@ -1,5 +1,5 @@
 //! Agreement with the Python (scikit-fem on Triangle) and FreeFEM peers on the reference scene
-//! (`/work/shared/peers/RESULTS.md`): φ at six sample points, Dirichlet and Robin cases.
+//! (`../shared/peers/RESULTS.md`): φ at six sample points, Dirichlet and Robin cases.
 
 #[path = "support/reference.rs"]
 mod reference;
