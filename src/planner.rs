@@ -518,8 +518,8 @@ impl Planner {
         }
     }
 
-    /// Drives the car from every pose and reports as `hplan car --json` does. A pose whose
-    /// run fails (an invalid option) is reported with its error as status.
+    /// Drives the car from every pose, in parallel, and reports as `hplan car --json` does.
+    /// Errors only if the car parameters are invalid; how each run ended is its status.
     pub fn car_report(
         &self,
         poses: &[[f64; 3]],
@@ -601,7 +601,6 @@ impl Planner {
             car_poses: car_poses.to_vec(),
             car_size: opts.car_size,
             title: opts.title.clone(),
-            ..Default::default()
         };
         picture.to_svg(opts.width_px)
     }

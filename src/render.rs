@@ -15,8 +15,6 @@ pub struct Picture<'a> {
     pub workspace: Vec<Vec<Point>>,
     /// Obstacle rings (after merging and inflation).
     pub obstacles: Vec<Vec<Point>>,
-    /// Obstacle rings as given, before inflation by the robot's radius (drawn lighter).
-    pub original_obstacles: Vec<Vec<Point>>,
     /// Goal rings.
     pub goals: Vec<Vec<Point>>,
     /// The mesh, drawn thin when `show_mesh` is set, and the carrier of the isolines.
@@ -116,22 +114,10 @@ impl Picture<'_> {
                 }
             }
         }
-        if !self.original_obstacles.is_empty() {
-            let _ = writeln!(
-                s,
-                r##"<path d="{}" fill="#bbb" stroke="none" fill-rule="evenodd"/>"##,
-                ring_path(&self.original_obstacles)
-            );
-        }
         let _ = writeln!(
             s,
-            r##"<path d="{}" fill="#555" fill-opacity="{}" stroke="#222" stroke-width="{:.5}" fill-rule="evenodd"/>"##,
+            r##"<path d="{}" fill="#555" stroke="#222" stroke-width="{:.5}" fill-rule="evenodd"/>"##,
             ring_path(&self.obstacles),
-            if self.original_obstacles.is_empty() {
-                1.0
-            } else {
-                0.35
-            },
             1.0 * px
         );
         let _ = writeln!(

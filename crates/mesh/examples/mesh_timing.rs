@@ -3,15 +3,10 @@
 //! Further arguments `prefill` (switch the lattice prefill on) and `no-bridges` (switch bridge
 //! splitting off).
 
-use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
+use harmonic_mesh::{Domain, MeshOptions};
 
-fn p(x: f64, y: f64) -> Point {
-    Point::new(x, y)
-}
-
-fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {
-    vec![p(x0, y0), p(x1, y0), p(x1, y1), p(x0, y1)]
-}
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_area: f64 = std::env::args()
@@ -19,34 +14,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(0.0044);
-    let spec = DomainSpec {
-        workspace: rect(0.0, 0.0, 10.0, 10.0),
-        obstacles: vec![
-            Shape::Polygon(rect(2.0, 2.0, 3.0, 8.0)),
-            Shape::Polygon(rect(5.0, 4.0, 9.0, 5.0)),
-            Shape::Polygon(vec![p(4.0, 7.0), p(7.0, 7.0), p(6.0, 9.0)]),
-            Shape::Polygon(vec![
-                p(5.5, 1.0),
-                p(7.0, 1.0),
-                p(7.0, 3.0),
-                p(6.5, 3.0),
-                p(6.5, 1.5),
-                p(5.5, 1.5),
-            ]),
-            Shape::Polygon(vec![
-                p(3.6, 2.4),
-                p(4.6, 2.2),
-                p(4.9, 3.1),
-                p(4.2, 3.7),
-                p(3.5, 3.2),
-            ]),
-        ],
-        goals: vec![GoalShape::Circle {
-            center: p(8.5, 1.5),
-            radius: 0.15,
-        }],
-        robot_radius: 0.0,
-    };
+    let spec = common::reference();
     let flags: Vec<String> = std::env::args().skip(2).collect();
     let opts = MeshOptions {
         max_area: Some(max_area),
