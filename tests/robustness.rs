@@ -584,6 +584,22 @@ fn the_fuzz_corpus_replays_without_a_panic() {
     assert!(planned >= 7, "the bundled scenes plan: {planned}");
 }
 
+/// The fuzzer's `found_spade_locate_panic_near_wall_vertex.json`: an obstacle corner 2e-16
+/// above the wall y = 0. It used to fail with a misleading "invalid mesh" error (spade's
+/// refinement panicked on the sliver); the corner is now snapped onto the wall, the obstacle
+/// touches it, and the scene plans at its own mesh size.
+#[test]
+fn an_obstacle_corner_a_rounding_error_off_the_wall_plans() {
+    let path = root().join("fuzz/corpus/scene/found_spade_locate_panic_near_wall_vertex.json");
+    let scene = Scene::from_file(&path).expect("a valid scene");
+    let planner = Planner::new(&scene).expect("plans");
+    for &start in &scene.starts {
+        let path = planner.plan(start);
+        assert_eq!(path.status, "reached_goal", "from {start:?}: {path:?}");
+        assert!(path.min_clearance > 0.0, "from {start:?}");
+    }
+}
+
 /// The cap keeps a fuzz case small whatever `max_area` the scene asks for.
 #[test]
 fn the_fuzz_cap_bounds_the_mesh() {

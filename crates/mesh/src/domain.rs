@@ -11,6 +11,7 @@ use geo::{
 use serde::{Deserialize, Serialize};
 
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
+use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
 use crate::triangulate::MeshOptions;
 use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
 
@@ -525,22 +526,17 @@ impl Domain {
             if mp.intersection(&ws_geo).unsigned_area() <= 0.0 {
                 return Err(MeshError::OutsideWorkspace { part });
             }
-            for poly in &mp.0 {
-                for ls in std::iter::once(poly.exterior()).chain(poly.interiors()) {
-                    let pts = from_ls(ls);
-                    snap_inputs.extend_from_slice(&pts);
-                    let n = pts.len();
-                    for k in 0..n {
-                        sources.push((pts[k], pts[(k + 1) % n], BoundaryTag::Obstacle(i as u32)));
-                    }
-                }
-            }
             obstacle_geo.push(mp);
         }
         let clearance_index = SegmentIndex::new(
-            sources
+            obstacle_geo
                 .iter()
-                .map(|&(a, b, _)| (a, b, 0))
+                .flat_map(rings_of)
+                .flatten()
+                .flat_map(|pts| {
+                    let n = pts.len();
+                    (0..n).map(move |k| (pts[k], pts[(k + 1) % n], 0))
+                })
                 .chain((0..ws.len()).map(|k| (ws[k], ws[(k + 1) % ws.len()], 0))),
         );
         let mut goal_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.goals.len());
@@ -565,11 +561,6 @@ impl Domain {
             if poly.intersection(&ws_geo).unsigned_area() <= 0.0 {
                 return Err(MeshError::OutsideWorkspace { part });
             }
-            snap_inputs.extend_from_slice(&ring);
-            let n = ring.len();
-            for k in 0..n {
-                sources.push((ring[k], ring[(k + 1) % n], BoundaryTag::Goal(j as u32)));
-            }
             goal_geo.push(MultiPolygon(vec![poly]));
         }
 
@@ -582,13 +573,34 @@ impl Domain {
         if ws_mp.unsigned_area() <= 0.0 {
             return Err(MeshError::NoFreeSpace { robot_radius: rr });
         }
-        for poly in &ws_mp.0 {
-            for ls in std::iter::once(poly.exterior()).chain(poly.interiors()) {
-                let pts = from_ls(ls);
-                snap_inputs.extend_from_slice(&pts);
+
+        // Make near touches between inputs exact (see `touch`): a vertex a rounding error off
+        // another input's edge would leave a sliver no mesh can resolve.
+        let mut groups: Vec<Rings> = std::iter::once(rings_of(&ws_mp))
+            .chain(obstacle_geo.iter().map(rings_of))
+            .chain(goal_geo.iter().map(rings_of))
+            .collect();
+        let (ws_mp, obstacle_geo, goal_geo) = if snap_near_touches(&mut groups, 1e-9 * scale) {
+            groups.iter_mut().for_each(dedup_rings);
+            let n_obs = obstacle_geo.len();
+            let mut mps = groups.iter().map(multipolygon_of);
+            let ws_mp = mps.next().expect("the workspace group comes first");
+            let obstacle_geo: Vec<MultiPolygon<f64>> = mps.by_ref().take(n_obs).collect();
+            (ws_mp, obstacle_geo, mps.collect())
+        } else {
+            (ws_mp, obstacle_geo, goal_geo)
+        };
+        // Obstacles, goals, then walls (groups hold the walls first).
+        let tags = (0..spec.obstacles.len())
+            .map(|i| BoundaryTag::Obstacle(i as u32))
+            .chain((0..spec.goals.len()).map(|j| BoundaryTag::Goal(j as u32)))
+            .chain(std::iter::once(BoundaryTag::Wall));
+        for (group, tag) in groups[1..].iter().chain(&groups[..1]).zip(tags) {
+            for pts in group.iter().flatten() {
+                snap_inputs.extend_from_slice(pts);
                 let n = pts.len();
                 for k in 0..n {
-                    sources.push((pts[k], pts[(k + 1) % n], BoundaryTag::Wall));
+                    sources.push((pts[k], pts[(k + 1) % n], tag));
                 }
             }
         }

@@ -36,6 +36,7 @@ mod domain;
 mod geom;
 pub mod io;
 mod mesh;
+mod touch;
 mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
