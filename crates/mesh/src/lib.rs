@@ -8,7 +8,8 @@
 //!
 //! The pipeline is [`DomainSpec`] → [`Domain::new`] (validation, circle discretisation,
 //! robot-radius offsetting, polygon booleans with geo/i_overlay, snapping, boundary tags) →
-//! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, Hilbert vertex order) →
+//! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, optional [`Grading`] towards
+//! goals and obstacle corners, Hilbert vertex order) →
 //! [`Mesh`] (adjacency, tags, components, point location, quality report).
 //!
 //! ```
@@ -34,6 +35,7 @@
 
 mod domain;
 mod geom;
+mod grading;
 pub mod io;
 mod mesh;
 mod touch;
@@ -41,7 +43,7 @@ mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
-pub use triangulate::{MAX_MIN_ANGLE_DEG, MeshOptions, MeshReport};
+pub use triangulate::{Grading, MAX_MIN_ANGLE_DEG, MeshOptions, MeshReport};
 
 /// A part of the input scene, used to say where an input error is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
