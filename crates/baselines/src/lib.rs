@@ -19,8 +19,8 @@
 //!   each obstacle polygon), descended with a fixed step; they can get trapped in local
 //!   minima, which the descent reports as `Stalled`.
 //! - [`panel`]: Kim & Khosla (1992), *Real-time obstacle avoidance using harmonic potential
-//!   functions*: uniform stream + goal sink + constant-strength source panels on every
-//!   obstacle edge, strengths from the linear system `P λ = q` for prescribed normal
+//!   functions*: uniform stream + goal sink + constant-strength source panels on the
+//!   boundary of free space (obstacles and walls, merged where they touch), strengths from the linear system `P λ = q` for prescribed normal
 //!   velocities, and the closed-form panel velocity field and potential; a query's flow is
 //!   also a [`harmonic_trajectory::Field`] ([`PanelFlow`]).
 //! - [`navigation`]: Rimon & Koditschek (1992), *Exact robot navigation using artificial

@@ -1,7 +1,7 @@
 //! The panel method of Kim & Khosla (1992), *Real-time obstacle avoidance using harmonic
-//! potential functions*: a uniform flow, a sink at the goal and a constant-strength source
-//! panel on every obstacle edge. The panel strengths `λ` solve `P λ = q` so that the normal
-//! velocity at each panel's midpoint equals the desired `V_i` (their eqs. 29–35); the
+//! potential functions*: a uniform flow, a sink at the goal and constant-strength source
+//! panels on the boundary of free space. The panel strengths `λ` solve `P λ = q` so that the
+//! normal velocity at each panel's midpoint equals the desired `V_i` (their eqs. 29–35); the
 //! velocity anywhere is the closed form of constant-strength source panels (eqs. 36–37, as in
 //! Katz & Plotkin §10.2.1). The robot follows the velocity, which is the negative gradient of
 //! a harmonic potential in the unbounded plane outside the obstacles.
@@ -9,6 +9,7 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
+use geo::{BooleanOps, Coord, LineString, MultiPolygon, Polygon, unary_union};
 use harmonic_mesh::{Point, Vector};
 use harmonic_trajectory::{Field, Locate, TraceStatus};
 use nalgebra::{DMatrix, DVector};
@@ -246,15 +247,24 @@ impl Default for PanelOptions {
     }
 }
 
-/// Kim & Khosla's planner: panels on obstacle (and wall) edges, a sink at the goal and a
-/// uniform stream from the start toward the goal; the point robot follows the flow. The
-/// strengths depend on the stream's direction, so they are solved per query.
+/// Kim & Khosla's planner: panels on the boundary of free space (the workspace minus the
+/// union of the obstacles; without walls, the boundary of the union of the obstacles), a
+/// sink at the goal and a uniform stream from the start toward the goal; the point robot
+/// follows the flow. The strengths depend on the stream's direction, so they are solved per
+/// query.
+///
+/// Panelling the union rather than each polygon matters where shapes touch: an obstacle
+/// flush with a wall, or two obstacles sharing an edge, would otherwise put two panels on the
+/// same segment with opposite normals, and two such panels induce the same velocity
+/// everywhere off the segment, so the system for their strengths is singular.
 #[derive(Clone, Debug)]
 pub struct PanelPlanner {
     workspace: Vec<Point>,
     obstacles: Vec<Vec<Point>>,
     goal: Point,
     options: PanelOptions,
+    /// The panels, normals pointing into free space.
+    panels: Vec<Panel>,
 }
 
 /// Twice the signed area of a polygon: positive when counter-clockwise.
@@ -265,6 +275,71 @@ fn signed_area2(poly: &[Point]) -> f64 {
             a.x * b.y - a.y * b.x
         })
         .sum()
+}
+
+fn to_geo(points: &[Point]) -> Polygon<f64> {
+    let ring: Vec<Coord<f64>> = points.iter().map(|p| Coord { x: p.x, y: p.y }).collect();
+    Polygon::new(LineString::from(ring), vec![])
+}
+
+/// A geo ring as points: the closing point dropped, and vertices within `eps` of the
+/// previous kept one merged (the booleans can leave such slivers where shapes touch).
+fn from_geo(ring: &LineString<f64>, eps: f64) -> Vec<Point> {
+    let mut out: Vec<Point> = Vec::with_capacity(ring.0.len());
+    for c in &ring.0 {
+        let p = Point::new(c.x, c.y);
+        if out.last().is_none_or(|q| (p - q).norm() > eps) {
+            out.push(p);
+        }
+    }
+    while out.len() > 1 && (out[0] - out[out.len() - 1]).norm() <= eps {
+        out.pop();
+    }
+    out
+}
+
+/// The panels on the boundary of free space, normals pointing into it: with walls, the
+/// boundary of `workspace − ∪ obstacles`; without, the boundary of `∪ obstacles`. Each edge
+/// is split into panels at most `max_len` long. Segments where shapes touch are inside the
+/// union, so they carry no panel.
+fn boundary_panels(
+    workspace: &[Point],
+    obstacles: &[Vec<Point>],
+    include_walls: bool,
+    max_len: f64,
+) -> Vec<Panel> {
+    let (lo, hi) = workspace
+        .iter()
+        .chain(obstacles.iter().flatten())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.x.min(p.y)), hi.max(p.x.max(p.y)))
+        });
+    let eps = 1e-12 * (hi - lo).max(1.0);
+    let shapes: Vec<Polygon<f64>> = obstacles.iter().map(|o| to_geo(o)).collect();
+    let union = unary_union(shapes.iter());
+    // The region whose boundary is panelled, and whether free space is inside it.
+    let (region, free_inside): (MultiPolygon<f64>, bool) = if include_walls {
+        (
+            MultiPolygon::new(vec![to_geo(workspace)]).difference(&union),
+            true,
+        )
+    } else {
+        (union, false)
+    };
+    let mut panels = Vec::new();
+    for polygon in &region {
+        // Exterior rings bound the region from outside, holes from inside.
+        edge_panels(
+            &from_geo(polygon.exterior(), eps),
+            !free_inside,
+            max_len,
+            &mut panels,
+        );
+        for hole in polygon.interiors() {
+            edge_panels(&from_geo(hole, eps), free_inside, max_len, &mut panels);
+        }
+    }
+    panels
 }
 
 /// Panels on the edges of `poly`, at most `max_len` long, with normals pointing out of it
@@ -335,18 +410,19 @@ impl PanelPlanner {
             obstacles: obstacles.to_vec(),
             goal,
             options,
+            panels: boundary_panels(
+                workspace,
+                obstacles,
+                options.include_walls,
+                options.max_panel_length,
+            ),
         })
     }
 
     /// The flow for a query from `start`: the stream runs from `start` toward the goal.
     pub fn field(&self, start: Point) -> Result<PanelField, BaselineError> {
-        let max_len = self.options.max_panel_length;
-        let mut panels = Vec::new();
-        for o in &self.obstacles {
-            edge_panels(o, true, max_len, &mut panels);
-        }
+        let panels = self.panels.clone();
         let sink = if self.options.include_walls {
-            edge_panels(&self.workspace, false, max_len, &mut panels);
             let perimeter: f64 = panels.iter().map(|p| (p.end - p.start).norm()).sum();
             perimeter * self.options.normal_velocity
         } else {
@@ -603,6 +679,79 @@ mod tests {
         let path = trace_smooth(&flow, start, &SmoothOptions::for_scale(10.0)).unwrap();
         assert_eq!(path.status, TraceStatus::ReachedGoal(0));
         assert!(path.points.iter().all(|&p| planner.is_free(p)));
+    }
+
+    #[test]
+    fn obstacles_flush_with_a_wall_or_each_other_get_no_panel_where_they_touch() {
+        // A 10 × 10 room with a shelf flush with its left wall and a second block sharing the
+        // shelf's right edge.
+        let ws = vec![
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let shelf = vec![
+            Point::new(0.0, 4.0),
+            Point::new(3.0, 4.0),
+            Point::new(3.0, 6.0),
+            Point::new(0.0, 6.0),
+        ];
+        let block = vec![
+            Point::new(3.0, 4.5),
+            Point::new(4.0, 4.5),
+            Point::new(4.0, 5.5),
+            Point::new(3.0, 5.5),
+        ];
+        let obstacles = [shelf, block];
+        let opts = PanelOptions::default();
+        // Panelled polygon by polygon, the shared segments carry two coinciding panels with
+        // opposite normals: the system is singular.
+        let mut naive = Vec::new();
+        for o in &obstacles {
+            edge_panels(o, true, opts.max_panel_length, &mut naive);
+        }
+        edge_panels(&ws, false, opts.max_panel_length, &mut naive);
+        let m = naive.len();
+        assert_eq!(
+            PanelField::solve(
+                naive,
+                &vec![0.5; m],
+                Vector::x(),
+                Some((Point::new(9.0, 5.0), 1.0))
+            )
+            .unwrap_err(),
+            BaselineError::SingularPanels { panels: m }
+        );
+        let planner = PanelPlanner::new(&ws, &obstacles, Point::new(9.0, 5.0), opts).unwrap();
+        // The boundary of free space: the room's 40 minus the wall between y = 4 and 6, the
+        // shelf's top, bottom and the uncovered parts of its right edge, the block's three
+        // free sides.
+        let total: f64 = planner
+            .panels
+            .iter()
+            .map(|p| (p.end - p.start).norm())
+            .sum();
+        assert!((total - (40.0 - 2.0 + 3.0 + 3.0 + 1.0 + 1.0 + 1.0 + 1.0)).abs() < 1e-9);
+        for p in &planner.panels {
+            // Every normal points into free space, and no panel lies on a touching segment.
+            let c = p.midpoint();
+            assert!(planner.is_free(c + p.normal() * 1e-6), "panel at {c}");
+            assert!(!planner.is_free(c - p.normal() * 1e-6), "panel at {c}");
+        }
+        for start in [
+            Point::new(1.0, 8.0),
+            Point::new(1.0, 2.0),
+            Point::new(5.0, 9.0),
+        ] {
+            let plan = planner.plan(start).unwrap();
+            assert!(
+                plan.status.reached_goal(),
+                "from {start}: {:?}",
+                plan.status
+            );
+            assert!(plan.points.iter().all(|&p| planner.is_free(p)));
+        }
     }
 
     #[test]
