@@ -752,6 +752,32 @@ mod tests {
             );
             assert!(plan.points.iter().all(|&p| planner.is_free(p)));
         }
+        // Without wall panels: the boundary of the union of the obstacles, 10 + 4 minus the
+        // shared unit segment counted on both.
+        let open = PanelOptions {
+            include_walls: false,
+            ..opts
+        };
+        let planner = PanelPlanner::new(&ws, &obstacles, Point::new(9.0, 5.0), open).unwrap();
+        let total: f64 = planner
+            .panels
+            .iter()
+            .map(|p| (p.end - p.start).norm())
+            .sum();
+        assert!((total - 12.0).abs() < 1e-9, "{total}");
+        let in_obstacle = |q: Point| obstacles.iter().any(|o| contains(o, q));
+        for p in &planner.panels {
+            let c = p.midpoint();
+            assert!(!in_obstacle(c + p.normal() * 1e-6), "panel at {c}");
+            assert!(in_obstacle(c - p.normal() * 1e-6), "panel at {c}");
+        }
+        assert!(
+            planner
+                .plan(Point::new(1.0, 8.0))
+                .unwrap()
+                .status
+                .reached_goal()
+        );
     }
 
     #[test]
