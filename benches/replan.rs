@@ -1,14 +1,15 @@
-//! Dynamic replanning on a local map of about 3200 triangles (Garrido et al. 2010, §6: a
-//! 40 × 40 map "in less than one second"): one full replan — local scene, mesh, assembly,
+//! Dynamic replanning on a local map of 3200 triangles (Garrido et al. 2010, §6: a 40 × 40
+//! map "in less than one second"): one full replan — local goal, mesh, assembly,
 //! factorisation, solve and trace — from a point of the reference scene with a sensed
-//! obstacle in the window, and the stages on their own.
+//! obstacle in the window, on the fixed lattice with the obstacles cut in (the default) and
+//! remeshed from scratch; then the remeshed replan's stages on their own.
 
 use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use harmonic_planner::Scene;
-use harmonic_planner::dynamic::{DynamicPlanner, LocalMapOptions};
+use harmonic_planner::dynamic::{DynamicPlanner, LocalMapMode, LocalMapOptions};
 use harmonic_planner::fem::{Assembler, AssemblyOptions, SolveMethod, Solver};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::solver::Ordering;
@@ -23,21 +24,40 @@ fn reference() -> Scene {
 
 fn replan(c: &mut Criterion) {
     let scene = reference();
-    let mut planner =
-        DynamicPlanner::new(&scene, LocalMapOptions::default()).expect("reference scene");
-    planner.set_obstacle(0, vec![[4.0, 4.6], [4.5, 4.6], [4.5, 5.1], [4.0, 5.1]]);
+    let obstacle = vec![[4.0, 4.6], [4.5, 4.6], [4.5, 5.1], [4.0, 5.1]];
     let robot = [3.7, 6.0];
-    let plan = planner.replan(robot).expect("replan");
-    assert_eq!(plan.path.status, "reached_goal");
-    eprintln!(
-        "local map: {} triangles; one replan: {:?}",
-        plan.triangles, plan.timings
-    );
-    let local = plan.scene.clone();
     let mut group = c.benchmark_group("replan");
-    group.bench_function("full_replan_3200_triangles", |b| {
-        b.iter(|| black_box(planner.replan(black_box(robot)).expect("replan")))
-    });
+    let mut local = None;
+    for (name, mode) in [
+        ("full_replan_lattice_3200_triangles", LocalMapMode::Lattice),
+        ("full_replan_remesh_3200_triangles", LocalMapMode::Remesh),
+    ] {
+        let options = LocalMapOptions {
+            mode,
+            ..LocalMapOptions::default()
+        };
+        let mut planner = DynamicPlanner::new(&scene, options).expect("reference scene");
+        planner.set_obstacle(0, obstacle.clone());
+        let plan = planner.replan(robot).expect("replan");
+        assert_eq!(plan.path.status, "reached_goal");
+        assert_eq!(
+            plan.method,
+            if mode == LocalMapMode::Lattice {
+                "lattice"
+            } else {
+                "remesh"
+            }
+        );
+        eprintln!(
+            "{name}: {} triangles; one replan: {:?}",
+            plan.triangles, plan.timings
+        );
+        local = local.or(plan.scene);
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(planner.replan(black_box(robot)).expect("replan")))
+        });
+    }
+    let local = local.expect("the remeshed replan keeps its scene");
 
     let mesh_options = local.mesh_options();
     group.bench_function("stage_mesh", |b| {

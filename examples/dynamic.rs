@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use harmonic_planner::Scene;
 use harmonic_planner::dynamic::{
-    DynamicPlanner, LocalMapOptions, Run, RunOptions, World, WorldObstacle,
+    DynamicPlanner, LocalMapMode, LocalMapOptions, Run, RunOptions, World, WorldObstacle,
 };
 
 #[derive(Parser)]
@@ -35,6 +35,10 @@ struct Args {
     /// Largest triangle area of the local mesh.
     #[arg(long, default_value_t = 0.005)]
     max_area: f64,
+    /// Remesh the window at every replan instead of cutting the obstacles into the fixed
+    /// lattice.
+    #[arg(long)]
+    remesh: bool,
 }
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<[f64; 2]> {
@@ -58,6 +62,11 @@ fn run(args: &Args) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let opts = LocalMapOptions {
         size: args.window,
         max_area: args.max_area,
+        mode: if args.remesh {
+            LocalMapMode::Remesh
+        } else {
+            LocalMapMode::Lattice
+        },
         ..LocalMapOptions::default()
     };
     let mut planner = DynamicPlanner::new(&scene, opts)?;
@@ -87,6 +96,7 @@ fn run(args: &Args) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if args.json {
         let summary = serde_json::json!({
             "replans": result.replans,
+            "remeshed": result.remeshed,
             "reached": result.reached,
             "min_distance_to_obstacles": result.min_distance_to_obstacles,
             "replan_ms_median": median,
@@ -106,13 +116,14 @@ fn run(args: &Args) -> Result<ExitCode, Box<dyn std::error::Error>> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         println!(
-            "{}: {} replans ({} failed), {} steps, {:.1} s simulated, local meshes of {}..{} triangles",
+            "{}: {} replans ({} remeshed, {} failed), {} steps, {:.1} s simulated, local meshes of {}..{} triangles",
             if result.reached {
                 "reached the goal"
             } else {
                 "did NOT reach the goal"
             },
             result.replans,
+            result.remeshed,
             result.failed_replans,
             result.trail.len() - 1,
             result.times.last().copied().unwrap_or(0.0),

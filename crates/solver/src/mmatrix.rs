@@ -231,10 +231,14 @@ impl AccurateLdlt {
                 let p = next[k];
                 let ljk = l[p];
                 // w_jk = l_jk d_k: s_j += w_jk s_k / d_k = l_jk s_k; w_ij += w_ik w_jk / d_k = l_ik l_jk d_k.
-                sj += ljk * s[k];
-                let scale = ljk * d[k];
-                for q in p + 1..col_ptr[k + 1] {
-                    x[row_idx[q]] += l[q] * scale;
+                // Structural zeros (rows decoupled by Dirichlet values, as on a background
+                // lattice with obstacles cut in) add nothing: skip them.
+                if ljk != 0.0 {
+                    sj += ljk * s[k];
+                    let scale = ljk * d[k];
+                    for q in p + 1..col_ptr[k + 1] {
+                        x[row_idx[q]] += l[q] * scale;
+                    }
                 }
                 // Move column k on to its next row.
                 if p + 1 < col_ptr[k + 1] {

@@ -49,6 +49,10 @@ use serde::Serialize;
 
 use crate::planner::{PlanError, PlannedPath, Planner};
 use crate::scene::{Circle, Goals, MeshSpec, Region, Scene};
+use harmonic_trajectory::path_metrics;
+use lattice::{Lattice, LatticeGoal, LatticeMiss};
+
+mod lattice;
 
 /// Why a local plan could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -109,6 +113,23 @@ pub struct LocalMapOptions {
     /// The global path is traced again when the robot is farther than this from it
     /// (default 0.1).
     pub global_path_tolerance: f64,
+    /// How the window is meshed (default [`LocalMapMode::Lattice`]).
+    pub mode: LocalMapMode,
+}
+
+/// How the local map is meshed at each replan.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LocalMapMode {
+    /// A fixed background lattice of right triangles (cells of side `√(2 max_area)`, so
+    /// `max_area` is every triangle's area) with the obstacles cut in by blocking vertices,
+    /// and the factorisation's ordering and pattern kept from one replan to the next. About
+    /// five times faster than remeshing (`cargo bench --bench replan`), at the price of a
+    /// margin of up to `h/√2` around obstacles; where that margin traps the robot, seals its
+    /// way or leaves no lattice vertex in the goal, the replan remeshes instead.
+    #[default]
+    Lattice,
+    /// A constrained Delaunay mesh of the window, obstacles exact, built at every replan.
+    Remesh,
 }
 
 impl Default for LocalMapOptions {
@@ -119,6 +140,7 @@ impl Default for LocalMapOptions {
             min_angle_deg: 25.0,
             goal_radius: 0.1,
             global_path_tolerance: 0.1,
+            mode: LocalMapMode::Lattice,
         }
     }
 }
@@ -184,10 +206,20 @@ pub struct LocalPlan {
     pub local_goal: [f64; 2],
     /// Whether the local goal is the scene's own goal.
     pub goal_in_window: bool,
-    /// The local scene that was meshed.
-    pub scene: Scene,
+    /// How the window was meshed: `lattice` or `remesh`.
+    pub method: &'static str,
+    /// Why the lattice could not serve a remeshed replan in [`LocalMapMode::Lattice`]:
+    /// `robot_blocked` (the robot is within the lattice's margin of an obstacle),
+    /// `no_goal_vertex` (no free lattice vertex in the goal), `not_reached` (the margin seals
+    /// the way) or `solve`.
+    pub remesh_reason: Option<&'static str>,
+    /// The local scene that was meshed (remeshed windows only).
+    pub scene: Option<Scene>,
     /// Triangles of the local mesh.
     pub triangles: usize,
+    /// The local potential and its mesh, to look at (`None` when the robot started in the
+    /// goal).
+    pub potential: Option<harmonic_fem::Potential>,
     /// Time per stage.
     pub timings: ReplanTimings,
 }
@@ -201,7 +233,22 @@ pub struct DynamicPlanner {
     options: LocalMapOptions,
     obstacles: BTreeMap<u32, Vec<[f64; 2]>>,
     global_path: Vec<[f64; 2]>,
+    /// The last local goal on the global path, kept while it stays valid.
+    waypoint: Option<[f64; 2]>,
+    lattice: Option<Lattice>,
 }
+
+/// The goal of a window.
+enum LocalGoal {
+    /// The scene's own goal; `centre` is its first vertex or centre.
+    Real { centre: [f64; 2] },
+    /// A waypoint: a disc of [`LocalMapOptions::goal_radius`] around it.
+    Waypoint([f64; 2]),
+}
+
+/// Largest number of lattice vertices over the known map whose blocking is computed when the
+/// planner is built (beyond it, tiles are computed as the robot reaches them).
+const LATTICE_WARM_VERTICES: usize = 4_000_000;
 
 fn geo_polygon(points: &[[f64; 2]]) -> Polygon<f64> {
     Polygon::new(
@@ -437,6 +484,22 @@ impl DynamicPlanner {
     pub fn new(scene: &Scene, options: LocalMapOptions) -> Result<DynamicPlanner, DynamicError> {
         options.validate()?;
         let global = Planner::new(scene)?;
+        let lattice = (options.mode == LocalMapMode::Lattice).then(|| {
+            // The window's side in an even number of cells (so the robot's nearest lattice
+            // vertex is its centre) of area at most `max_area`.
+            let cells =
+                ((options.size / (2.0 * options.max_area).sqrt() * 0.5).ceil() as usize).max(4) * 2;
+            let h = options.size / cells as f64;
+            let goal_rings = scene
+                .goals()
+                .iter()
+                .filter_map(|g| region_polygon(g, 32))
+                .collect();
+            let mut lattice = Lattice::new(h, cells, scene.robot.radius, goal_rings);
+            let (lo, hi) = global.domain().bounding_box();
+            lattice.warm(global.domain(), lo, hi, LATTICE_WARM_VERTICES);
+            lattice
+        });
         Ok(DynamicPlanner {
             scene: scene.clone(),
             global,
@@ -444,6 +507,8 @@ impl DynamicPlanner {
             options,
             obstacles: BTreeMap::new(),
             global_path: Vec::new(),
+            waypoint: None,
+            lattice,
         })
     }
 
@@ -653,8 +718,37 @@ impl DynamicPlanner {
             ..Region::default()
         }));
 
-        // The goal: the real one if every goal region lies inside the window (with room to
-        // spare), else a small disc on the global path.
+        let extra_rings: Vec<&[[f64; 2]]> = extra.iter().map(Vec::as_slice).collect();
+        let goal = match self.choose_goal(robot, lo, hi, &extra_rings)? {
+            LocalGoal::Real { centre } => {
+                let scene = self.window_scene(ws, obstacles, self.scene.goal.clone());
+                return Ok((scene, centre, true));
+            }
+            LocalGoal::Waypoint(c) => c,
+        };
+        let disc = Goals(vec![Region {
+            circle: Some(Circle {
+                center: goal,
+                radius: self.options.goal_radius,
+            }),
+            ..Region::default()
+        }]);
+        let scene = self.window_scene(ws, obstacles, disc);
+        Ok((scene, goal, false))
+    }
+
+    /// The goal of the window `[lo, hi]` around `robot`: the real one if every goal region
+    /// lies inside the window (with room to spare) and clear of the `sensed` obstacles, else
+    /// a point on the global path where it leaves the window (the last one clear of known
+    /// and sensed obstacles), else the free point of the window's inner border with the
+    /// lowest global potential.
+    fn choose_goal(
+        &mut self,
+        robot: [f64; 2],
+        lo: [f64; 2],
+        hi: [f64; 2],
+        sensed: &[&[[f64; 2]]],
+    ) -> Result<LocalGoal, DynamicError> {
         let r = self.options.goal_radius;
         let margin = 2.0 * r;
         let inner = |p: [f64; 2]| {
@@ -673,13 +767,13 @@ impl DynamicPlanner {
             g.as_ref()
                 .is_some_and(|ring| ring.iter().all(|&p| inner(p)))
         });
-        let clear_of_extra =
-            |p: [f64; 2], need: f64| extra.iter().all(|ring| polygon_distance(ring, p) > need);
+        let clear_of_sensed =
+            |p: [f64; 2], need: f64| sensed.iter().all(|ring| polygon_distance(ring, p) > need);
         if goal_inside
             && goal_rings
                 .iter()
                 .flatten()
-                .all(|ring| ring.iter().all(|&p| clear_of_extra(p, 0.0)))
+                .all(|ring| ring.iter().all(|&p| clear_of_sensed(p, 0.0)))
         {
             let centre = goal_rings
                 .iter()
@@ -687,51 +781,106 @@ impl DynamicPlanner {
                 .next()
                 .and_then(|ring| ring.first().copied())
                 .unwrap_or(robot);
-            let scene = self.window_scene(ws, obstacles, self.scene.goal.clone());
-            return Ok((scene, centre, true));
+            self.waypoint = None;
+            return Ok(LocalGoal::Real { centre });
         }
         let known_clear = r * 1.5;
+        // Keep the last waypoint while it is ahead, in the window and clear: a new one each
+        // replan can flip between points before and behind an obstacle being discovered
+        // (its sensed outline changes as the robot moves), and the robot then dithers.
+        // It only has to stay in the window with its disc (the window moves with the robot,
+        // so a waypoint near the border would otherwise come and go).
+        let in_window = |p: [f64; 2]| {
+            p[0] > lo[0] + r && p[0] < hi[0] - r && p[1] > lo[1] + r && p[1] < hi[1] - r
+        };
+        let still_valid = |p: [f64; 2]| {
+            in_window(p)
+                && dist(p, robot) > 2.0 * r
+                && self.known_distance(p) > known_clear
+                && clear_of_sensed(p, 2.0 * r)
+        };
+        if let Some(w) = self.waypoint {
+            if still_valid(w) {
+                return Ok(LocalGoal::Waypoint(w));
+            }
+            // Where an obstacle grew onto it, the nearest valid point nearby: the robot keeps
+            // the side of the obstacle it chose instead of flipping.
+            let moved = (1..=4)
+                .flat_map(|k| {
+                    (0..16).map(move |a| {
+                        let angle = std::f64::consts::TAU * a as f64 / 16.0;
+                        let d = k as f64 * r;
+                        [w[0] + d * angle.cos(), w[1] + d * angle.sin()]
+                    })
+                })
+                .find(|&p| still_valid(p));
+            if dist(w, robot) > 2.0 * r
+                && let Some(p) = moved
+            {
+                self.waypoint = Some(p);
+                return Ok(LocalGoal::Waypoint(p));
+            }
+        }
+        let goal = self.choose_waypoint(robot, lo, hi, sensed)?;
+        self.waypoint = Some(goal);
+        Ok(LocalGoal::Waypoint(goal))
+    }
+
+    /// A new waypoint for [`Self::choose_goal`].
+    fn choose_waypoint(
+        &mut self,
+        robot: [f64; 2],
+        lo: [f64; 2],
+        hi: [f64; 2],
+        sensed: &[&[[f64; 2]]],
+    ) -> Result<[f64; 2], DynamicError> {
+        let r = self.options.goal_radius;
+        let margin = 2.0 * r;
+        let known_clear = r * 1.5;
+        let inner = |p: [f64; 2]| {
+            p[0] > lo[0] + margin
+                && p[0] < hi[0] - margin
+                && p[1] > lo[1] + margin
+                && p[1] < hi[1] - margin
+        };
+        let clear_of_sensed =
+            |p: [f64; 2], need: f64| sensed.iter().all(|ring| polygon_distance(ring, p) > need);
+        // The last point of the global path in the window, if the path gets there clear of
+        // the sensed obstacles. A path through a sensed obstacle is not used: a point before
+        // the obstacle leads into its face, and a point behind its sensed outline may lie in
+        // its unseen part; the border goal below leads around it instead.
         let candidate = |this: &Self, path: &[[f64; 2]]| {
             let leave = path.iter().position(|&p| !inner(p)).unwrap_or(path.len());
+            if !path[..leave].iter().all(|&p| clear_of_sensed(p, r)) {
+                return None;
+            }
             path[..leave].iter().rev().copied().find(|&p| {
                 dist(p, robot) > 2.0 * r
                     && this.known_distance(p) > known_clear
-                    && clear_of_extra(p, 2.0 * r)
+                    && clear_of_sensed(p, 2.0 * r)
             })
         };
         let path = self.global_path_from(robot)?.to_vec();
-        let candidate = match candidate(self, &path) {
-            Some(c) => c,
-            None => {
-                // The kept global path may be stale: trace it again from the robot once.
-                self.global_path.clear();
-                let path = self.global_path_from(robot)?.to_vec();
-                match candidate(self, &path) {
-                    Some(c) => c,
-                    // The global path is blocked inside the window: the free point of the
-                    // window's inner border where the global potential is lowest.
-                    None => self
-                        .border_goal(lo, hi, margin, |p| {
-                            dist(p, robot) > 2.0 * r
-                                && self.known_distance(p) > known_clear
-                                && clear_of_extra(p, 2.0 * r)
-                        })
-                        .ok_or(DynamicError::NoLocalGoal {
-                            x: robot[0],
-                            y: robot[1],
-                        })?,
-                }
-            }
-        };
-        let goal = Goals(vec![Region {
-            circle: Some(Circle {
-                center: candidate,
-                radius: r,
-            }),
-            ..Region::default()
-        }]);
-        let scene = self.window_scene(ws, obstacles, goal);
-        Ok((scene, candidate, false))
+        if let Some(c) = candidate(self, &path) {
+            return Ok(c);
+        }
+        // The kept global path may be stale: trace it again from the robot once.
+        self.global_path.clear();
+        let path = self.global_path_from(robot)?.to_vec();
+        if let Some(c) = candidate(self, &path) {
+            return Ok(c);
+        }
+        // The global path is blocked inside the window: the free point of the window's
+        // inner border where the global potential is lowest.
+        self.border_goal(lo, hi, margin, |p| {
+            dist(p, robot) > 2.0 * r
+                && self.known_distance(p) > known_clear
+                && clear_of_sensed(p, 2.0 * r)
+        })
+        .ok_or(DynamicError::NoLocalGoal {
+            x: robot[0],
+            y: robot[1],
+        })
     }
 
     /// The point of the square `[lo + margin, hi - margin]`'s boundary, in free space and
@@ -790,8 +939,141 @@ impl DynamicPlanner {
         }
     }
 
-    /// Replans from `robot`: builds the local scene, meshes, assembles, solves and traces it.
+    /// Replans from `robot`: the window's goal, then its mesh — the lattice with the obstacles
+    /// cut in ([`LocalMapMode::Lattice`]) or, when the lattice cannot serve or remeshing was
+    /// asked for, a constrained Delaunay mesh of the window's scene — and its potential, and
+    /// the path traced in it.
     pub fn replan(&mut self, robot: [f64; 2]) -> Result<LocalPlan, DynamicError> {
+        let plan = self.replan_once(robot);
+        // A waypoint that led nowhere is not kept.
+        if !plan.as_ref().is_ok_and(|p| p.path.status == "reached_goal") {
+            self.waypoint = None;
+        }
+        plan
+    }
+
+    fn replan_once(&mut self, robot: [f64; 2]) -> Result<LocalPlan, DynamicError> {
+        let Some(mut lattice) = self.lattice.take() else {
+            return self.replan_remeshed(robot);
+        };
+        let result = self.replan_on_lattice(&mut lattice, robot);
+        self.lattice = Some(lattice);
+        match result? {
+            Ok(plan) => Ok(plan),
+            Err(miss) => {
+                let mut plan = self.replan_remeshed(robot)?;
+                plan.remesh_reason = Some(miss.as_str());
+                Ok(plan)
+            }
+        }
+    }
+
+    /// The lattice replan; `Ok(None)` when the lattice cannot serve this one.
+    fn replan_on_lattice(
+        &mut self,
+        lattice: &mut Lattice,
+        robot: [f64; 2],
+    ) -> Result<Result<LocalPlan, LatticeMiss>, DynamicError> {
+        let t0 = Instant::now();
+        let inside = robot[0].is_finite()
+            && robot[1].is_finite()
+            && polygon_contains(&self.scene.workspace, robot);
+        if !inside {
+            return Err(DynamicError::OutsideWorkspace {
+                x: robot[0],
+                y: robot[1],
+            });
+        }
+        let (lo, hi) = lattice.window(robot);
+        let obstacles = std::mem::take(&mut self.obstacles);
+        let sensed: Vec<&[[f64; 2]]> = obstacles.values().map(Vec::as_slice).collect();
+        let chosen = self.choose_goal(robot, lo, hi, &sensed);
+        let (goals, local_goal, goal_in_window) = match chosen {
+            Ok(LocalGoal::Real { centre }) => (
+                self.scene
+                    .goals()
+                    .iter()
+                    .filter_map(|g| match (&g.polygon, &g.circle, g.point) {
+                        (Some(p), _, _) => Some(LatticeGoal::Polygon(p)),
+                        (None, Some(c), _) => Some(LatticeGoal::Circle {
+                            center: c.center,
+                            radius: c.radius,
+                        }),
+                        (None, None, Some(p)) => Some(LatticeGoal::Point(p)),
+                        _ => None,
+                    })
+                    .collect::<Vec<_>>(),
+                centre,
+                true,
+            ),
+            // Every point lies within h/√2 of a lattice vertex: a disc that large holds one.
+            Ok(LocalGoal::Waypoint(c)) => (
+                vec![LatticeGoal::Circle {
+                    center: c,
+                    radius: self.options.goal_radius.max(lattice.cover_radius()),
+                }],
+                c,
+                false,
+            ),
+            Err(e) => {
+                self.obstacles = obstacles;
+                return Err(e);
+            }
+        };
+        let prepare = t0.elapsed().as_secs_f64() * 1e3;
+        let planned = lattice.plan(self.global.domain(), robot, &sensed, &goals);
+        let plan = match planned {
+            Ok(plan) => plan,
+            Err(miss) => {
+                drop(goals);
+                self.obstacles = obstacles;
+                return Ok(Err(miss));
+            }
+        };
+        let r = self.scene.robot.radius;
+        let domain = self.global.domain();
+        let metrics = path_metrics(&plan.path.points, |a, b| {
+            let (a2, b2) = ([a.x, a.y], [b.x, b.y]);
+            sensed
+                .iter()
+                .map(|ring| segment_polygon_distance(a2, b2, ring) - r)
+                .fold(domain.segment_clearance(a, b), f64::min)
+        });
+        let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
+        let path = PlannedPath {
+            start: robot,
+            status: plan.path.status.as_str(),
+            goal: plan.path.goal,
+            tracer: plan.tracer,
+            length: metrics.length,
+            min_clearance: finite(metrics.min_clearance),
+            min_gradient: finite(plan.path.min_gradient),
+            points: plan.path.points.iter().map(|p| [p.x, p.y]).collect(),
+        };
+        drop(goals);
+        self.obstacles = obstacles;
+        Ok(Ok(LocalPlan {
+            path,
+            local_goal,
+            goal_in_window,
+            method: "lattice",
+            remesh_reason: None,
+            scene: None,
+            triangles: plan.triangles,
+            potential: plan.potential,
+            timings: ReplanTimings {
+                prepare,
+                mesh: plan.mesh_ms,
+                assemble: plan.assemble_ms,
+                solve: plan.solve_ms,
+                trace: plan.trace_ms,
+                total: t0.elapsed().as_secs_f64() * 1e3,
+            },
+        }))
+    }
+
+    /// The remeshed replan: builds the local scene, meshes, assembles, solves and traces it.
+    fn replan_remeshed(&mut self, robot: [f64; 2]) -> Result<LocalPlan, DynamicError> {
         let t0 = Instant::now();
         let (scene, local_goal, goal_in_window) = self.local_scene(robot)?;
         let prepare = t0.elapsed().as_secs_f64() * 1e3;
@@ -804,8 +1086,11 @@ impl DynamicPlanner {
             path,
             local_goal,
             goal_in_window,
+            method: "remesh",
+            remesh_reason: None,
             triangles: planner.mesh().triangles().len(),
-            scene,
+            potential: Some(planner.potential().clone()),
+            scene: Some(scene),
             timings: ReplanTimings {
                 prepare,
                 mesh: stage.mesh,
@@ -816,6 +1101,35 @@ impl DynamicPlanner {
             },
         })
     }
+}
+
+/// Distance between segment `[a, b]` and the polygon `ring` (0 if they meet or the segment
+/// starts inside it).
+fn segment_polygon_distance(a: [f64; 2], b: [f64; 2], ring: &[[f64; 2]]) -> f64 {
+    if ring.is_empty() {
+        return f64::INFINITY;
+    }
+    if polygon_contains(ring, a) {
+        return 0.0;
+    }
+    let cross = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
+        (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
+    };
+    (0..ring.len())
+        .map(|k| {
+            let (c, d) = (ring[k], ring[(k + 1) % ring.len()]);
+            let crosses =
+                cross(a, b, c) * cross(a, b, d) <= 0.0 && cross(c, d, a) * cross(c, d, b) <= 0.0;
+            if crosses {
+                0.0
+            } else {
+                point_segment_distance(a, c, d)
+                    .min(point_segment_distance(b, c, d))
+                    .min(point_segment_distance(c, a, b))
+                    .min(point_segment_distance(d, a, b))
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// An obstacle of the simulated world that the known map does not have: static (zero
@@ -977,6 +1291,9 @@ pub struct Run {
     pub reached: bool,
     /// Successful replans.
     pub replans: usize,
+    /// Of those, replans that remeshed the window (the lattice could not serve them, or
+    /// [`LocalMapMode::Remesh`] was asked for).
+    pub remeshed: usize,
     /// Replans that failed (the robot waited); the last error's message.
     pub failed_replans: usize,
     /// The last failure, if any.
@@ -1063,6 +1380,7 @@ pub fn run(planner: &mut DynamicPlanner, world: &World, start: [f64; 2], opts: &
             }
         };
         out.replans += 1;
+        out.remeshed += usize::from(plan.method == "remesh");
         out.replan_ms.push(plan.timings.total);
         for (sum, v) in [
             (&mut out.stage_ms.prepare, plan.timings.prepare),

@@ -1,0 +1,815 @@
+//! The local map on a fixed background lattice: the window is a square of `n × n` cells of side
+//! `h`, each split into two right triangles along the same diagonal (`2n²` triangles: 3200 for
+//! the paper's 40 × 40 map), aligned with a world-fixed grid so that every window has the same
+//! connectivity, whichever way the robot moves.
+//!
+//! Obstacles are cut in by blocking lattice vertices rather than by remeshing: a vertex is
+//! blocked when it lies closer than `h/√2` to the known map's (robot-inflated) walls and
+//! obstacles, or closer than `r + h/√2` to a sensed obstacle (`r` the robot's radius). The
+//! local mesh keeps the triangles whose three vertices are free. Every point of such a
+//! triangle lies within its circumradius `h/√2` of a free vertex, so the kept triangles — and
+//! every path traced in them — keep clear of the obstacles. The price is a margin of up to
+//! `h/√2` on top of the robot's radius; where it closes a passage the caller remeshes instead.
+//!
+//! On this lattice the P1 stiffness is the 5-point stencil (the diagonal edges face right
+//! angles on both sides, so their cotangent weights vanish), and the Dirichlet problem of the
+//! kept mesh is the lattice system with every vertex that is not interior to the kept mesh
+//! held at its boundary value. That system always has the same pattern, so its ordering and
+//! the symbolic part of the factorisation are computed once; each replan refactors the
+//! values only — with the M-matrix LDLᵀ of `harmonic-solver`, whose far-field ψ keeps its
+//! relative accuracy.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use harmonic_fem::Potential;
+use harmonic_mesh::{BoundaryTag, Domain, Mesh, Point};
+use harmonic_solver::{AccurateLdlt, MMatrix, Ordering, SymmetricCsc};
+use harmonic_trajectory::{
+    ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, trace_exact, trace_smooth,
+};
+
+use super::{polygon_contains, polygon_distance};
+
+/// Side of the square tiles in which the known map's blocked lattice vertices are cached.
+const TILE: i64 = 32;
+
+/// Blocking distance from the known map's inflated boundary, in units of `h`: a little more
+/// than the circumradius `1/√2` of the lattice's right triangles.
+const CLEARANCE_FACTOR: f64 = std::f64::consts::FRAC_1_SQRT_2 * (1.0 + 1e-9);
+
+/// Why the lattice could not serve a replan (the caller then remeshes the window).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LatticeMiss {
+    /// The robot is not in a kept triangle: closer to an obstacle than the lattice's margin.
+    RobotBlocked,
+    /// No free lattice vertex lies in the goal region.
+    NoGoalVertex,
+    /// The trace from the robot did not reach the goal (the margin sealed the way, or the
+    /// tracer stopped).
+    NotReached,
+    /// The lattice system could not be factored (it cannot happen for a well-formed window;
+    /// kept as a reason rather than a panic).
+    Solve,
+}
+
+impl LatticeMiss {
+    /// The reason as a snake_case word.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LatticeMiss::RobotBlocked => "robot_blocked",
+            LatticeMiss::NoGoalVertex => "no_goal_vertex",
+            LatticeMiss::NotReached => "not_reached",
+            LatticeMiss::Solve => "solve",
+        }
+    }
+}
+
+/// A goal region as the lattice sees it.
+pub(crate) enum LatticeGoal<'a> {
+    /// A disc.
+    Circle {
+        /// Centre.
+        center: [f64; 2],
+        /// Radius.
+        radius: f64,
+    },
+    /// A polygon.
+    Polygon(&'a [[f64; 2]]),
+    /// A point: the vertices of the lattice triangle holding it are the goal, and the path
+    /// ends at the point itself.
+    Point([f64; 2]),
+}
+
+/// What one lattice replan produced.
+pub(crate) struct LatticePlan {
+    /// The traced path (its last point is in the goal region).
+    pub path: Path,
+    /// Which tracer made it.
+    pub tracer: &'static str,
+    /// Triangles of the local mesh (kept triangles, goal triangles included).
+    pub triangles: usize,
+    /// The local potential on the kept triangles less the goal's (`None` when the robot
+    /// started in the goal).
+    pub potential: Option<Potential>,
+    /// Milliseconds spent cutting the obstacles in and building the local mesh.
+    pub mesh_ms: f64,
+    /// Milliseconds spent on the lattice system's values.
+    pub assemble_ms: f64,
+    /// Milliseconds spent refactoring and solving.
+    pub solve_ms: f64,
+    /// Milliseconds spent tracing.
+    pub trace_ms: f64,
+}
+
+/// The fixed lattice: geometry, the 5-point pattern, its factorisation (values refreshed per
+/// replan) and the cache of the known map's blocked vertices.
+pub(crate) struct Lattice {
+    h: f64,
+    cells: usize,
+    /// The robot's radius (sensed obstacles are grown by it).
+    robot_radius: f64,
+    /// The known map's goal regions as polygons: holes of its free space, but free for the
+    /// lattice.
+    goal_rings: Vec<Vec<[f64; 2]>>,
+    /// Off-diagonal pattern of the 5-point stencil over all `(cells + 1)²` vertices.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    factor: Option<AccurateLdlt>,
+    known: HashMap<(i64, i64), Vec<bool>>,
+}
+
+fn millis(t: std::time::Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl Lattice {
+    /// A lattice of `cells × cells` cells of side `h`, for a map whose goal regions are
+    /// `goal_rings`.
+    pub fn new(h: f64, cells: usize, robot_radius: f64, goal_rings: Vec<Vec<[f64; 2]>>) -> Lattice {
+        let side = cells + 1;
+        let n = side * side;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(4 * n);
+        col_ptr.push(0);
+        for v in 0..n {
+            let (i, j) = (v % side, v / side);
+            if j > 0 {
+                row_idx.push(v - side);
+            }
+            if i > 0 {
+                row_idx.push(v - 1);
+            }
+            if i + 1 < side {
+                row_idx.push(v + 1);
+            }
+            if j + 1 < side {
+                row_idx.push(v + side);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Lattice {
+            h,
+            cells,
+            robot_radius,
+            goal_rings,
+            col_ptr,
+            row_idx,
+            factor: None,
+            known: HashMap::new(),
+        }
+    }
+
+    /// A radius within which every point of the window has a lattice vertex.
+    pub fn cover_radius(&self) -> f64 {
+        CLEARANCE_FACTOR * self.h
+    }
+
+    /// Vertices per side.
+    fn side(&self) -> usize {
+        self.cells + 1
+    }
+
+    /// Global lattice index of the window's lower-left vertex for a robot at `robot`: the
+    /// window's centre vertex is the lattice vertex nearest the robot.
+    pub fn origin(&self, robot: [f64; 2]) -> (i64, i64) {
+        let half = (self.cells / 2) as i64;
+        (
+            (robot[0] / self.h).round() as i64 - half,
+            (robot[1] / self.h).round() as i64 - half,
+        )
+    }
+
+    /// The window `[lo, hi]` of a robot at `robot`.
+    pub fn window(&self, robot: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+        let (gi, gj) = self.origin(robot);
+        let lo = [gi as f64 * self.h, gj as f64 * self.h];
+        let span = self.cells as f64 * self.h;
+        (lo, [lo[0] + span, lo[1] + span])
+    }
+
+    /// Whether global lattice vertex `(gi, gj)` is blocked by the known map: outside its free
+    /// space and goal regions, or too close to its walls and obstacles (cached by tiles).
+    fn known_blocked(&mut self, domain: &Domain, gi: i64, gj: i64) -> bool {
+        let key = (gi.div_euclid(TILE), gj.div_euclid(TILE));
+        let h = self.h;
+        let goal_rings = &self.goal_rings;
+        let tile = self.known.entry(key).or_insert_with(|| {
+            let mut tile = Vec::with_capacity((TILE * TILE) as usize);
+            for b in 0..TILE {
+                for a in 0..TILE {
+                    let p =
+                        Point::new((key.0 * TILE + a) as f64 * h, (key.1 * TILE + b) as f64 * h);
+                    let in_goal = || goal_rings.iter().any(|g| polygon_contains(g, [p.x, p.y]));
+                    tile.push(
+                        domain.distance_to_obstacles(p) < CLEARANCE_FACTOR * h
+                            || !(domain.contains_free(p) || in_goal()),
+                    );
+                }
+            }
+            tile
+        });
+        let (a, b) = (gi.rem_euclid(TILE), gj.rem_euclid(TILE));
+        tile[(b * TILE + a) as usize]
+    }
+
+    /// Fills the known map's cache for every tile of the rectangle `[lo, hi]` (up to
+    /// `max_vertices` lattice vertices), so replans do not pay for it.
+    pub fn warm(&mut self, domain: &Domain, lo: Point, hi: Point, max_vertices: usize) {
+        let (i0, j0) = (
+            (lo.x / self.h).floor() as i64,
+            (lo.y / self.h).floor() as i64,
+        );
+        let (i1, j1) = ((hi.x / self.h).ceil() as i64, (hi.y / self.h).ceil() as i64);
+        let count = (i1 - i0 + 1).max(0) as usize * (j1 - j0 + 1).max(0) as usize;
+        if count > max_vertices {
+            return;
+        }
+        for tj in j0.div_euclid(TILE)..=j1.div_euclid(TILE) {
+            for ti in i0.div_euclid(TILE)..=i1.div_euclid(TILE) {
+                self.known_blocked(domain, ti * TILE, tj * TILE);
+            }
+        }
+    }
+
+    /// Plans on the lattice window around `robot` with the known map `domain`, the sensed
+    /// obstacles `sensed` and `goal`; `None`-like misses are returned as [`LatticeMiss`].
+    pub fn plan(
+        &mut self,
+        domain: &Domain,
+        robot: [f64; 2],
+        sensed: &[&[[f64; 2]]],
+        goals: &[LatticeGoal<'_>],
+    ) -> Result<LatticePlan, LatticeMiss> {
+        let t = std::time::Instant::now();
+        let side = self.side();
+        let n = side * side;
+        let h = self.h;
+        let (gi0, gj0) = self.origin(robot);
+        let at = |v: usize| -> [f64; 2] {
+            [
+                (gi0 + (v % side) as i64) as f64 * h,
+                (gj0 + (v / side) as i64) as f64 * h,
+            ]
+        };
+
+        // Blocked vertices: the known map, then the sensed obstacles grown by the robot.
+        let mut blocked = vec![false; n];
+        for (v, b) in blocked.iter_mut().enumerate() {
+            *b = self.known_blocked(domain, gi0 + (v % side) as i64, gj0 + (v / side) as i64);
+        }
+        let grow = self.robot_radius + CLEARANCE_FACTOR * h;
+        for ring in sensed {
+            if ring.len() < 3 {
+                continue;
+            }
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for p in ring.iter() {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            let local = |x: f64, origin: i64| x / h - origin as f64;
+            let cells = self.cells as f64;
+            let (i_lo, i_hi) = (
+                local(lo[0] - grow, gi0).ceil().max(0.0),
+                local(hi[0] + grow, gi0).floor().min(cells),
+            );
+            let (j_lo, j_hi) = (
+                local(lo[1] - grow, gj0).ceil().max(0.0),
+                local(hi[1] + grow, gj0).floor().min(cells),
+            );
+            // Also skips rings with non-finite coordinates (every comparison false).
+            if !(i_lo <= i_hi && j_lo <= j_hi) {
+                continue;
+            }
+            for j in j_lo as usize..=j_hi as usize {
+                for i in i_lo as usize..=i_hi as usize {
+                    let v = j * side + i;
+                    if blocked[v] {
+                        continue;
+                    }
+                    let p = at(v);
+                    if polygon_contains(ring, p) || polygon_distance(ring, p) < grow {
+                        blocked[v] = true;
+                    }
+                }
+            }
+        }
+
+        // Goal vertices.
+        let mut is_goal = vec![false; n];
+        let mut goal_count = 0;
+        let mut mark = |v: usize, is_goal: &mut Vec<bool>| {
+            if !blocked[v] && !is_goal[v] {
+                is_goal[v] = true;
+                goal_count += 1;
+            }
+        };
+        for goal in goals {
+            match goal {
+                LatticeGoal::Circle { center, radius } => {
+                    for v in 0..n {
+                        let p = at(v);
+                        if (p[0] - center[0]).hypot(p[1] - center[1]) <= *radius {
+                            mark(v, &mut is_goal);
+                        }
+                    }
+                }
+                LatticeGoal::Polygon(ring) => {
+                    for v in 0..n {
+                        if polygon_contains(ring, at(v)) {
+                            mark(v, &mut is_goal);
+                        }
+                    }
+                }
+                LatticeGoal::Point(p) => {
+                    if let Some(tri) = self.triangle_at(*p, gi0, gj0) {
+                        let verts = self.triangle_vertices(tri);
+                        if verts.iter().all(|&v| !blocked[v]) {
+                            for v in verts {
+                                mark(v, &mut is_goal);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        if goal_count == 0 {
+            return Err(LatticeMiss::NoGoalVertex);
+        }
+
+        // Kept triangles (three free vertices); goal triangles (kept, touching a goal vertex)
+        // are cut out as the goal's hole; the local mesh is the rest.
+        let triangles = 2 * self.cells * self.cells;
+        let mut kind = vec![Kind::Removed; triangles];
+        let mut kept = 0;
+        for (tri, k) in kind.iter_mut().enumerate() {
+            let verts = self.triangle_vertices(tri);
+            if verts.iter().any(|&v| blocked[v]) {
+                continue;
+            }
+            kept += 1;
+            *k = if verts.iter().any(|&v| is_goal[v]) {
+                Kind::Goal
+            } else {
+                Kind::Mesh
+            };
+        }
+        let robot_tri = self
+            .triangle_at(robot, gi0, gj0)
+            .filter(|&tri| kind[tri] != Kind::Removed)
+            .ok_or(LatticeMiss::RobotBlocked)?;
+
+        let mut index = vec![u32::MAX; n];
+        let mut vertices = Vec::new();
+        let mut mesh_triangles = Vec::new();
+        let mut boundary = Vec::new();
+        for tri in 0..triangles {
+            if kind[tri] != Kind::Mesh {
+                continue;
+            }
+            let verts = self.triangle_vertices(tri);
+            let local = verts.map(|v| {
+                if index[v] == u32::MAX {
+                    index[v] = vertices.len() as u32;
+                    let p = at(v);
+                    vertices.push(Point::new(p[0], p[1]));
+                }
+                index[v]
+            });
+            mesh_triangles.push(local);
+            for (k, across) in self.neighbors(tri).into_iter().enumerate() {
+                let tag = match across.map(|u| kind[u]) {
+                    Some(Kind::Mesh) => continue,
+                    Some(Kind::Goal) => BoundaryTag::Goal(0),
+                    Some(Kind::Removed) => BoundaryTag::Obstacle(0),
+                    None => BoundaryTag::Wall,
+                };
+                boundary.push((local[(k + 1) % 3], local[(k + 2) % 3], tag));
+            }
+        }
+        // The robot already in a goal triangle: the goal is one straight step away, inside
+        // that kept triangle.
+        if kind[robot_tri] == Kind::Goal {
+            let mut points = vec![Point::new(robot[0], robot[1])];
+            points.extend(self.goal_targets(robot_tri, robot, &is_goal, goals, (gi0, gj0)));
+            return Ok(LatticePlan {
+                path: Path::new(points, TraceStatus::ReachedGoal(0), f64::INFINITY, 0),
+                tracer: "lattice",
+                triangles: kept,
+                potential: None,
+                mesh_ms: millis(t),
+                assemble_ms: 0.0,
+                solve_ms: 0.0,
+                trace_ms: 0.0,
+            });
+        }
+        let mesh = Mesh::from_parts(vertices, mesh_triangles, &boundary)
+            .map(Arc::new)
+            .map_err(|_| LatticeMiss::Solve)?;
+        let mesh_ms = millis(t);
+
+        // The lattice system: unknowns are the local mesh's interior vertices (5-point rows);
+        // every other lattice vertex is held at its value (1 on the goal's boundary, else 0).
+        let t = std::time::Instant::now();
+        let tags = mesh.vertex_tags();
+        let held = |v: usize| -> Option<f64> {
+            match index[v] {
+                u32::MAX => Some(0.0),
+                m => match tags[m as usize] {
+                    None => None,
+                    Some(BoundaryTag::Goal(_)) => Some(1.0),
+                    Some(_) => Some(0.0),
+                },
+            }
+        };
+        let mut values = vec![0.0; self.row_idx.len()];
+        let mut excess = vec![0.0; n];
+        let mut rhs = vec![0.0; n];
+        for v in 0..n {
+            let range = self.col_ptr[v]..self.col_ptr[v + 1];
+            if let Some(value) = held(v) {
+                excess[v] = 1.0;
+                rhs[v] = value;
+                continue;
+            }
+            for e in range {
+                let w = self.row_idx[e];
+                match held(w) {
+                    None => values[e] = 1.0,
+                    Some(value) => {
+                        excess[v] += 1.0;
+                        rhs[v] += value;
+                    }
+                }
+            }
+        }
+        let offdiag = SymmetricCsc::try_from_symmetric_pattern(
+            n,
+            self.col_ptr.clone(),
+            self.row_idx.clone(),
+            values,
+        )
+        .map_err(|_| LatticeMiss::Solve)?;
+        let matrix = MMatrix::try_new(offdiag, excess).map_err(|_| LatticeMiss::Solve)?;
+        let assemble_ms = millis(t);
+
+        let t = std::time::Instant::now();
+        match &mut self.factor {
+            Some(f) => f.refactor(&matrix).map_err(|_| LatticeMiss::Solve)?,
+            None => {
+                let coords = (0..n).map(|v| [(v % side) as f64, (v / side) as f64]);
+                let ordering = Ordering::NestedDissection {
+                    coords: coords.collect(),
+                };
+                self.factor =
+                    Some(AccurateLdlt::factor(&matrix, ordering).map_err(|_| LatticeMiss::Solve)?);
+            }
+        }
+        let factor = self.factor.as_ref().ok_or(LatticeMiss::Solve)?;
+        factor
+            .solve_in_place(&mut rhs)
+            .map_err(|_| LatticeMiss::Solve)?;
+        let mut psi = vec![0.0; mesh.vertices().len()];
+        for v in 0..n {
+            if index[v] != u32::MAX {
+                psi[index[v] as usize] = rhs[v];
+            }
+        }
+        let potential =
+            Potential::new(Arc::clone(&mesh), psi, 1.0).map_err(|_| LatticeMiss::Solve)?;
+        let gradients = potential.nodal_gradients_psi();
+        let field = SmoothP1Field::ascending(&mesh, potential.psi(), gradients)
+            .map_err(|_| LatticeMiss::Solve)?;
+        let solve_ms = millis(t);
+
+        // Trace as the planner does: smooth first, the exact tracer where it stalls.
+        let t = std::time::Instant::now();
+        let start = Point::new(robot[0], robot[1]);
+        let span = self.cells as f64 * h;
+        let smooth = trace_smooth(&field, start, &SmoothOptions::for_scale(span)).ok();
+        let (mut path, tracer) = match smooth {
+            Some(p)
+                if !matches!(
+                    p.status,
+                    TraceStatus::Stalled { .. } | TraceStatus::MaxSteps
+                ) =>
+            {
+                (p, "smooth")
+            }
+            _ => (
+                trace_exact(field.p1(), start, &ExactOptions::default()),
+                "exact",
+            ),
+        };
+        if !matches!(path.status, TraceStatus::ReachedGoal(_)) {
+            return Err(LatticeMiss::NotReached);
+        }
+        // Step from where the path met the goal's hole to a goal vertex (or the goal point),
+        // inside the goal triangle it entered.
+        if let Some(&end) = path.points.last() {
+            let before = path
+                .points
+                .len()
+                .checked_sub(2)
+                .map_or(start, |k| path.points[k]);
+            let inward = end + 1e-6 * h * (end - before).try_normalize(0.0).unwrap_or_default();
+            let entered = self
+                .triangle_at([inward.x, inward.y], gi0, gj0)
+                .filter(|&tri| kind[tri] == Kind::Goal)
+                .or_else(|| self.goal_triangle_touching(end, gi0, gj0, &kind));
+            if let Some(tri) = entered {
+                let mut points = std::mem::take(&mut path.points);
+                points.extend(self.goal_targets(tri, [end.x, end.y], &is_goal, goals, (gi0, gj0)));
+                path = Path::new(
+                    points,
+                    path.status,
+                    path.min_gradient,
+                    path.triangles_crossed,
+                );
+            }
+        }
+        Ok(LatticePlan {
+            path,
+            tracer,
+            triangles: kept,
+            potential: Some(potential),
+            mesh_ms,
+            assemble_ms,
+            solve_ms,
+            trace_ms: millis(t),
+        })
+    }
+
+    /// Where a path goes once it is in goal triangle `tri` (straight segments inside kept
+    /// triangles): a point goal lying in this triangle; else the triangle's goal vertex
+    /// nearest `from`, followed by a point goal whose triangle has that vertex.
+    fn goal_targets(
+        &self,
+        tri: usize,
+        from: [f64; 2],
+        is_goal: &[bool],
+        goals: &[LatticeGoal<'_>],
+        origin: (i64, i64),
+    ) -> Vec<Point> {
+        let side = self.side();
+        let at = |v: usize| {
+            Point::new(
+                (origin.0 + (v % side) as i64) as f64 * self.h,
+                (origin.1 + (v / side) as i64) as f64 * self.h,
+            )
+        };
+        let points = || {
+            goals.iter().filter_map(|g| match g {
+                LatticeGoal::Point(p) => Some(*p),
+                _ => None,
+            })
+        };
+        let contains = |tri: usize, q: [f64; 2]| {
+            let [a, b, c] = self.triangle_vertices(tri).map(at);
+            let q = Point::new(q[0], q[1]);
+            [(a, b), (b, c), (c, a)]
+                .iter()
+                .all(|&(u, w)| harmonic_mesh::orient2d(u, w, q) >= 0.0)
+        };
+        if let Some(p) = points().find(|&p| contains(tri, p)) {
+            return vec![Point::new(p[0], p[1])];
+        }
+        let from = Point::new(from[0], from[1]);
+        let Some(v) = self
+            .triangle_vertices(tri)
+            .into_iter()
+            .filter(|&v| is_goal[v])
+            .min_by(|&a, &b| (at(a) - from).norm().total_cmp(&(at(b) - from).norm()))
+        else {
+            return Vec::new();
+        };
+        let mut targets = vec![at(v)];
+        let point_beyond = points().find(|&p| {
+            self.triangle_at(p, origin.0, origin.1)
+                .is_some_and(|t| self.triangle_vertices(t).contains(&v))
+        });
+        if let Some(p) = point_beyond {
+            targets.push(Point::new(p[0], p[1]));
+        }
+        targets
+    }
+
+    /// A goal triangle whose closure holds `p` (for a path ending exactly on a vertex).
+    fn goal_triangle_touching(&self, p: Point, gi0: i64, gj0: i64, kind: &[Kind]) -> Option<usize> {
+        let h = self.h;
+        let (ci, cj) = (
+            (p.x / h - gi0 as f64).floor() as i64,
+            (p.y / h - gj0 as f64).floor() as i64,
+        );
+        for dj in -1..=1 {
+            for di in -1..=1 {
+                let (i, j) = (ci + di, cj + dj);
+                if i < 0 || j < 0 || i >= self.cells as i64 || j >= self.cells as i64 {
+                    continue;
+                }
+                for half in 0..2 {
+                    let tri = 2 * (j as usize * self.cells + i as usize) + half;
+                    if kind[tri] != Kind::Goal {
+                        continue;
+                    }
+                    let [a, b, c] = self.triangle_vertices(tri).map(|v| {
+                        let side = self.side();
+                        Point::new(
+                            (gi0 + (v % side) as i64) as f64 * h,
+                            (gj0 + (v / side) as i64) as f64 * h,
+                        )
+                    });
+                    let tol = -1e-9 * h * h;
+                    if harmonic_mesh::orient2d(a, b, p) >= tol
+                        && harmonic_mesh::orient2d(b, c, p) >= tol
+                        && harmonic_mesh::orient2d(c, a, p) >= tol
+                    {
+                        return Some(tri);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// The lattice triangle holding `p` (for a window with origin `(gi0, gj0)`), if `p` is in
+    /// the window.
+    fn triangle_at(&self, p: [f64; 2], gi0: i64, gj0: i64) -> Option<usize> {
+        let (x, y) = (p[0] / self.h - gi0 as f64, p[1] / self.h - gj0 as f64);
+        let n = self.cells as f64;
+        if !(x >= 0.0 && y >= 0.0 && x <= n && y <= n) {
+            return None;
+        }
+        let (i, j) = (
+            (x.floor() as usize).min(self.cells - 1),
+            (y.floor() as usize).min(self.cells - 1),
+        );
+        // Below the diagonal (x − i ≥ y − j): the lower-right triangle.
+        let upper = y - j as f64 > x - i as f64;
+        Some(2 * (j * self.cells + i) + upper as usize)
+    }
+
+    /// Lattice vertices of triangle `tri`, counter-clockwise: cell `(i, j)`'s lower-right
+    /// triangle is `(i, j), (i+1, j), (i+1, j+1)`, its upper-left `(i, j), (i+1, j+1), (i, j+1)`.
+    fn triangle_vertices(&self, tri: usize) -> [usize; 3] {
+        let side = self.side();
+        let cell = tri / 2;
+        let (i, j) = (cell % self.cells, cell / self.cells);
+        let v00 = j * side + i;
+        let (v10, v01, v11) = (v00 + 1, v00 + side, v00 + side + 1);
+        if tri.is_multiple_of(2) {
+            [v00, v10, v11]
+        } else {
+            [v00, v11, v01]
+        }
+    }
+
+    /// The triangles across the edges opposite each local vertex of `tri` (`None` at the
+    /// window's border).
+    fn neighbors(&self, tri: usize) -> [Option<usize>; 3] {
+        let n = self.cells;
+        let cell = tri / 2;
+        let (i, j) = (cell % n, cell / n);
+        let lower = |i: usize, j: usize| 2 * (j * n + i);
+        if tri.is_multiple_of(2) {
+            // Opposite v00: the right side; opposite v10: the diagonal; opposite v11: the bottom.
+            [
+                (i + 1 < n).then(|| lower(i + 1, j) + 1),
+                Some(tri + 1),
+                (j > 0).then(|| lower(i, j - 1) + 1),
+            ]
+        } else {
+            // Opposite v00: the top; opposite v11: the left side; opposite v01: the diagonal.
+            [
+                (j + 1 < n).then(|| lower(i, j + 1)),
+                (i > 0).then(|| lower(i - 1, j)),
+                Some(tri - 1),
+            ]
+        }
+    }
+}
+
+/// What a lattice triangle is in one replan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A vertex is blocked.
+    Removed,
+    /// Kept, touching a goal vertex: part of the goal's hole.
+    Goal,
+    /// Kept: part of the local mesh.
+    Mesh,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Scene;
+    use crate::planner::interior_local_minima;
+    use harmonic_fem::{BoundaryConditions, solve_potential};
+
+    /// A 6 × 4 room with a post; the lattice is the 10 cm one of the paper, 4 m wide around the
+    /// robot, the goal at (3.8, 2) inside it.
+    fn room() -> Domain {
+        let scene = Scene::from_json(
+            r#"{
+                "workspace": [[0, 0], [6, 0], [6, 4], [0, 4]],
+                "obstacles": [{"polygon": [[2.6, 2.6], [3.0, 2.6], [3.0, 4.0], [2.6, 4.0]]}],
+                "goal": {"circle": {"center": [5.5, 2.0], "radius": 0.12}},
+                "mesh": {"max_area": 0.02}
+            }"#,
+        )
+        .expect("valid scene");
+        Domain::new(&scene.domain_spec(), &scene.mesh_options()).expect("valid domain")
+    }
+
+    const BOX: [[f64; 2]; 4] = [[2.9, 1.5], [3.3, 1.5], [3.3, 2.3], [2.9, 2.3]];
+
+    fn plan(lattice: &mut Lattice, robot: [f64; 2]) -> Result<LatticePlan, LatticeMiss> {
+        let goal = [LatticeGoal::Circle {
+            center: [3.8, 2.0],
+            radius: 0.12,
+        }];
+        lattice.plan(&room(), robot, &[&BOX[..]], &goal)
+    }
+
+    #[test]
+    fn the_lattice_potential_is_the_fem_solution_on_the_kept_mesh() {
+        let mut lattice = Lattice::new(0.1, 40, 0.0, Vec::new());
+        let plan = plan(&mut lattice, [2.0, 2.0]).expect("the lattice serves this window");
+        assert_eq!(plan.path.status, TraceStatus::ReachedGoal(0));
+        let potential = plan.potential.expect("a potential");
+        let mesh = Arc::clone(potential.mesh());
+        // The same Dirichlet problem assembled from the mesh by the FEM crate.
+        let fem = solve_potential(Arc::clone(&mesh), &BoundaryConditions::default())
+            .expect("FEM solve");
+        let worst = potential
+            .psi()
+            .iter()
+            .zip(fem.psi())
+            .map(|(a, b)| (a - b).abs() / b.abs().max(1e-300))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "relative difference {worst:e}");
+        assert_eq!(interior_local_minima(&mesh, potential.psi()), 0);
+        // Triangles cut out around the box and the post: fewer than the full 3200.
+        assert!(plan.triangles < 3200 && plan.triangles > 2500, "{}", plan.triangles);
+    }
+
+    #[test]
+    fn paths_keep_clear_of_known_and_sensed_obstacles() {
+        let mut lattice = Lattice::new(0.1, 40, 0.0, Vec::new());
+        let domain = room();
+        for robot in [[2.0, 2.0], [2.4, 1.0], [2.3, 3.0], [2.2, 0.5]] {
+            let plan = plan(&mut lattice, robot).expect("the lattice serves this window");
+            assert_eq!(plan.path.status, TraceStatus::ReachedGoal(0), "{robot:?}");
+            for w in plan.path.points.windows(2) {
+                assert!(domain.segment_clearance(w[0], w[1]) > 0.0, "{robot:?}");
+                for p in w {
+                    assert!(!polygon_contains(&BOX, [p.x, p.y]), "{robot:?}: {p:?}");
+                    assert!(polygon_distance(&BOX, [p.x, p.y]) > 0.0, "{robot:?}: {p:?}");
+                }
+            }
+            // The path ends in the goal disc.
+            let end = plan.path.points.last().expect("points");
+            assert!((end - Point::new(3.8, 2.0)).norm() <= 0.12 + 1e-12, "{end:?}");
+        }
+    }
+
+    #[test]
+    fn a_refactored_replan_matches_a_fresh_lattice() {
+        let mut reused = Lattice::new(0.1, 40, 0.0, Vec::new());
+        plan(&mut reused, [1.9, 1.2]).expect("first replan");
+        let again = plan(&mut reused, [2.0, 2.0]).expect("second replan");
+        let fresh = plan(&mut Lattice::new(0.1, 40, 0.0, Vec::new()), [2.0, 2.0]).expect("fresh");
+        assert_eq!(again.path.points, fresh.path.points);
+    }
+
+    #[test]
+    fn misses_are_reported_not_papered_over() {
+        let mut lattice = Lattice::new(0.1, 40, 0.0, Vec::new());
+        // Within the lattice's margin of the box.
+        assert_eq!(
+            plan(&mut lattice, [2.85, 2.0]).err(),
+            Some(LatticeMiss::RobotBlocked)
+        );
+        // A goal inside the box has no free vertex.
+        let goal = [LatticeGoal::Point([3.1, 1.9])];
+        assert_eq!(
+            lattice.plan(&room(), [2.0, 2.0], &[&BOX[..]], &goal).err(),
+            Some(LatticeMiss::NoGoalVertex)
+        );
+    }
+
+    #[test]
+    fn point_goals_are_reached_exactly() {
+        let mut lattice = Lattice::new(0.1, 40, 0.0, Vec::new());
+        let goal = [LatticeGoal::Point([3.73, 2.47])];
+        let plan = lattice
+            .plan(&room(), [2.0, 2.0], &[&BOX[..]], &goal)
+            .expect("the lattice serves this window");
+        assert_eq!(plan.path.status, TraceStatus::ReachedGoal(0));
+        assert_eq!(plan.path.points.last(), Some(&Point::new(3.73, 2.47)));
+    }
+}
