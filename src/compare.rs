@@ -316,7 +316,8 @@ pub enum PlannerKind {
     FemDirichlet,
     /// The FEM harmonic planner with Robin walls and obstacles, ∂φ/∂n + φ = 1.
     FemRobin,
-    /// Connolly's grid harmonic (red–black SOR) followed by the shared smooth tracer.
+    /// Connolly's grid harmonic (red–black SOR until every cell's residual is below 1e-6 of
+    /// its value, [`SorOptions::default`]) followed by the shared smooth tracer.
     GridSor,
     /// The 8-connected wavefront on the same grid.
     Wavefront,
