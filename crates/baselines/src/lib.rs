@@ -7,7 +7,9 @@
 //!   equation*: the 5-point Laplacian on an occupancy grid ([`Raster`], from polygons or from
 //!   a [`harmonic_mesh::Domain`]), relaxed by Gauss–Seidel or red–black SOR (optimal ω by
 //!   default), Dirichlet or Robin/Neumann outer walls, iterated on ψ = 1 − φ like the FEM
-//!   solver, followed by bilinear interpolation. [`GridHarmonic`] implements the shared
+//!   solver until every cell's residual is small against its own value (by default: ψ
+//!   decays exponentially along corridors, and an absolute tolerance leaves the far cells
+//!   flat), followed by bilinear interpolation. [`GridHarmonic`] implements the shared
 //!   [`harmonic_trajectory::Field`] trait, so the same tracer follows it, and reports
 //!   Connolly's flat-cell count.
 //! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
