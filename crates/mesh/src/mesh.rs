@@ -217,8 +217,10 @@ impl Mesh {
                 )));
             }
         }
-        // Adjacency through the triangle stars of the vertices (compressed rows): the
-        // triangle across directed edge a -> b is the one in b's star holding b -> a.
+        // Adjacency through the triangle stars of the vertices (compressed rows): for each
+        // triangle at vertex v, the triangle and the vertex after v in it (so star entry
+        // (u, w) of v is the directed edge v -> w of triangle u). The triangle across
+        // directed edge a -> b is the entry of b's star whose edge is b -> a.
         let mut start = vec![0u32; nv + 1];
         for tri in &triangles {
             for &v in tri {
@@ -229,31 +231,43 @@ impl Mesh {
             start[i + 1] += start[i];
         }
         let mut fill = start.clone();
-        let mut star = vec![0u32; 3 * triangles.len()];
+        let mut star = vec![(0u32, 0u32); 3 * triangles.len()];
         for (t, tri) in triangles.iter().enumerate() {
-            for &v in tri {
-                star[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
+            for i in 0..3 {
+                let v = tri[i] as usize;
+                star[fill[v] as usize] = (t as u32, tri[(i + 1) % 3]);
+                fill[v] += 1;
             }
         }
         drop(fill);
-        let has_edge = |u: u32, a: u32, b: u32| {
-            let tu = triangles[u as usize];
-            (0..3).any(|i| tu[i] == a && tu[(i + 1) % 3] == b)
-        };
+        let star_of = |v: u32| &star[start[v as usize] as usize..start[v as usize + 1] as usize];
+        // No directed edge may appear twice: the edges leaving each vertex are distinct.
+        let mut leaving: Vec<(u32, u32)> = Vec::new();
+        for v in 0..nv as u32 {
+            let s = star_of(v);
+            let twice = if s.len() <= 16 {
+                (1..s.len()).find_map(|i| s[..i].iter().find(|e| e.1 == s[i].1).map(|_| s[i]))
+            } else {
+                leaving.clear();
+                leaving.extend(s.iter().map(|&(u, w)| (w, u)));
+                leaving.sort_unstable();
+                leaving
+                    .windows(2)
+                    .find(|p| p[0].0 == p[1].0)
+                    .map(|p| (p[1].1, p[1].0))
+            };
+            if let Some((t, w)) = twice {
+                return Err(MeshError::InvalidMesh(format!(
+                    "edge ({v}, {w}) is used twice in the same direction (near triangle {t})"
+                )));
+            }
+        }
         let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
-        for (t, tri) in triangles.iter().enumerate() {
-            for (k, nb) in neighbors[t].iter_mut().enumerate() {
+        for (tri, nbs) in triangles.iter().zip(neighbors.iter_mut()) {
+            for (k, nb) in nbs.iter_mut().enumerate() {
                 let a = tri[(k + 1) % 3];
                 let b = tri[(k + 2) % 3];
-                let star_a = &star[start[a as usize] as usize..start[a as usize + 1] as usize];
-                if star_a.iter().any(|&u| u != t as u32 && has_edge(u, a, b)) {
-                    return Err(MeshError::InvalidMesh(format!(
-                        "edge ({a}, {b}) is used twice in the same direction (near triangle {t})"
-                    )));
-                }
-                let star_b = &star[start[b as usize] as usize..start[b as usize + 1] as usize];
-                if let Some(&u) = star_b.iter().find(|&&u| has_edge(u, b, a)) {
+                if let Some(&(u, _)) = star_of(b).iter().find(|e| e.1 == a) {
                     *nb = u;
                 }
             }
@@ -603,5 +617,26 @@ mod tests {
         ];
         assert!(Mesh::from_parts(v.clone(), vec![[0, 2, 1]], &[]).is_err());
         assert!(Mesh::from_parts(v, vec![[0, 1, 2]], &[(0, 1, BoundaryTag::Wall)]).is_err());
+    }
+
+    #[test]
+    fn an_edge_used_twice_in_one_direction_is_refused() {
+        let p = Point::new;
+        // Two triangles on the same side of edge 0 -> 1 (overlapping).
+        let v = vec![p(0.0, 0.0), p(1.0, 0.0), p(0.5, 1.0), p(0.4, 0.5)];
+        let e = Mesh::from_parts(v.clone(), vec![[0, 1, 2], [0, 1, 3]], &[]).unwrap_err();
+        assert!(e.to_string().contains("edge (0, 1) is used twice"), "{e}");
+        // The same around a vertex with a star larger than 16 triangles: a fan of 20
+        // triangles around vertex 0, plus one repeating the fan's first edge.
+        let mut v = vec![p(0.0, 0.0)];
+        v.extend((0..=20).map(|i| {
+            let t = 0.1 + 0.07 * i as f64;
+            p(t.cos(), t.sin())
+        }));
+        let mut tris: Vec<[u32; 3]> = (1..=20).map(|i| [0, i, i + 1]).collect();
+        v.push(p(0.9, 0.3));
+        tris.push([0, 1, 22]);
+        let e = Mesh::from_parts(v, tris, &[]).unwrap_err();
+        assert!(e.to_string().contains("is used twice"), "{e}");
     }
 }

@@ -348,6 +348,32 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
     d
 }
 
+/// The distinct triangles `tris` (vertex indices below `nv`, smallest first) in
+/// lexicographic order: a counting sort on the first vertex, then the few triangles sharing
+/// it by their other two.
+fn sorted_triangles(tris: &[[u32; 3]], nv: usize) -> Vec<[u32; 3]> {
+    let mut start = vec![0usize; nv + 1];
+    for t in tris {
+        start[t[0] as usize + 1] += 1;
+    }
+    for i in 0..nv {
+        start[i + 1] += start[i];
+    }
+    let mut out = vec![[0u32; 3]; tris.len()];
+    for t in tris {
+        let slot = &mut start[t[0] as usize];
+        out[*slot] = *t;
+        *slot += 1;
+    }
+    // `start[v]` is now the end of bucket v, and the start of bucket v + 1.
+    let mut begin = 0;
+    for &end in &start[..nv] {
+        out[begin..end].sort_unstable();
+        begin = end;
+    }
+    out
+}
+
 impl Domain {
     /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
     /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
@@ -592,7 +618,7 @@ impl Domain {
             new_id[v] = i as u32;
             vertices.push(positions[v]);
         }
-        let mut triangles: Vec<[u32; 3]> = tri_raw
+        let rotated: Vec<[u32; 3]> = tri_raw
             .iter()
             .map(|t| {
                 let t = t.map(|v| new_id[v]);
@@ -601,7 +627,7 @@ impl Domain {
                 [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
             })
             .collect();
-        triangles.sort_unstable();
+        let triangles = sorted_triangles(&rotated, vertices.len());
         let seg_index = SegmentIndex::new(
             seg_tags
                 .iter()
