@@ -339,7 +339,18 @@ impl Assembler {
             )
         };
         let mut count = vec![1usize; n];
+        // Fused into this pass: per component of free space, whether it holds a prescribed
+        // vertex, and one of its vertices (for error messages).
+        let components = mesh.component_count() as usize;
+        let mut component_fixed = vec![false; components];
+        let mut component_vertex = vec![NONE; components];
+        let triangle_components = mesh.triangle_components();
         for (t, (tri, nbs)) in triangles.iter().zip(neighbors).enumerate() {
+            let c = triangle_components[t] as usize;
+            component_vertex[c] = tri[0];
+            if tri.iter().any(|&v| unknown_of[v as usize] == NONE) {
+                component_fixed[c] = true;
+            }
             for (k, &nb) in nbs.iter().enumerate() {
                 let (a, b) = unknowns_of(tri, k);
                 if (nb == NO_NEIGHBOR || nb as usize > t) && a != NONE && b != NONE {
@@ -366,10 +377,33 @@ impl Assembler {
         // tri_pos[t][2k]: slot of (row a, col b), [2k+1]: slot of (row b, col a), where
         // (a, b) are the unknowns of local edge k; first in U, remapped to T below.
         let mut tri_pos = vec![[NONE; 6]; triangles.len()];
+        // Fused into this pass: the lifting edges (one end unknown, one prescribed), each once,
+        // so their weights are summed over both triangles before use: a single triangle's
+        // share may be negative.
+        let mut lift_pos = vec![[NONE; 3]; triangles.len()];
+        let mut lift_edges = Vec::new();
         for (t, tri) in triangles.iter().enumerate() {
             for k in 0..3 {
                 let (a, b) = unknowns_of(tri, k);
                 if a == NONE || b == NONE {
+                    if (a == NONE) != (b == NONE) {
+                        let nb = neighbors[t][k];
+                        if nb == NO_NEIGHBOR || nb as usize > t {
+                            lift_pos[t][k] = lift_edges.len() as u32;
+                            let (u, v) = if a != NONE {
+                                (a, tri[(k + 2) % 3])
+                            } else {
+                                (b, tri[(k + 1) % 3])
+                            };
+                            lift_edges.push((u, v));
+                        } else {
+                            let nb = nb as usize;
+                            let kn = (0..3)
+                                .find(|&m| neighbors[nb][m] as usize == t)
+                                .expect("adjacency is symmetric");
+                            lift_pos[t][k] = lift_pos[nb][kn];
+                        }
+                    }
                     continue;
                 }
                 let nb = neighbors[t][k];
@@ -421,48 +455,10 @@ impl Assembler {
         }
         let diag_pos: Vec<u32> = (0..n).map(|j| to_t[col_ptr[j]]).collect();
 
-        // Lifting edges (one end unknown, one prescribed), each once, so their weights are
-        // summed over both triangles before use: a single triangle's share may be negative.
-        let mut lift_pos = vec![[NONE; 3]; triangles.len()];
-        let mut lift_edges = Vec::new();
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let (a, b) = unknowns_of(tri, k);
-                if (a == NONE) == (b == NONE) {
-                    continue;
-                }
-                let nb = neighbors[t][k];
-                if nb == NO_NEIGHBOR || nb as usize > t {
-                    lift_pos[t][k] = lift_edges.len() as u32;
-                    let (u, v) = if a != NONE {
-                        (a, tri[(k + 2) % 3])
-                    } else {
-                        (b, tri[(k + 1) % 3])
-                    };
-                    lift_edges.push((u, v));
-                } else {
-                    let nb = nb as usize;
-                    let kn = (0..3)
-                        .find(|&m| neighbors[nb][m] as usize == t)
-                        .expect("adjacency is symmetric");
-                    lift_pos[t][k] = lift_pos[nb][kn];
-                }
-            }
-        }
         // Built from undirected mesh edges: symmetric by construction.
         let template =
             SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])?;
 
-        let components = mesh.component_count() as usize;
-        let mut component_fixed = vec![false; components];
-        let mut component_vertex = vec![NONE; components];
-        for (t, tri) in triangles.iter().enumerate() {
-            let c = mesh.triangle_components()[t] as usize;
-            component_vertex[c] = tri[0];
-            if tri.iter().any(|&v| unknown_of[v as usize] == NONE) {
-                component_fixed[c] = true;
-            }
-        }
         Ok(Assembler {
             mesh,
             options,
@@ -514,7 +510,8 @@ impl Assembler {
     /// [`assemble_into`](Self::assemble_into).
     pub fn empty_system(&self) -> LinearSystem {
         LinearSystem {
-            matrix: self.template.clone(),
+            // The pattern is shared with the template, not copied.
+            matrix: SymmetricCsc::zeros_like(&self.template),
             rhs: vec![0.0; self.unknown_count()],
             psi_fixed: vec![0.0; self.mesh.vertices().len()],
             reference: 0.0,
@@ -811,7 +808,9 @@ impl Assembler {
         (0..a.n()).find_map(|j| {
             (a.col_ptr()[j]..a.col_ptr()[j + 1]).find_map(|p| {
                 let i = a.row_idx()[p];
-                (i > j && values[p] > 1e-12 * diag(i).max(diag(j))).then(|| {
+                // `values[p] > 0` first: on a Delaunay mesh almost no entry passes it, so the
+                // diagonals (scattered reads) are looked up almost never.
+                (i > j && values[p] > 0.0 && values[p] > 1e-12 * diag(i).max(diag(j))).then(|| {
                     let (vi, vj) = (free[i], free[j]);
                     NotMMatrix::NegativeEdgeWeight {
                         vertices: [vi, vj],

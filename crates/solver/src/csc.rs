@@ -1,5 +1,7 @@
 //! The symmetric sparse matrix type every solver of this crate takes.
 
+use std::sync::Arc;
+
 use crate::error::{SolverError, StructureIssue};
 
 /// Symmetric sparse matrix in compressed sparse column form with the FULL pattern stored
@@ -20,12 +22,21 @@ use crate::error::{SolverError, StructureIssue};
 /// assert_eq!(y, [1.0, 1.0]);
 /// # Ok::<(), harmonic_solver::SolverError>(())
 /// ```
+///
+/// The pattern is shared: clones and [`SymmetricCsc::zeros_like`] copy only the values, and
+/// solvers that analysed a pattern recognise it without comparing it entry by entry.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SymmetricCsc {
     n: usize,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    pattern: Arc<Pattern>,
     values: Vec<f64>,
+}
+
+/// Column pointers and row indices of a [`SymmetricCsc`].
+#[derive(Debug, PartialEq)]
+pub(crate) struct Pattern {
+    pub(crate) col_ptr: Vec<usize>,
+    pub(crate) row_idx: Vec<usize>,
 }
 
 impl SymmetricCsc {
@@ -98,17 +109,45 @@ impl SymmetricCsc {
         }
         let a = Self {
             n,
-            col_ptr,
-            row_idx,
+            pattern: Arc::new(Pattern { col_ptr, row_idx }),
             values,
         };
         debug_assert_eq!(a.missing_mirror(), None, "pattern is not symmetric");
         Ok(a)
     }
 
+    /// A matrix with `self`'s pattern (shared, not copied) and every value zero.
+    ///
+    /// ```
+    /// use harmonic_solver::SymmetricCsc;
+    /// let a = SymmetricCsc::try_new(2, vec![0, 2, 4], vec![0, 1, 0, 1], vec![2.0, -1.0, -1.0, 2.0])?;
+    /// let z = SymmetricCsc::zeros_like(&a);
+    /// assert!(z.shares_pattern(&a));
+    /// assert_eq!(z.values(), &[0.0; 4]);
+    /// # Ok::<(), harmonic_solver::SolverError>(())
+    /// ```
+    pub fn zeros_like(other: &SymmetricCsc) -> SymmetricCsc {
+        SymmetricCsc {
+            n: other.n,
+            pattern: Arc::clone(&other.pattern),
+            values: vec![0.0; other.nnz()],
+        }
+    }
+
+    /// Whether `self` and `other` share one pattern object (as clones and
+    /// [`SymmetricCsc::zeros_like`] do); equal patterns built separately do not.
+    pub fn shares_pattern(&self, other: &SymmetricCsc) -> bool {
+        Arc::ptr_eq(&self.pattern, &other.pattern)
+    }
+
+    /// The shared pattern.
+    pub(crate) fn pattern(&self) -> &Arc<Pattern> {
+        &self.pattern
+    }
+
     /// The first stored `(row, column)` whose mirror is not stored, if any.
     fn missing_mirror(&self) -> Option<(usize, usize)> {
-        let (col_ptr, row_idx) = (&self.col_ptr, &self.row_idx);
+        let (col_ptr, row_idx) = (&self.pattern.col_ptr, &self.pattern.row_idx);
         (0..self.n).find_map(|j| {
             row_idx[col_ptr[j]..col_ptr[j + 1]]
                 .iter()
@@ -129,17 +168,17 @@ impl SymmetricCsc {
 
     /// Number of stored entries (both triangles).
     pub fn nnz(&self) -> usize {
-        self.row_idx.len()
+        self.pattern.row_idx.len()
     }
 
     /// Column pointers (`n + 1` entries).
     pub fn col_ptr(&self) -> &[usize] {
-        &self.col_ptr
+        &self.pattern.col_ptr
     }
 
     /// Row indices, column by column, sorted within each column.
     pub fn row_idx(&self) -> &[usize] {
-        &self.row_idx
+        &self.pattern.row_idx
     }
 
     /// Values, parallel to [`SymmetricCsc::row_idx`].
@@ -154,8 +193,9 @@ impl SymmetricCsc {
 
     /// Rows of column `j` and their values.
     pub fn column(&self, j: usize) -> (&[usize], &[f64]) {
-        let r = self.col_ptr[j]..self.col_ptr[j + 1];
-        (&self.row_idx[r.clone()], &self.values[r])
+        let p = &self.pattern;
+        let r = p.col_ptr[j]..p.col_ptr[j + 1];
+        (&p.row_idx[r.clone()], &self.values[r])
     }
 
     /// `y = A x`.
@@ -166,10 +206,11 @@ impl SymmetricCsc {
         assert_eq!(x.len(), self.n, "mul_vec: x has the wrong length");
         assert_eq!(y.len(), self.n, "mul_vec: y has the wrong length");
         // A is symmetric, so row i of A is column i: a gather loop (no scattered writes).
+        let p = &self.pattern;
         for (i, yi) in y.iter_mut().enumerate() {
-            let r = self.col_ptr[i]..self.col_ptr[i + 1];
+            let r = p.col_ptr[i]..p.col_ptr[i + 1];
             let mut s = 0.0;
-            for (&k, &v) in self.row_idx[r.clone()].iter().zip(&self.values[r]) {
+            for (&k, &v) in p.row_idx[r.clone()].iter().zip(&self.values[r]) {
                 s += v * x[k];
             }
             *yi = s;

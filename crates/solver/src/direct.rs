@@ -11,7 +11,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side, Spec};
 
-use crate::csc::SymmetricCsc;
+use crate::csc::{Pattern, SymmetricCsc};
 use crate::error::SolverError;
 use crate::ordering::{Ordering, nested_dissection};
 
@@ -20,8 +20,8 @@ struct SymbolicInner {
     faer: FaerSymbolic<usize>,
     /// `perm[new] = old`: the fill-reducing ordering, to report errors in the caller's numbering.
     perm: Vec<usize>,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// The analysed pattern (shared with the matrix, not copied).
+    pattern: Arc<Pattern>,
 }
 
 /// Symbolic Cholesky analysis of a sparsity pattern: the fill-reducing ordering and faer's
@@ -85,15 +85,14 @@ impl SymbolicCholesky {
             inner: Arc::new(SymbolicInner {
                 faer,
                 perm,
-                col_ptr: a.col_ptr().to_vec(),
-                row_idx: a.row_idx().to_vec(),
+                pattern: Arc::clone(a.pattern()),
             }),
         })
     }
 
     /// Number of unknowns.
     pub fn n(&self) -> usize {
-        self.inner.col_ptr.len() - 1
+        self.inner.pattern.col_ptr.len() - 1
     }
 
     /// Number of stored values of the Cholesky factor (a measure of fill; supernodal storage
@@ -119,7 +118,10 @@ impl SymbolicCholesky {
     }
 
     fn check_pattern(&self, a: &SymmetricCsc) -> Result<(), SolverError> {
-        let s = &self.inner;
+        let s = &self.inner.pattern;
+        if Arc::ptr_eq(s, a.pattern()) {
+            return Ok(());
+        }
         if a.n() != self.n() {
             return Err(SolverError::PatternMismatch {
                 column: a.n().min(self.n()),
