@@ -328,14 +328,14 @@ fn panic_message(e: Box<dyn std::any::Any + Send>) -> String {
     }
 }
 
-/// Position of `(x, y)` (each in `0..2^16`) along a Hilbert curve.
-fn hilbert(mut x: u32, mut y: u32) -> u64 {
-    let mut d: u64 = 0;
+/// Position of `(x, y)` (each in `0..2^16`) along a Hilbert curve (below 2^32).
+fn hilbert(mut x: u32, mut y: u32) -> u32 {
+    let mut d: u32 = 0;
     let mut s: u32 = 1 << 15;
     while s > 0 {
         let rx = u32::from(x & s > 0);
         let ry = u32::from(y & s > 0);
-        d += u64::from(s) * u64::from(s) * u64::from((3 * rx) ^ ry);
+        d += s * s * ((3 * rx) ^ ry);
         if ry == 0 {
             if rx == 1 {
                 x = 0xffff - x;
@@ -346,6 +346,28 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
         s /= 2;
     }
     d
+}
+
+/// `items` sorted by key, items with equal keys kept in their order (least significant digit
+/// radix sort, two passes of 16 bits).
+fn radix_sort_by_key(mut items: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+    let mut out = vec![(0u32, 0u32); items.len()];
+    for shift in [0, 16] {
+        let mut start = vec![0usize; (1 << 16) + 1];
+        for &(k, _) in &items {
+            start[((k >> shift) & 0xffff) as usize + 1] += 1;
+        }
+        for i in 0..1 << 16 {
+            start[i + 1] += start[i];
+        }
+        for &item in &items {
+            let slot = &mut start[((item.0 >> shift) & 0xffff) as usize];
+            out[*slot] = item;
+            *slot += 1;
+        }
+        std::mem::swap(&mut items, &mut out);
+    }
+    items
 }
 
 /// The distinct triangles `tris` (vertex indices below `nv`, smallest first) in
@@ -567,26 +589,41 @@ impl Domain {
             }
         }
 
-        // Free faces, their vertices and boundary edges.
-        let mut tri_raw: Vec<[usize; 3]> = Vec::new();
+        // Free faces, their vertices and boundary edges, from one pass over the edge array
+        // (both half-edges of an undirected edge are stored together, so this reads memory
+        // in order instead of jumping from each face to its edges and their twins). Face
+        // `f` collects its three directed edges `from -> to` (free space on their left).
+        let mut face_edges = vec![[u32::MAX; 6]; cdt.num_all_faces()];
         let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
-        for face in cdt.inner_faces() {
-            if excluded[face.fix().index()] {
-                continue;
-            }
-            let v = face.vertices().map(|v| v.fix().index());
-            tri_raw.push(v);
-            for e in face.adjacent_edges() {
-                let other = e.rev().face();
-                let outside = match other.as_inner() {
-                    None => true,
-                    Some(f) => excluded[f.fix().index()],
-                };
-                if outside {
-                    bnd_raw.push((e.from().fix().index(), e.to().fix().index()));
+        let free = |f: Option<usize>| f.filter(|&i| !excluded[i]);
+        for e in cdt.undirected_edges() {
+            let d = e.as_directed();
+            let (a, b) = (d.from().fix().index() as u32, d.to().fix().index() as u32);
+            let left = free(d.face().as_inner().map(|f| f.fix().index()));
+            let right = free(d.rev().face().as_inner().map(|f| f.fix().index()));
+            for (face, from, to, other) in [(left, a, b, right), (right, b, a, left)] {
+                if let Some(f) = face {
+                    let slots = &mut face_edges[f];
+                    let k = slots.iter().step_by(2).position(|&x| x == u32::MAX);
+                    let k = 2 * k.expect("a face has three edges");
+                    slots[k] = from;
+                    slots[k + 1] = to;
+                    if other.is_none() {
+                        bnd_raw.push((from as usize, to as usize));
+                    }
                 }
             }
         }
+        // Each free face as its vertices counter-clockwise: a -> b, then the edge leaving b.
+        let tri_raw: Vec<[usize; 3]> = face_edges
+            .iter()
+            .filter(|s| s[0] != u32::MAX)
+            .map(|s| {
+                let c = if s[2] == s[1] { s[3] } else { s[5] };
+                [s[0] as usize, s[1] as usize, c as usize]
+            })
+            .collect();
+        drop(face_edges);
         let positions: Vec<Point> = cdt
             .vertices()
             .map(|v| {
@@ -603,20 +640,21 @@ impl Domain {
         }
         let (lo, hi) = self.bounding_box();
         let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
-        let mut order: Vec<(u64, usize)> = (0..positions.len())
-            .filter(|&v| used[v])
-            .map(|v| {
-                let p = positions[v];
-                let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
-                (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v)
-            })
-            .collect();
-        order.sort_unstable();
+        let order = radix_sort_by_key(
+            (0..positions.len())
+                .filter(|&v| used[v])
+                .map(|v| {
+                    let p = positions[v];
+                    let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
+                    (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v as u32)
+                })
+                .collect(),
+        );
         let mut new_id = vec![u32::MAX; positions.len()];
         let mut vertices = Vec::with_capacity(order.len());
         for (i, &(_, v)) in order.iter().enumerate() {
-            new_id[v] = i as u32;
-            vertices.push(positions[v]);
+            new_id[v as usize] = i as u32;
+            vertices.push(positions[v as usize]);
         }
         let rotated: Vec<[u32; 3]> = tri_raw
             .iter()
@@ -671,7 +709,30 @@ impl Domain {
 
 #[cfg(test)]
 mod tests {
-    use super::hilbert;
+    use super::{hilbert, radix_sort_by_key, sorted_triangles};
+
+    #[test]
+    fn radix_sort_is_a_stable_sort_by_key() {
+        let mut x: u32 = 12345;
+        let items: Vec<(u32, u32)> = (0..5000)
+            .map(|i| {
+                x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                // Few distinct low digits and high digits, so ties are common.
+                (x & 0x000f_000f, i)
+            })
+            .collect();
+        let mut expected = items.clone();
+        expected.sort_unstable();
+        assert_eq!(radix_sort_by_key(items), expected);
+    }
+
+    #[test]
+    fn triangles_come_out_in_lexicographic_order() {
+        let tris = vec![[2, 5, 3], [0, 4, 1], [2, 3, 4], [0, 1, 2], [1, 3, 2]];
+        let mut expected = tris.clone();
+        expected.sort_unstable();
+        assert_eq!(sorted_triangles(&tris, 6), expected);
+    }
 
     #[test]
     fn hilbert_is_a_bijection_on_a_small_grid() {
@@ -682,7 +743,7 @@ mod tests {
             }
         }
         // Consecutive cells along the curve are grid neighbours at the finest level.
-        let mut cells: Vec<(u64, (i64, i64))> = (0..256u32)
+        let mut cells: Vec<(u32, (i64, i64))> = (0..256u32)
             .flat_map(|x| (0..256u32).map(move |y| (x, y)))
             .map(|(x, y)| (hilbert(x, y), (x as i64, y as i64)))
             .collect();
