@@ -755,12 +755,7 @@ impl DynamicPlanner {
     ) -> Result<LocalGoal, DynamicError> {
         let r = self.options.goal_radius;
         let margin = 2.0 * r;
-        let inner = |p: [f64; 2]| {
-            p[0] > lo[0] + margin
-                && p[0] < hi[0] - margin
-                && p[1] > lo[1] + margin
-                && p[1] < hi[1] - margin
-        };
+        let inner = |p: [f64; 2]| inside_square(p, lo, hi, margin);
         let goal_rings: Vec<Option<Vec<[f64; 2]>>> = self
             .scene
             .goals()
@@ -771,8 +766,7 @@ impl DynamicPlanner {
             g.as_ref()
                 .is_some_and(|ring| ring.iter().all(|&p| inner(p)))
         });
-        let clear_of_sensed =
-            |p: [f64; 2], need: f64| sensed.iter().all(|ring| polygon_distance(ring, p) > need);
+        let clear_of_sensed = |p: [f64; 2], need: f64| clear_of(sensed, p, need);
         if goal_inside
             && goal_rings
                 .iter()
@@ -794,9 +788,7 @@ impl DynamicPlanner {
         // (its sensed outline changes as the robot moves), and the robot then dithers.
         // It only has to stay in the window with its disc (the window moves with the robot,
         // so a waypoint near the border would otherwise come and go).
-        let in_window = |p: [f64; 2]| {
-            p[0] > lo[0] + r && p[0] < hi[0] - r && p[1] > lo[1] + r && p[1] < hi[1] - r
-        };
+        let in_window = |p: [f64; 2]| inside_square(p, lo, hi, r);
         let still_valid = |p: [f64; 2]| {
             in_window(p)
                 && dist(p, robot) > 2.0 * r
@@ -841,14 +833,8 @@ impl DynamicPlanner {
         let r = self.options.goal_radius;
         let margin = 2.0 * r;
         let known_clear = r * 1.5;
-        let inner = |p: [f64; 2]| {
-            p[0] > lo[0] + margin
-                && p[0] < hi[0] - margin
-                && p[1] > lo[1] + margin
-                && p[1] < hi[1] - margin
-        };
-        let clear_of_sensed =
-            |p: [f64; 2], need: f64| sensed.iter().all(|ring| polygon_distance(ring, p) > need);
+        let inner = |p: [f64; 2]| inside_square(p, lo, hi, margin);
+        let clear_of_sensed = |p: [f64; 2], need: f64| clear_of(sensed, p, need);
         // The last point of the global path in the window, if the path gets there clear of
         // the sensed obstacles. A path through a sensed obstacle is not used: a point before
         // the obstacle leads into its face, and a point behind its sensed outline may lie in
@@ -1105,6 +1091,16 @@ impl DynamicPlanner {
             },
         })
     }
+}
+
+/// Whether `p` lies inside the square `[lo + margin, hi − margin]`.
+fn inside_square(p: [f64; 2], lo: [f64; 2], hi: [f64; 2], margin: f64) -> bool {
+    (0..2).all(|k| p[k] > lo[k] + margin && p[k] < hi[k] - margin)
+}
+
+/// Whether `p` is farther than `need` from every ring of `sensed`.
+fn clear_of(sensed: &[&[[f64; 2]]], p: [f64; 2], need: f64) -> bool {
+    sensed.iter().all(|ring| polygon_distance(ring, p) > need)
 }
 
 /// Distance between segment `[a, b]` and the polygon `ring` (0 if they meet or the segment
