@@ -743,8 +743,8 @@ mod tests {
         let potential = plan.potential.expect("a potential");
         let mesh = Arc::clone(potential.mesh());
         // The same Dirichlet problem assembled from the mesh by the FEM crate.
-        let fem = solve_potential(Arc::clone(&mesh), &BoundaryConditions::default())
-            .expect("FEM solve");
+        let fem =
+            solve_potential(Arc::clone(&mesh), &BoundaryConditions::default()).expect("FEM solve");
         let worst = potential
             .psi()
             .iter()
@@ -754,7 +754,11 @@ mod tests {
         assert!(worst < 1e-9, "relative difference {worst:e}");
         assert_eq!(interior_local_minima(&mesh, potential.psi()), 0);
         // Triangles cut out around the box and the post: fewer than the full 3200.
-        assert!(plan.triangles < 3200 && plan.triangles > 2500, "{}", plan.triangles);
+        assert!(
+            plan.triangles < 3200 && plan.triangles > 2500,
+            "{}",
+            plan.triangles
+        );
     }
 
     #[test]
@@ -773,7 +777,10 @@ mod tests {
             }
             // The path ends in the goal disc.
             let end = plan.path.points.last().expect("points");
-            assert!((end - Point::new(3.8, 2.0)).norm() <= 0.12 + 1e-12, "{end:?}");
+            assert!(
+                (end - Point::new(3.8, 2.0)).norm() <= 0.12 + 1e-12,
+                "{end:?}"
+            );
         }
     }
 
