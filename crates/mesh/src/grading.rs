@@ -67,7 +67,11 @@ impl SizeField {
         } else {
             0.0
         };
-        let extra_triangles = TRIANGLES_PER_AREA * (band + disc * corners.len() as f64) / max_area;
+        // Never more than refining all of free space to the finer factor.
+        let finest = grading.near_goal.min(grading.near_corners);
+        let extra_triangles = (TRIANGLES_PER_AREA * (band + disc * corners.len() as f64)
+            / max_area)
+            .min(TRIANGLES_PER_AREA * domain.free_area() * (1.0 / finest - 1.0) / max_area);
         SizeField {
             max_area,
             radius,

@@ -140,6 +140,31 @@ fn unit_factors_leave_the_mesh_as_without_grading() {
 }
 
 #[test]
+fn a_radius_larger_than_the_scene_refines_everything_to_the_goal_factor() {
+    let grading = Grading {
+        near_goal: 0.25,
+        near_corners: 1.0,
+        radius: 1e6,
+    };
+    let (_, mesh) = mesh_of(&options(Some(grading)));
+    let (_, uniform) = mesh_of(&MeshOptions {
+        max_area: Some(0.25 * MAX_AREA),
+        ..MeshOptions::default()
+    });
+    // The bound is 0.25 × max_area to within 1e-5 all over the scene, so the mesh is about
+    // as fine as a uniform one at that size (the budget estimate does not explode either).
+    let largest = (0..mesh.triangles().len() as u32)
+        .map(|t| mesh.triangle_area(t))
+        .fold(0.0, f64::max);
+    assert!(largest <= 0.25 * MAX_AREA * (1.0 + 1e-4), "{largest}");
+    let (g, u) = (mesh.triangles().len(), uniform.triangles().len());
+    assert!(
+        g as f64 > 0.8 * u as f64 && (g as f64) < 1.5 * u as f64,
+        "{g} vs {u}"
+    );
+}
+
+#[test]
 fn bad_grading_options_are_refused() {
     let spec = reference();
     for (grading, name) in [
