@@ -241,3 +241,82 @@ fn an_inflated_obstacle_a_rounding_error_off_the_shrunk_wall_meshes() {
         assert!(mesh.quality().triangles < 10_000);
     }
 }
+
+mod random {
+    //! Random scenes where obstacle corners land a rounding error away from a wall (straight
+    //! or slanted) or from an earlier obstacle's edge: a typed input error or a valid mesh,
+    //! never a triangulation failure.
+
+    use super::common::{check_invariants_with_bridges, p};
+    use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Point, Shape};
+    use proptest::prelude::*;
+
+    /// A triangle obstacle with its first corner `d` off the segment `ab` at parameter `t`
+    /// (outwards from `ab`'s left side when `d` < 0), reaching `depth` into the left side.
+    fn corner_near(a: Point, b: Point, t: f64, d: f64, depth: f64, width: f64) -> Vec<Point> {
+        let u = (b - a).normalize();
+        let n = p(-u.y, u.x) - p(0.0, 0.0);
+        let c = a + (b - a) * t + n * d;
+        vec![
+            c,
+            c + n * depth + u * width,
+            c + n * depth - u * (0.7 * width),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+        #[test]
+        fn corners_a_rounding_error_off_other_boundaries_mesh(
+            slant in 0.0..3.0f64,
+            picks in proptest::collection::vec(
+                (0usize..4, 0.1..0.9f64, prop_oneof![Just(0.0), Just(2e-16), Just(-3e-16),
+                    Just(1e-13), Just(-1e-13), Just(1e-10), Just(-1e-10)],
+                 0.5..2.0f64, 0.5..2.0f64),
+                1..4),
+        ) {
+            // A workspace with a slanted bottom wall.
+            let workspace = vec![p(0.0, 0.0), p(20.0, slant), p(20.0, 10.0), p(0.0, 10.0)];
+            let mut obstacles: Vec<Vec<Point>> = Vec::new();
+            for (i, &(side, t, d, depth, width)) in picks.iter().enumerate() {
+                // Near a wall (sides 0..3 of the workspace, counter-clockwise so the inside is
+                // on the left), or near the first edge of the previous obstacle (its outside
+                // is on the right of a counter-clockwise ring: walk it backwards).
+                let (a, b) = if i > 0 && side == 3 {
+                    let prev = &obstacles[i - 1];
+                    (prev[1], prev[0])
+                } else {
+                    (workspace[side], workspace[(side + 1) % 4])
+                };
+                obstacles.push(corner_near(a, b, t, d, depth, width));
+            }
+            let spec = DomainSpec {
+                workspace,
+                obstacles: obstacles.into_iter().map(Shape::Polygon).collect(),
+                goals: vec![GoalShape::Point(p(10.0, 5.0))],
+                robot_radius: 0.0,
+            };
+            let opts = MeshOptions { max_area: Some(0.3), ..MeshOptions::default() };
+            let domain = match Domain::new(&spec, &opts) {
+                Ok(d) => d,
+                // The goal may end up inside an obstacle, an obstacle outside, etc.
+                Err(MeshError::Triangulation(m)) => {
+                    return Err(TestCaseError::fail(format!("domain: {m}")))
+                }
+                Err(_) => return Ok(()),
+            };
+            match domain.mesh(&opts) {
+                Ok((mesh, report)) => {
+                    check_invariants_with_bridges(
+                        &mesh,
+                        domain.free_area(),
+                        1e-9,
+                        report.bridges_remaining,
+                    )
+                    .map_err(TestCaseError::fail)?;
+                }
+                Err(e) => return Err(TestCaseError::fail(format!("{e}"))),
+            }
+        }
+    }
+}
