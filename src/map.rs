@@ -603,6 +603,7 @@ impl OccupancyMap {
             mesh: MeshSpec {
                 max_area: opts.max_area,
                 min_angle_deg: None,
+                grading: None,
             },
             robot: RobotSpec {
                 radius: robot_radius + polys.margin,

@@ -74,6 +74,29 @@ pub struct MeshSpec {
     /// Smallest angle refinement aims for, in degrees (at most 33).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_angle_deg: Option<f64>,
+    /// Finer triangles near the goal and at obstacle corners (an extension of the scene
+    /// format; absent: uniform).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grading: Option<GradingSpec>,
+}
+
+/// `mesh.grading`: area bounds relative to `max_area` at the goal boundaries and at obstacle
+/// corners, growing back to `max_area` over `radius` (see [`harmonic_mesh::Grading`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GradingSpec {
+    /// Area factor at the goal boundaries, in (0, 1] (default 1: none).
+    #[serde(default = "one")]
+    pub near_goal: f64,
+    /// Area factor at obstacle corners, in (0, 1] (default 1: none).
+    #[serde(default = "one")]
+    pub near_corners: f64,
+    /// Distance over which the size grows back to the uniform one.
+    pub radius: f64,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 /// The robot's shape.
@@ -274,6 +297,22 @@ impl Scene {
                 ),
             );
         }
+        if let Some(g) = self.mesh.grading {
+            for (name, v) in [("near_goal", g.near_goal), ("near_corners", g.near_corners)] {
+                if !(v.is_finite() && v > 0.0 && v <= 1.0) {
+                    return invalid(
+                        format!("mesh.grading.{name}"),
+                        format!("must be in (0, 1], got {v}"),
+                    );
+                }
+            }
+            if !(g.radius.is_finite() && g.radius > 0.0) {
+                return invalid(
+                    "mesh.grading.radius".into(),
+                    format!("must be a positive number, got {}", g.radius),
+                );
+            }
+        }
         let r = self.robot.radius;
         if !(r.is_finite() && r >= 0.0) {
             return invalid(
@@ -462,6 +501,31 @@ mod tests {
     }
 
     #[test]
+    fn grading_reaches_the_mesher_and_refines_near_the_goal() {
+        let text = |grading: &str| {
+            format!(
+                r#"{{"workspace": [[0,0],[4,0],[4,4],[0,4]], "goal": {{"circle": {{"center": [3, 3], "radius": 0.2}}}},
+                    "mesh": {{"max_area": 0.05{grading}}}}}"#
+            )
+        };
+        let uniform = Scene::from_json(&text("")).expect("parses");
+        let graded = Scene::from_json(&text(r#", "grading": {"near_goal": 0.05, "radius": 1}"#))
+            .expect("parses");
+        assert_eq!(
+            graded.mesh_options().grading.map(|g| g.near_goal),
+            Some(0.05)
+        );
+        let count = |scene: &Scene| {
+            crate::Planner::new(scene)
+                .expect("plans")
+                .mesh()
+                .triangles()
+                .len()
+        };
+        assert!(count(&graded) > count(&uniform) + 100);
+    }
+
+    #[test]
     fn unknown_fields_name_their_path() {
         let e = error_of(
             r#"{"workspace": [[0,0],[1,0],[1,1]], "goal": {"point": [0.5,0.2]},
@@ -499,6 +563,16 @@ mod tests {
         assert!(error_of(&base(r#", "robot": {"radius": -1}"#)).contains("robot.radius"));
         assert!(error_of(&base(r#", "mesh": {"min_angle_deg": 40}"#)).contains("33"));
         assert!(error_of(&base(r#", "mesh": {"max_area": 0}"#)).contains("mesh.max_area"));
+        let e = error_of(&base(
+            r#", "mesh": {"grading": {"near_goal": 0, "radius": 1}}"#,
+        ));
+        assert!(e.contains("mesh.grading.near_goal"), "{e}");
+        let e = error_of(&base(r#", "mesh": {"grading": {"radius": -1}}"#));
+        assert!(e.contains("mesh.grading.radius"), "{e}");
+        let e = error_of(&base(
+            r#", "mesh": {"grading": {"radius": 1, "near_gaol": 0.1}}"#,
+        ));
+        assert!(e.contains("near_gaol"), "{e}");
         let e = error_of(&base(
             r#", "boundary": {"walls": {"robin": {"a": 0, "b": 0, "g": 1}}}"#,
         ));

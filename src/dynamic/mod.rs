@@ -924,6 +924,7 @@ impl DynamicPlanner {
             mesh: MeshSpec {
                 max_area: Some(self.options.max_area),
                 min_angle_deg: Some(self.options.min_angle_deg),
+                grading: None,
             },
             robot: self.scene.robot,
         }
