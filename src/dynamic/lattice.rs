@@ -112,9 +112,9 @@ pub(crate) struct Lattice {
     /// The known map's goal regions as polygons: holes of its free space, but free for the
     /// lattice.
     goal_rings: Vec<Vec<[f64; 2]>>,
-    /// Off-diagonal pattern of the 5-point stencil over all `(cells + 1)²` vertices.
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    /// The 5-point stencil's off-diagonal pattern over all `(cells + 1)²` vertices (values
+    /// unused: each replan fills a matrix sharing this pattern).
+    pattern: SymmetricCsc,
     factor: Option<AccurateLdlt>,
     known: HashMap<(i64, i64), Vec<bool>>,
 }
@@ -148,13 +148,15 @@ impl Lattice {
             }
             col_ptr.push(row_idx.len());
         }
+        let nnz = row_idx.len();
+        let pattern = SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])
+            .expect("the 5-point pattern is valid: sorted rows, mirrored by construction");
         Lattice {
             h,
             cells,
             robot_radius,
             goal_rings,
-            col_ptr,
-            row_idx,
+            pattern,
             factor: None,
             known: HashMap::new(),
         }
@@ -233,7 +235,8 @@ impl Lattice {
     }
 
     /// Plans on the lattice window around `robot` with the known map `domain`, the sensed
-    /// obstacles `sensed` and `goal`; `None`-like misses are returned as [`LatticeMiss`].
+    /// obstacles `sensed` and `goals`; the reasons the lattice cannot serve are
+    /// [`LatticeMiss`]es.
     pub fn plan(
         &mut self,
         domain: &Domain,
@@ -242,159 +245,27 @@ impl Lattice {
         goals: &[LatticeGoal<'_>],
     ) -> Result<LatticePlan, LatticeMiss> {
         let t = std::time::Instant::now();
-        let side = self.side();
-        let n = side * side;
-        let h = self.h;
-        let (gi0, gj0) = self.origin(robot);
-        let at = |v: usize| -> [f64; 2] {
-            [
-                (gi0 + (v % side) as i64) as f64 * h,
-                (gj0 + (v / side) as i64) as f64 * h,
-            ]
+        let window = Window {
+            origin: self.origin(robot),
+            side: self.side(),
+            h: self.h,
         };
-
-        // Blocked vertices: the known map, then the sensed obstacles grown by the robot.
-        let mut blocked = vec![false; n];
-        for (v, b) in blocked.iter_mut().enumerate() {
-            *b = self.known_blocked(domain, gi0 + (v % side) as i64, gj0 + (v / side) as i64);
-        }
-        let grow = self.robot_radius + CLEARANCE_FACTOR * h;
-        for ring in sensed {
-            if ring.len() < 3 {
-                continue;
-            }
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for p in ring.iter() {
-                for k in 0..2 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
-            }
-            let local = |x: f64, origin: i64| x / h - origin as f64;
-            let cells = self.cells as f64;
-            let (i_lo, i_hi) = (
-                local(lo[0] - grow, gi0).ceil().max(0.0),
-                local(hi[0] + grow, gi0).floor().min(cells),
-            );
-            let (j_lo, j_hi) = (
-                local(lo[1] - grow, gj0).ceil().max(0.0),
-                local(hi[1] + grow, gj0).floor().min(cells),
-            );
-            // Also skips rings with non-finite coordinates (every comparison false).
-            if !(i_lo <= i_hi && j_lo <= j_hi) {
-                continue;
-            }
-            for j in j_lo as usize..=j_hi as usize {
-                for i in i_lo as usize..=i_hi as usize {
-                    let v = j * side + i;
-                    if blocked[v] {
-                        continue;
-                    }
-                    let p = at(v);
-                    if polygon_contains(ring, p) || polygon_distance(ring, p) < grow {
-                        blocked[v] = true;
-                    }
-                }
-            }
-        }
-
-        // Goal vertices.
-        let mut is_goal = vec![false; n];
-        let mut goal_count = 0;
-        let mut mark = |v: usize, is_goal: &mut Vec<bool>| {
-            if !blocked[v] && !is_goal[v] {
-                is_goal[v] = true;
-                goal_count += 1;
-            }
-        };
-        for goal in goals {
-            match goal {
-                LatticeGoal::Circle { center, radius } => {
-                    for v in 0..n {
-                        let p = at(v);
-                        if (p[0] - center[0]).hypot(p[1] - center[1]) <= *radius {
-                            mark(v, &mut is_goal);
-                        }
-                    }
-                }
-                LatticeGoal::Polygon(ring) => {
-                    for v in 0..n {
-                        if polygon_contains(ring, at(v)) {
-                            mark(v, &mut is_goal);
-                        }
-                    }
-                }
-                LatticeGoal::Point(p) => {
-                    if let Some(tri) = self.triangle_at(*p, gi0, gj0) {
-                        let verts = self.triangle_vertices(tri);
-                        if verts.iter().all(|&v| !blocked[v]) {
-                            for v in verts {
-                                mark(v, &mut is_goal);
-                            }
-                        }
-                    }
-                }
-            }
-        }
-        if goal_count == 0 {
+        let blocked = self.blocked(domain, &window, sensed);
+        let is_goal = self.goal_vertices(&window, &blocked, goals);
+        if !is_goal.contains(&true) {
             return Err(LatticeMiss::NoGoalVertex);
         }
-
-        // Kept triangles (three free vertices); goal triangles (kept, touching a goal vertex)
-        // are cut out as the goal's hole; the local mesh is the rest.
-        let triangles = 2 * self.cells * self.cells;
-        let mut kind = vec![Kind::Removed; triangles];
-        let mut kept = 0;
-        for (tri, k) in kind.iter_mut().enumerate() {
-            let verts = self.triangle_vertices(tri);
-            if verts.iter().any(|&v| blocked[v]) {
-                continue;
-            }
-            kept += 1;
-            *k = if verts.iter().any(|&v| is_goal[v]) {
-                Kind::Goal
-            } else {
-                Kind::Mesh
-            };
-        }
+        let kind = self.classify(&blocked, &is_goal);
+        let kept = kind.iter().filter(|&&k| k != Kind::Removed).count();
         let robot_tri = self
-            .triangle_at(robot, gi0, gj0)
+            .triangle_at(robot, &window)
             .filter(|&tri| kind[tri] != Kind::Removed)
             .ok_or(LatticeMiss::RobotBlocked)?;
-
-        let mut index = vec![u32::MAX; n];
-        let mut vertices = Vec::new();
-        let mut mesh_triangles = Vec::new();
-        let mut boundary = Vec::new();
-        for tri in 0..triangles {
-            if kind[tri] != Kind::Mesh {
-                continue;
-            }
-            let verts = self.triangle_vertices(tri);
-            let local = verts.map(|v| {
-                if index[v] == u32::MAX {
-                    index[v] = vertices.len() as u32;
-                    let p = at(v);
-                    vertices.push(Point::new(p[0], p[1]));
-                }
-                index[v]
-            });
-            mesh_triangles.push(local);
-            for (k, across) in self.neighbors(tri).into_iter().enumerate() {
-                let tag = match across.map(|u| kind[u]) {
-                    Some(Kind::Mesh) => continue,
-                    Some(Kind::Goal) => BoundaryTag::Goal(0),
-                    Some(Kind::Removed) => BoundaryTag::Obstacle(0),
-                    None => BoundaryTag::Wall,
-                };
-                boundary.push((local[(k + 1) % 3], local[(k + 2) % 3], tag));
-            }
-        }
         // The robot already in a goal triangle: the goal is one straight step away, inside
         // that kept triangle.
         if kind[robot_tri] == Kind::Goal {
             let mut points = vec![Point::new(robot[0], robot[1])];
-            points.extend(self.goal_targets(robot_tri, robot, &is_goal, goals, (gi0, gj0)));
+            points.extend(self.goal_targets(robot_tri, robot, &is_goal, goals, &window));
             return Ok(LatticePlan {
                 path: Path::new(points, TraceStatus::ReachedGoal(0), f64::INFINITY, 0),
                 tracer: "lattice",
@@ -406,89 +277,32 @@ impl Lattice {
                 trace_ms: 0.0,
             });
         }
-        let mesh = Mesh::from_parts(vertices, mesh_triangles, &boundary)
-            .map(Arc::new)
-            .map_err(|_| LatticeMiss::Solve)?;
+        let (mesh, index) = self.local_mesh(&window, &kind)?;
         let mesh_ms = millis(t);
 
-        // The lattice system: unknowns are the local mesh's interior vertices (5-point rows);
-        // every other lattice vertex is held at its value (1 on the goal's boundary, else 0).
         let t = std::time::Instant::now();
-        let tags = mesh.vertex_tags();
-        let held = |v: usize| -> Option<f64> {
-            match index[v] {
-                u32::MAX => Some(0.0),
-                m => match tags[m as usize] {
-                    None => None,
-                    Some(BoundaryTag::Goal(_)) => Some(1.0),
-                    Some(_) => Some(0.0),
-                },
-            }
-        };
-        let mut values = vec![0.0; self.row_idx.len()];
-        let mut excess = vec![0.0; n];
-        let mut rhs = vec![0.0; n];
-        for v in 0..n {
-            let range = self.col_ptr[v]..self.col_ptr[v + 1];
-            if let Some(value) = held(v) {
-                excess[v] = 1.0;
-                rhs[v] = value;
-                continue;
-            }
-            for e in range {
-                let w = self.row_idx[e];
-                match held(w) {
-                    None => values[e] = 1.0,
-                    Some(value) => {
-                        excess[v] += 1.0;
-                        rhs[v] += value;
-                    }
-                }
-            }
-        }
-        let offdiag = SymmetricCsc::try_from_symmetric_pattern(
-            n,
-            self.col_ptr.clone(),
-            self.row_idx.clone(),
-            values,
-        )
-        .map_err(|_| LatticeMiss::Solve)?;
-        let matrix = MMatrix::try_new(offdiag, excess).map_err(|_| LatticeMiss::Solve)?;
+        let (matrix, mut rhs) = self.system(&mesh, &index)?;
         let assemble_ms = millis(t);
 
         let t = std::time::Instant::now();
-        match &mut self.factor {
-            Some(f) => f.refactor(&matrix).map_err(|_| LatticeMiss::Solve)?,
-            None => {
-                let coords = (0..n).map(|v| [(v % side) as f64, (v / side) as f64]);
-                let ordering = Ordering::NestedDissection {
-                    coords: coords.collect(),
-                };
-                self.factor =
-                    Some(AccurateLdlt::factor(&matrix, ordering).map_err(|_| LatticeMiss::Solve)?);
-            }
-        }
-        let factor = self.factor.as_ref().ok_or(LatticeMiss::Solve)?;
-        factor
-            .solve_in_place(&mut rhs)
-            .map_err(|_| LatticeMiss::Solve)?;
+        self.solve(&matrix, &mut rhs)?;
         let mut psi = vec![0.0; mesh.vertices().len()];
-        for v in 0..n {
-            if index[v] != u32::MAX {
-                psi[index[v] as usize] = rhs[v];
+        for (v, &m) in index.iter().enumerate() {
+            if m != u32::MAX {
+                psi[m as usize] = rhs[v];
             }
         }
         let potential =
             Potential::new(Arc::clone(&mesh), psi, 1.0).map_err(|_| LatticeMiss::Solve)?;
-        let gradients = potential.nodal_gradients_psi();
-        let field = SmoothP1Field::ascending(&mesh, potential.psi(), gradients)
-            .map_err(|_| LatticeMiss::Solve)?;
+        let field =
+            SmoothP1Field::ascending(&mesh, potential.psi(), potential.nodal_gradients_psi())
+                .map_err(|_| LatticeMiss::Solve)?;
         let solve_ms = millis(t);
 
         // Trace as the planner does: smooth first, the exact tracer where it stalls.
         let t = std::time::Instant::now();
         let start = Point::new(robot[0], robot[1]);
-        let span = self.cells as f64 * h;
+        let span = self.cells as f64 * self.h;
         let smooth = trace_smooth(&field, start, &SmoothOptions::for_scale(span)).ok();
         let (mut path, tracer) = match smooth {
             Some(p)
@@ -515,14 +329,15 @@ impl Lattice {
                 .len()
                 .checked_sub(2)
                 .map_or(start, |k| path.points[k]);
-            let inward = end + 1e-6 * h * (end - before).try_normalize(0.0).unwrap_or_default();
+            let step = 1e-6 * self.h * (end - before).try_normalize(0.0).unwrap_or_default();
+            let inward = end + step;
             let entered = self
-                .triangle_at([inward.x, inward.y], gi0, gj0)
+                .triangle_at([inward.x, inward.y], &window)
                 .filter(|&tri| kind[tri] == Kind::Goal)
-                .or_else(|| self.goal_triangle_touching(end, gi0, gj0, &kind));
+                .or_else(|| self.goal_triangle_touching(end, &window, &kind));
             if let Some(tri) = entered {
                 let mut points = std::mem::take(&mut path.points);
-                points.extend(self.goal_targets(tri, [end.x, end.y], &is_goal, goals, (gi0, gj0)));
+                points.extend(self.goal_targets(tri, [end.x, end.y], &is_goal, goals, &window));
                 path = Path::new(
                     points,
                     path.status,
@@ -543,6 +358,213 @@ impl Lattice {
         })
     }
 
+    /// Blocked vertices of `window`: the known map's (cached), then those within the robot's
+    /// radius plus the margin of a sensed obstacle.
+    fn blocked(&mut self, domain: &Domain, window: &Window, sensed: &[&[[f64; 2]]]) -> Vec<bool> {
+        let (gi0, gj0) = window.origin;
+        let side = window.side;
+        let mut blocked: Vec<bool> = (0..side * side)
+            .map(|v| self.known_blocked(domain, gi0 + (v % side) as i64, gj0 + (v / side) as i64))
+            .collect();
+        let h = self.h;
+        let grow = self.robot_radius + CLEARANCE_FACTOR * h;
+        let cells = self.cells as f64;
+        for ring in sensed {
+            if ring.len() < 3 {
+                continue;
+            }
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for p in ring.iter() {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            // The range of lattice indices within `grow` of the ring's bounding box.
+            let range = |lo: f64, hi: f64, origin: i64| {
+                (
+                    ((lo - grow) / h - origin as f64).ceil().max(0.0),
+                    ((hi + grow) / h - origin as f64).floor().min(cells),
+                )
+            };
+            let (i_lo, i_hi) = range(lo[0], hi[0], gi0);
+            let (j_lo, j_hi) = range(lo[1], hi[1], gj0);
+            // Also skips rings with non-finite coordinates (every comparison false).
+            if !(i_lo <= i_hi && j_lo <= j_hi) {
+                continue;
+            }
+            for j in j_lo as usize..=j_hi as usize {
+                for i in i_lo as usize..=i_hi as usize {
+                    let v = j * side + i;
+                    if blocked[v] {
+                        continue;
+                    }
+                    let p = window.at(v);
+                    if polygon_contains(ring, p) || polygon_distance(ring, p) < grow {
+                        blocked[v] = true;
+                    }
+                }
+            }
+        }
+        blocked
+    }
+
+    /// The free vertices of `window` in a goal region (for a point goal: the vertices of the
+    /// triangle holding it, if that triangle is free).
+    fn goal_vertices(
+        &self,
+        window: &Window,
+        blocked: &[bool],
+        goals: &[LatticeGoal<'_>],
+    ) -> Vec<bool> {
+        let mut is_goal = vec![false; blocked.len()];
+        for goal in goals {
+            match goal {
+                LatticeGoal::Circle { center, radius } => {
+                    for (v, g) in is_goal.iter_mut().enumerate() {
+                        let p = window.at(v);
+                        *g |= (p[0] - center[0]).hypot(p[1] - center[1]) <= *radius;
+                    }
+                }
+                LatticeGoal::Polygon(ring) => {
+                    for (v, g) in is_goal.iter_mut().enumerate() {
+                        *g |= polygon_contains(ring, window.at(v));
+                    }
+                }
+                LatticeGoal::Point(p) => {
+                    if let Some(tri) = self.triangle_at(*p, window) {
+                        let verts = self.triangle_vertices(tri);
+                        if verts.iter().all(|&v| !blocked[v]) {
+                            for v in verts {
+                                is_goal[v] = true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        for (g, &b) in is_goal.iter_mut().zip(blocked) {
+            *g &= !b;
+        }
+        is_goal
+    }
+
+    /// What each lattice triangle is: removed (a blocked vertex), part of the goal's hole
+    /// (kept, touching a goal vertex) or part of the local mesh.
+    fn classify(&self, blocked: &[bool], is_goal: &[bool]) -> Vec<Kind> {
+        (0..2 * self.cells * self.cells)
+            .map(|tri| {
+                let verts = self.triangle_vertices(tri);
+                if verts.iter().any(|&v| blocked[v]) {
+                    Kind::Removed
+                } else if verts.iter().any(|&v| is_goal[v]) {
+                    Kind::Goal
+                } else {
+                    Kind::Mesh
+                }
+            })
+            .collect()
+    }
+
+    /// The local mesh (the `Mesh` triangles, boundary edges tagged by what lies across them:
+    /// goal hole, removed triangles, or the window's border) and the lattice-to-mesh vertex
+    /// numbering (`u32::MAX` off the mesh).
+    fn local_mesh(
+        &self,
+        window: &Window,
+        kind: &[Kind],
+    ) -> Result<(Arc<Mesh>, Vec<u32>), LatticeMiss> {
+        let mut index = vec![u32::MAX; window.side * window.side];
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        let mut boundary = Vec::new();
+        for (tri, _) in kind.iter().enumerate().filter(|(_, k)| **k == Kind::Mesh) {
+            let local = self.triangle_vertices(tri).map(|v| {
+                if index[v] == u32::MAX {
+                    index[v] = vertices.len() as u32;
+                    vertices.push(window.point(v));
+                }
+                index[v]
+            });
+            triangles.push(local);
+            for (k, across) in self.neighbors(tri).into_iter().enumerate() {
+                let tag = match across.map(|u| kind[u]) {
+                    Some(Kind::Mesh) => continue,
+                    Some(Kind::Goal) => BoundaryTag::Goal(0),
+                    Some(Kind::Removed) => BoundaryTag::Obstacle(0),
+                    None => BoundaryTag::Wall,
+                };
+                boundary.push((local[(k + 1) % 3], local[(k + 2) % 3], tag));
+            }
+        }
+        let mesh =
+            Mesh::from_parts(vertices, triangles, &boundary).map_err(|_| LatticeMiss::Solve)?;
+        Ok((Arc::new(mesh), index))
+    }
+
+    /// The lattice system of the local mesh's Dirichlet problem: its interior vertices are the
+    /// unknowns (5-point rows); every other lattice vertex is held at its value (1 on the
+    /// goal's boundary, else 0) by a decoupled row. Returns the M-matrix and the right-hand
+    /// side.
+    fn system(&self, mesh: &Mesh, index: &[u32]) -> Result<(MMatrix, Vec<f64>), LatticeMiss> {
+        let tags = mesh.vertex_tags();
+        let held = |v: usize| -> Option<f64> {
+            match index[v] {
+                u32::MAX => Some(0.0),
+                m => match tags[m as usize] {
+                    None => None,
+                    Some(BoundaryTag::Goal(_)) => Some(1.0),
+                    Some(_) => Some(0.0),
+                },
+            }
+        };
+        let n = index.len();
+        let mut offdiag = SymmetricCsc::zeros_like(&self.pattern);
+        let (col_ptr, row_idx) = (self.pattern.col_ptr(), self.pattern.row_idx());
+        let values = offdiag.values_mut();
+        let mut excess = vec![0.0; n];
+        let mut rhs = vec![0.0; n];
+        for v in 0..n {
+            if let Some(value) = held(v) {
+                excess[v] = 1.0;
+                rhs[v] = value;
+                continue;
+            }
+            for e in col_ptr[v]..col_ptr[v + 1] {
+                match held(row_idx[e]) {
+                    None => values[e] = 1.0,
+                    Some(value) => {
+                        excess[v] += 1.0;
+                        rhs[v] += value;
+                    }
+                }
+            }
+        }
+        let matrix = MMatrix::try_new(offdiag, excess).map_err(|_| LatticeMiss::Solve)?;
+        Ok((matrix, rhs))
+    }
+
+    /// Solves in place: refactors the kept factorisation, or factors with a nested-dissection
+    /// ordering of the lattice the first time.
+    fn solve(&mut self, matrix: &MMatrix, rhs: &mut [f64]) -> Result<(), LatticeMiss> {
+        let factor = match &mut self.factor {
+            Some(f) => {
+                f.refactor(matrix).map_err(|_| LatticeMiss::Solve)?;
+                f
+            }
+            slot @ None => {
+                let side = self.cells + 1;
+                let coords = (0..side * side).map(|v| [(v % side) as f64, (v / side) as f64]);
+                let ordering = Ordering::NestedDissection {
+                    coords: coords.collect(),
+                };
+                let f = AccurateLdlt::factor(matrix, ordering).map_err(|_| LatticeMiss::Solve)?;
+                slot.insert(f)
+            }
+        };
+        factor.solve_in_place(rhs).map_err(|_| LatticeMiss::Solve)
+    }
+
     /// Where a path goes once it is in goal triangle `tri` (straight segments inside kept
     /// triangles): a point goal lying in this triangle; else the triangle's goal vertex
     /// nearest `from`, followed by a point goal whose triangle has that vertex.
@@ -552,43 +574,30 @@ impl Lattice {
         from: [f64; 2],
         is_goal: &[bool],
         goals: &[LatticeGoal<'_>],
-        origin: (i64, i64),
+        window: &Window,
     ) -> Vec<Point> {
-        let side = self.side();
-        let at = |v: usize| {
-            Point::new(
-                (origin.0 + (v % side) as i64) as f64 * self.h,
-                (origin.1 + (v / side) as i64) as f64 * self.h,
-            )
-        };
         let points = || {
             goals.iter().filter_map(|g| match g {
                 LatticeGoal::Point(p) => Some(*p),
                 _ => None,
             })
         };
-        let contains = |tri: usize, q: [f64; 2]| {
-            let [a, b, c] = self.triangle_vertices(tri).map(at);
-            let q = Point::new(q[0], q[1]);
-            [(a, b), (b, c), (c, a)]
-                .iter()
-                .all(|&(u, w)| harmonic_mesh::orient2d(u, w, q) >= 0.0)
-        };
-        if let Some(p) = points().find(|&p| contains(tri, p)) {
+        if let Some(p) = points().find(|&p| self.closed_triangle_holds(tri, window, p, 0.0)) {
             return vec![Point::new(p[0], p[1])];
         }
         let from = Point::new(from[0], from[1]);
+        let distance = |v: usize| (window.point(v) - from).norm();
         let Some(v) = self
             .triangle_vertices(tri)
             .into_iter()
             .filter(|&v| is_goal[v])
-            .min_by(|&a, &b| (at(a) - from).norm().total_cmp(&(at(b) - from).norm()))
+            .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
         else {
             return Vec::new();
         };
-        let mut targets = vec![at(v)];
+        let mut targets = vec![window.point(v)];
         let point_beyond = points().find(|&p| {
-            self.triangle_at(p, origin.0, origin.1)
+            self.triangle_at(p, window)
                 .is_some_and(|t| self.triangle_vertices(t).contains(&v))
         });
         if let Some(p) = point_beyond {
@@ -597,47 +606,39 @@ impl Lattice {
         targets
     }
 
-    /// A goal triangle whose closure holds `p` (for a path ending exactly on a vertex).
-    fn goal_triangle_touching(&self, p: Point, gi0: i64, gj0: i64, kind: &[Kind]) -> Option<usize> {
-        let h = self.h;
-        let (ci, cj) = (
-            (p.x / h - gi0 as f64).floor() as i64,
-            (p.y / h - gj0 as f64).floor() as i64,
-        );
-        for dj in -1..=1 {
-            for di in -1..=1 {
-                let (i, j) = (ci + di, cj + dj);
-                if i < 0 || j < 0 || i >= self.cells as i64 || j >= self.cells as i64 {
-                    continue;
-                }
-                for half in 0..2 {
-                    let tri = 2 * (j as usize * self.cells + i as usize) + half;
-                    if kind[tri] != Kind::Goal {
-                        continue;
-                    }
-                    let [a, b, c] = self.triangle_vertices(tri).map(|v| {
-                        let side = self.side();
-                        Point::new(
-                            (gi0 + (v % side) as i64) as f64 * h,
-                            (gj0 + (v / side) as i64) as f64 * h,
-                        )
-                    });
-                    let tol = -1e-9 * h * h;
-                    if harmonic_mesh::orient2d(a, b, p) >= tol
-                        && harmonic_mesh::orient2d(b, c, p) >= tol
-                        && harmonic_mesh::orient2d(c, a, p) >= tol
-                    {
-                        return Some(tri);
-                    }
-                }
-            }
-        }
-        None
+    /// Whether the closed triangle `tri` holds `p`, with an orientation tolerance `tol`.
+    fn closed_triangle_holds(&self, tri: usize, window: &Window, p: [f64; 2], tol: f64) -> bool {
+        let [a, b, c] = self.triangle_vertices(tri).map(|v| window.point(v));
+        let p = Point::new(p[0], p[1]);
+        [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(u, w)| harmonic_mesh::orient2d(u, w, p) >= -tol)
     }
 
-    /// The lattice triangle holding `p` (for a window with origin `(gi0, gj0)`), if `p` is in
-    /// the window.
-    fn triangle_at(&self, p: [f64; 2], gi0: i64, gj0: i64) -> Option<usize> {
+    /// A goal triangle whose closure holds `p` (for a path ending exactly on a vertex).
+    fn goal_triangle_touching(&self, p: Point, window: &Window, kind: &[Kind]) -> Option<usize> {
+        let (gi0, gj0) = window.origin;
+        let (ci, cj) = (
+            (p.x / self.h - gi0 as f64).floor() as i64,
+            (p.y / self.h - gj0 as f64).floor() as i64,
+        );
+        let cells = self.cells as i64;
+        let tol = 1e-9 * self.h * self.h;
+        (-1..=1)
+            .flat_map(|dj| (-1..=1).map(move |di| (ci + di, cj + dj)))
+            .filter(|&(i, j)| i >= 0 && j >= 0 && i < cells && j < cells)
+            .flat_map(|(i, j)| {
+                let lower = 2 * (j as usize * self.cells + i as usize);
+                [lower, lower + 1]
+            })
+            .find(|&tri| {
+                kind[tri] == Kind::Goal && self.closed_triangle_holds(tri, window, [p.x, p.y], tol)
+            })
+    }
+
+    /// The lattice triangle of `window` holding `p`, if `p` is in the window.
+    fn triangle_at(&self, p: [f64; 2], window: &Window) -> Option<usize> {
+        let (gi0, gj0) = window.origin;
         let (x, y) = (p[0] / self.h - gi0 as f64, p[1] / self.h - gj0 as f64);
         let n = self.cells as f64;
         if !(x >= 0.0 && y >= 0.0 && x <= n && y <= n) {
@@ -689,6 +690,33 @@ impl Lattice {
                 Some(tri - 1),
             ]
         }
+    }
+}
+
+/// One window of the lattice: where its lower-left vertex is on the world-fixed grid.
+#[derive(Clone, Copy, Debug)]
+struct Window {
+    /// Global lattice index of the lower-left vertex.
+    origin: (i64, i64),
+    /// Vertices per side.
+    side: usize,
+    /// Cell side.
+    h: f64,
+}
+
+impl Window {
+    /// Position of window vertex `v` (numbered row by row from the lower left).
+    fn at(&self, v: usize) -> [f64; 2] {
+        [
+            (self.origin.0 + (v % self.side) as i64) as f64 * self.h,
+            (self.origin.1 + (v / self.side) as i64) as f64 * self.h,
+        ]
+    }
+
+    /// [`Window::at`] as a point.
+    fn point(&self, v: usize) -> Point {
+        let [x, y] = self.at(v);
+        Point::new(x, y)
     }
 }
 
