@@ -4,9 +4,9 @@
 
 use harmonic_planner::Scene;
 use harmonic_planner::dynamic::{
-    DynamicError, DynamicPlanner, LaserScan, LocalMapOptions, RunOptions, ScanOptions, World,
-    WorldObstacle, cluster_points, inflated_hull, polygon_contains, polygon_distance, run,
-    scan_obstacles,
+    DynamicError, DynamicPlanner, LaserScan, LocalMapMode, LocalMapOptions, RunOptions,
+    ScanOptions, World, WorldObstacle, cluster_points, inflated_hull, polygon_contains,
+    polygon_distance, run, scan_obstacles,
 };
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<[f64; 2]> {
@@ -176,6 +176,46 @@ fn bad_positions_and_options_are_errors() {
     };
     let err = DynamicPlanner::new(&scene, bad).err().expect("invalid");
     assert!(err.to_string().contains("max_area"), "{err}");
+}
+
+/// Whatever a caller puts in as obstacles — non-finite coordinates, degenerate or
+/// self-crossing rings, an obstacle over the robot or over the whole window — a replan is a
+/// plan or an error, never a panic, in both local-map modes.
+#[test]
+fn odd_sensed_obstacles_give_a_plan_or_an_error() {
+    let scene = room();
+    let odd: Vec<Vec<[f64; 2]>> = vec![
+        vec![[f64::NAN, 1.0], [2.0, 1.0], [2.0, 2.0]],
+        vec![[1.0, f64::INFINITY], [2.0, 1.0], [2.0, 2.0]],
+        vec![],
+        vec![[1.0, 1.0]],
+        vec![[1.0, 1.0], [1.5, 1.5]],
+        vec![[1.0, 1.0], [1.0, 1.0], [1.0, 1.0]],
+        // A bow tie.
+        vec![[1.0, 1.0], [2.0, 2.0], [2.0, 1.0], [1.0, 2.0]],
+        // Over the robot.
+        rect(0.3, 1.8, 0.7, 2.2),
+        // Over the whole window and beyond the workspace.
+        rect(-5.0, -5.0, 10.0, 10.0),
+        // Huge coordinates.
+        vec![[1e300, 1e300], [-1e300, 1e300], [0.0, -1e300]],
+    ];
+    for mode in [LocalMapMode::Lattice, LocalMapMode::Remesh] {
+        for ring in &odd {
+            let options = LocalMapOptions {
+                mode,
+                ..small_window()
+            };
+            let mut planner = DynamicPlanner::new(&scene, options).expect("planner");
+            planner.set_obstacle(0, ring.clone());
+            if let Ok(plan) = planner.replan([0.5, 2.0]) {
+                assert!(
+                    plan.path.points.iter().flatten().all(|v| v.is_finite()),
+                    "{mode:?} {ring:?}"
+                );
+            }
+        }
+    }
 }
 
 /// 100 random worlds: an unmapped box somewhere between start and goal and a box moving up and
