@@ -176,6 +176,13 @@ fn bad_positions_and_options_are_errors() {
     };
     let err = DynamicPlanner::new(&scene, bad).err().expect("invalid");
     assert!(err.to_string().contains("max_area"), "{err}");
+    // A lattice far too fine is refused before anything is allocated.
+    let huge = LocalMapOptions {
+        max_area: 1e-12,
+        ..small_window()
+    };
+    let err = DynamicPlanner::new(&scene, huge).err().expect("invalid");
+    assert!(err.to_string().contains("1000 × 1000"), "{err}");
 }
 
 /// Whatever a caller puts in as obstacles — non-finite coordinates, degenerate or

@@ -149,7 +149,18 @@ impl Default for LocalMapOptions {
     }
 }
 
+/// Largest lattice window side, in cells.
+const MAX_LATTICE_CELLS: usize = 1000;
+
 impl LocalMapOptions {
+    /// The lattice window's side in cells: an even number (so the robot's nearest lattice
+    /// vertex is the centre), of triangles no larger than `max_area`.
+    fn lattice_cells(&self) -> usize {
+        let half = (self.size / (2.0 * self.max_area).sqrt() * 0.5).ceil();
+        // Saturates for absurd ratios; `validate` refuses those.
+        (half.min(usize::MAX as f64 / 4.0) as usize).max(4) * 2
+    }
+
     fn validate(&self) -> Result<(), DynamicError> {
         let positive = |name: &'static str, value: f64| {
             if value.is_finite() && value > 0.0 {
@@ -171,6 +182,13 @@ impl LocalMapOptions {
                 name: "min_angle_deg",
                 value: self.min_angle_deg,
                 reason: "must be in (0, 33]",
+            });
+        }
+        if self.mode == LocalMapMode::Lattice && self.lattice_cells() > MAX_LATTICE_CELLS {
+            return Err(DynamicError::InvalidOption {
+                name: "max_area",
+                value: self.max_area,
+                reason: "the lattice window would have more than 1000 × 1000 cells",
             });
         }
         if self.goal_radius * 8.0 > self.size {
@@ -489,10 +507,7 @@ impl DynamicPlanner {
         options.validate()?;
         let global = Planner::new(scene)?;
         let lattice = (options.mode == LocalMapMode::Lattice).then(|| {
-            // The window's side in an even number of cells (so the robot's nearest lattice
-            // vertex is its centre) of area at most `max_area`.
-            let cells =
-                ((options.size / (2.0 * options.max_area).sqrt() * 0.5).ceil() as usize).max(4) * 2;
+            let cells = options.lattice_cells();
             let h = options.size / cells as f64;
             let goal_rings = scene
                 .goals()
