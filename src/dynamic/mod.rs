@@ -269,8 +269,8 @@ enum LocalGoal {
 }
 
 /// Largest number of lattice vertices over the known map whose blocking is computed when the
-/// planner is built (beyond it, tiles are computed as the robot reaches them).
-const LATTICE_WARM_VERTICES: usize = 4_000_000;
+/// planner is built, about a second (beyond it, tiles are computed as the robot reaches them).
+const LATTICE_WARM_VERTICES: usize = 1_000_000;
 
 fn geo_polygon(points: &[[f64; 2]]) -> Polygon<f64> {
     Polygon::new(
