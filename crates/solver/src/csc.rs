@@ -145,6 +145,24 @@ impl SymmetricCsc {
         &self.pattern
     }
 
+    /// Checks that `self` has the pattern `analysed` (recognised by pointer when shared,
+    /// else compared); on a mismatch names the first column that differs.
+    pub(crate) fn check_pattern(&self, analysed: &Arc<Pattern>) -> Result<(), SolverError> {
+        if Arc::ptr_eq(&self.pattern, analysed) || *self.pattern == **analysed {
+            return Ok(());
+        }
+        let (a, s) = (&self.pattern, analysed);
+        let n = self.n.min(s.col_ptr.len() - 1);
+        let column = (0..n)
+            .find(|&j| {
+                a.col_ptr[j + 1] != s.col_ptr[j + 1]
+                    || a.row_idx[a.col_ptr[j]..a.col_ptr[j + 1]]
+                        != s.row_idx[s.col_ptr[j]..s.col_ptr[j + 1]]
+            })
+            .unwrap_or(n);
+        Err(SolverError::PatternMismatch { column })
+    }
+
     /// The first stored `(row, column)` whose mirror is not stored, if any.
     fn missing_mirror(&self) -> Option<(usize, usize)> {
         let (col_ptr, row_idx) = (&self.pattern.col_ptr, &self.pattern.row_idx);

@@ -116,29 +116,6 @@ impl SymbolicCholesky {
         chol.refactor(a)?;
         Ok(chol)
     }
-
-    fn check_pattern(&self, a: &SymmetricCsc) -> Result<(), SolverError> {
-        let s = &self.inner.pattern;
-        if Arc::ptr_eq(s, a.pattern()) {
-            return Ok(());
-        }
-        if a.n() != self.n() {
-            return Err(SolverError::PatternMismatch {
-                column: a.n().min(self.n()),
-            });
-        }
-        if a.col_ptr() == s.col_ptr.as_slice() && a.row_idx() == s.row_idx.as_slice() {
-            return Ok(());
-        }
-        let column = (0..a.n())
-            .find(|&j| {
-                a.col_ptr()[j + 1] != s.col_ptr[j + 1]
-                    || a.row_idx()[a.col_ptr()[j]..a.col_ptr()[j + 1]]
-                        != s.row_idx[s.col_ptr[j]..s.col_ptr[j + 1]]
-            })
-            .unwrap_or(a.n());
-        Err(SolverError::PatternMismatch { column })
-    }
 }
 
 /// Numeric Cholesky factor `A = L Lᵀ`, ready to solve.
@@ -159,7 +136,7 @@ impl Cholesky {
     /// Recomputes the factor in place for new values of `a` (same pattern), reusing the storage.
     /// On error the factor is left unusable for solving until a later refactor succeeds.
     pub fn refactor(&mut self, a: &SymmetricCsc) -> Result<(), SolverError> {
-        self.symbolic.check_pattern(a)?;
+        a.check_pattern(&self.symbolic.inner.pattern)?;
         if let Some(index) = a.first_non_finite() {
             return Err(SolverError::NonFinite {
                 what: "matrix values",

@@ -16,7 +16,9 @@
 //! non-negative numbers, so the computed solution has a small *entrywise* relative error,
 //! whatever its dynamic range (down to the floating-point underflow threshold).
 
-use crate::csc::SymmetricCsc;
+use std::sync::Arc;
+
+use crate::csc::{Pattern, SymmetricCsc};
 use crate::error::{SolverError, StructureIssue};
 use crate::ordering::{Ordering, permutation};
 
@@ -140,9 +142,8 @@ pub struct AccurateLdlt {
     perm: Vec<usize>,
     /// `inv[old] = new`.
     inv: Vec<usize>,
-    /// Pattern of the factored matrix's off-diagonals, to check refactorisations.
-    w_col_ptr: Vec<usize>,
-    w_row_idx: Vec<usize>,
+    /// Pattern of the factored matrix's off-diagonals (shared), to check refactorisations.
+    w_pattern: Arc<Pattern>,
     /// Columns of `−L` (magnitudes `w_ij / d_j ≥ 0`), permuted numbering, rows sorted.
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -167,8 +168,7 @@ impl AccurateLdlt {
         let mut f = Self {
             perm,
             inv,
-            w_col_ptr: m.offdiag.col_ptr().to_vec(),
-            w_row_idx: m.offdiag.row_idx().to_vec(),
+            w_pattern: Arc::clone(m.offdiag.pattern()),
             col_ptr,
             row_idx,
             l: Vec::new(),
@@ -182,18 +182,7 @@ impl AccurateLdlt {
     /// Refactors for new values of an M-matrix with the same off-diagonal pattern, reusing the
     /// ordering and the pattern of `L`. On error `self` is unchanged.
     pub fn refactor(&mut self, m: &MMatrix) -> Result<(), SolverError> {
-        let w = &m.offdiag;
-        if w.col_ptr() != self.w_col_ptr.as_slice() || w.row_idx() != self.w_row_idx.as_slice() {
-            let n = self.n().min(w.n());
-            let column = (0..n)
-                .find(|&j| {
-                    w.col_ptr().get(j + 1) != self.w_col_ptr.get(j + 1)
-                        || w.column(j).0
-                            != &self.w_row_idx[self.w_col_ptr[j]..self.w_col_ptr[j + 1]]
-                })
-                .unwrap_or(n);
-            return Err(SolverError::PatternMismatch { column });
-        }
+        m.offdiag.check_pattern(&self.w_pattern)?;
         let (l, d) = self.numeric(m)?;
         (self.l, self.d) = (l, d);
         Ok(())

@@ -146,6 +146,10 @@ fn pattern_mismatch_is_an_error() {
         symbolic.factor(&c),
         Err(SolverError::PatternMismatch { .. })
     ));
+    // An equal pattern built separately (not shared with the analysed matrix) is accepted.
+    let same = laplacian5(6, 5, 0.0);
+    assert!(!same.shares_pattern(&a));
+    assert!(symbolic.factor(&same).is_ok());
 }
 
 #[test]
