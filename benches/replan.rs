@@ -40,14 +40,7 @@ fn replan(c: &mut Criterion) {
         planner.set_obstacle(0, obstacle.clone());
         let plan = planner.replan(robot).expect("replan");
         assert_eq!(plan.path.status, "reached_goal");
-        assert_eq!(
-            plan.method,
-            if mode == LocalMapMode::Lattice {
-                "lattice"
-            } else {
-                "remesh"
-            }
-        );
+        assert_eq!(plan.method, mode);
         eprintln!(
             "{name}: {} triangles; one replan: {:?}",
             plan.triangles, plan.timings

@@ -8,7 +8,7 @@ use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
 };
 use harmonic_mesh::{
-    BoundaryTag, Domain, DomainSpec, GoalShape, Grading, Mesh, MeshOptions, MeshReport, Point,
+    BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
     QualityReport, Shape,
 };
 use harmonic_trajectory::{
@@ -272,11 +272,7 @@ impl Scene {
     pub fn mesh_options(&self) -> MeshOptions {
         let mut opts = MeshOptions {
             max_area: self.mesh.max_area,
-            grading: self.mesh.grading.map(|g| Grading {
-                near_goal: g.near_goal,
-                near_corners: g.near_corners,
-                radius: g.radius,
-            }),
+            grading: self.mesh.grading,
             ..MeshOptions::default()
         };
         if let Some(d) = self.mesh.min_angle_deg {

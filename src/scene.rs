@@ -6,6 +6,7 @@
 
 use std::fmt;
 
+use harmonic_mesh::Grading;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
@@ -75,28 +76,9 @@ pub struct MeshSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_angle_deg: Option<f64>,
     /// Finer triangles near the goal and at obstacle corners (an extension of the scene
-    /// format; absent: uniform).
+    /// format; absent: uniform). Checked here so errors name their JSON path.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub grading: Option<GradingSpec>,
-}
-
-/// `mesh.grading`: area bounds relative to `max_area` at the goal boundaries and at obstacle
-/// corners, growing back to `max_area` over `radius` (see [`harmonic_mesh::Grading`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GradingSpec {
-    /// Area factor at the goal boundaries, in (0, 1] (default 1: none).
-    #[serde(default = "one")]
-    pub near_goal: f64,
-    /// Area factor at obstacle corners, in (0, 1] (default 1: none).
-    #[serde(default = "one")]
-    pub near_corners: f64,
-    /// Distance over which the size grows back to the uniform one.
-    pub radius: f64,
-}
-
-fn one() -> f64 {
-    1.0
+    pub grading: Option<Grading>,
 }
 
 /// The robot's shape.

@@ -228,8 +228,8 @@ pub struct LocalPlan {
     pub local_goal: [f64; 2],
     /// Whether the local goal is the scene's own goal.
     pub goal_in_window: bool,
-    /// How the window was meshed: `lattice` or `remesh`.
-    pub method: &'static str,
+    /// How the window was meshed.
+    pub method: LocalMapMode,
     /// Why the lattice could not serve a remeshed replan in [`LocalMapMode::Lattice`]:
     /// `robot_blocked` (the robot is within the lattice's margin of an obstacle),
     /// `no_goal_vertex` (no free lattice vertex in the goal), `not_reached` (the margin seals
@@ -578,6 +578,21 @@ impl DynamicPlanner {
             .distance_to_obstacles(Point::new(p[0], p[1]))
     }
 
+    /// `OutsideWorkspace` unless `robot` is a finite point of the known map's workspace.
+    fn check_in_workspace(&self, robot: [f64; 2]) -> Result<(), DynamicError> {
+        if robot[0].is_finite()
+            && robot[1].is_finite()
+            && polygon_contains(&self.scene.workspace, robot)
+        {
+            Ok(())
+        } else {
+            Err(DynamicError::OutsideWorkspace {
+                x: robot[0],
+                y: robot[1],
+            })
+        }
+    }
+
     /// The global path from `robot`, reused while the robot stays within
     /// [`LocalMapOptions::global_path_tolerance`] of it (the part already travelled dropped).
     fn global_path_from(&mut self, robot: [f64; 2]) -> Result<&[[f64; 2]], DynamicError> {
@@ -619,16 +634,11 @@ impl DynamicPlanner {
         &mut self,
         robot: [f64; 2],
     ) -> Result<(Scene, [f64; 2], bool), DynamicError> {
+        self.check_in_workspace(robot)?;
         let outside = || DynamicError::OutsideWorkspace {
             x: robot[0],
             y: robot[1],
         };
-        let inside = robot[0].is_finite()
-            && robot[1].is_finite()
-            && polygon_contains(&self.scene.workspace, robot);
-        if !inside {
-            return Err(outside());
-        }
         let half = 0.5 * self.options.size;
         let (lo, hi) = (
             [robot[0] - half, robot[1] - half],
@@ -981,15 +991,7 @@ impl DynamicPlanner {
         robot: [f64; 2],
     ) -> Result<Result<LocalPlan, LatticeMiss>, DynamicError> {
         let t0 = Instant::now();
-        let inside = robot[0].is_finite()
-            && robot[1].is_finite()
-            && polygon_contains(&self.scene.workspace, robot);
-        if !inside {
-            return Err(DynamicError::OutsideWorkspace {
-                x: robot[0],
-                y: robot[1],
-            });
-        }
+        self.check_in_workspace(robot)?;
         let (lo, hi) = lattice.window(robot);
         let obstacles = std::mem::take(&mut self.obstacles);
         let sensed: Vec<&[[f64; 2]]> = obstacles.values().map(Vec::as_slice).collect();
@@ -1062,7 +1064,7 @@ impl DynamicPlanner {
             path,
             local_goal,
             goal_in_window,
-            method: "lattice",
+            method: LocalMapMode::Lattice,
             remesh_reason: None,
             scene: None,
             triangles: plan.triangles,
@@ -1092,7 +1094,7 @@ impl DynamicPlanner {
             path,
             local_goal,
             goal_in_window,
-            method: "remesh",
+            method: LocalMapMode::Remesh,
             remesh_reason: None,
             triangles: planner.mesh().triangles().len(),
             potential: Some(planner.potential().clone()),
@@ -1396,7 +1398,7 @@ pub fn run(planner: &mut DynamicPlanner, world: &World, start: [f64; 2], opts: &
             }
         };
         out.replans += 1;
-        out.remeshed += usize::from(plan.method == "remesh");
+        out.remeshed += usize::from(plan.method == LocalMapMode::Remesh);
         out.replan_ms.push(plan.timings.total);
         for (sum, v) in [
             (&mut out.stage_ms.prepare, plan.timings.prepare),

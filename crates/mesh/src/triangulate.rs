@@ -96,16 +96,26 @@ impl Default for MeshOptions {
 /// assert!(fine.quality().min_angle_deg >= 29.9);
 /// # Ok::<(), harmonic_mesh::MeshError>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+///
+/// In JSON the two factors may be left out (1: none); unknown fields are errors.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Grading {
     /// Area bound at the goal boundaries relative to `max_area`, in `(0, 1]` (1: no grading
     /// at goals). E.g. 0.1: triangles there are at most a tenth of `max_area`.
+    #[serde(default = "no_grading")]
     pub near_goal: f64,
     /// Area bound at obstacle corners relative to `max_area`, in `(0, 1]` (1: none).
+    #[serde(default = "no_grading")]
     pub near_corners: f64,
     /// Distance (workspace units) over which the edge length grows back to the uniform one;
     /// positive and finite.
     pub radius: f64,
+}
+
+/// The area factor that grades nothing.
+fn no_grading() -> f64 {
+    1.0
 }
 
 impl MeshOptions {
