@@ -17,9 +17,9 @@
 //!   obstacles checked at every step.
 //!
 //! The local map is a fixed background lattice of right triangles with the obstacles cut in
-//! by blocking vertices ([`LocalMapMode::Lattice`]): its system keeps one pattern, so the
-//! ordering and symbolic factorisation are computed once and a replan refactors values only —
-//! under a millisecond for the paper's 3200-triangle map. Where the lattice's safety margin
+//! by blocking vertices ([`LocalMapMode::Lattice`]): the lattice's nested-dissection order
+//! is computed once, and a replan builds, factors and solves only its own unknowns — about a
+//! third of a millisecond for the paper's 3200-triangle map. Where the lattice's safety margin
 //! (up to `h/√2` beyond the robot's radius) traps the robot or seals its way, the window is
 //! remeshed exactly instead ([`LocalMapMode::Remesh`] always does). What else stays valid
 //! between replans is reused: the known map's domain, global potential and blocked lattice
@@ -126,8 +126,8 @@ pub struct LocalMapOptions {
 pub enum LocalMapMode {
     /// A fixed background lattice of right triangles (cells of side `√(2 max_area)`, so
     /// `max_area` is every triangle's area) with the obstacles cut in by blocking vertices,
-    /// and the factorisation's ordering and pattern kept from one replan to the next. About
-    /// five times faster than remeshing (`cargo bench --bench replan`), at the price of a
+    /// and the lattice's fill-reducing order kept from one replan to the next. About ten
+    /// times faster than remeshing (`cargo bench --bench replan`), at the price of a
     /// margin of up to `h/√2` around obstacles; where that margin traps the robot, seals its
     /// way or leaves no lattice vertex in the goal, the replan remeshes instead.
     #[default]

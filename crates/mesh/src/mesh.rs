@@ -272,11 +272,21 @@ impl Mesh {
                 }
             }
         }
-        let mut tag_of: std::collections::HashMap<(u32, u32), BoundaryTag> =
-            std::collections::HashMap::with_capacity(boundary.len());
-        for &(a, b, tag) in boundary {
-            tag_of.insert((a.min(b), a.max(b)), tag);
-        }
+        // Tags by undirected edge, sorted for binary search (the last of duplicates wins).
+        let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+        let mut tag_of: Vec<(u64, BoundaryTag)> = boundary
+            .iter()
+            .map(|&(a, b, tag)| (key(a, b), tag))
+            .collect();
+        tag_of.reverse();
+        tag_of.sort_by_key(|e| e.0);
+        tag_of.dedup_by_key(|e| e.0);
+        let tag_at = |a: u32, b: u32| {
+            tag_of
+                .binary_search_by_key(&key(a, b), |e| e.0)
+                .ok()
+                .map(|i| tag_of[i].1)
+        };
         let mut edge_boundary = vec![[NO_NEIGHBOR; 3]; triangles.len()];
         let mut boundary_edges = Vec::with_capacity(boundary.len());
         for (t, tri) in triangles.iter().enumerate() {
@@ -286,7 +296,7 @@ impl Mesh {
                 }
                 let a = tri[(k + 1) % 3];
                 let b = tri[(k + 2) % 3];
-                let tag = tag_of.get(&(a.min(b), a.max(b))).copied().ok_or_else(|| {
+                let tag = tag_at(a, b).ok_or_else(|| {
                     MeshError::InvalidMesh(format!(
                         "boundary edge ({a}, {b}) of triangle {t} has no boundary tag"
                     ))

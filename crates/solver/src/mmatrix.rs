@@ -225,8 +225,9 @@ impl AccurateLdlt {
                 if ljk != 0.0 {
                     sj += ljk * s[k];
                     let scale = ljk * d[k];
-                    for q in p + 1..col_ptr[k + 1] {
-                        x[row_idx[q]] += l[q] * scale;
+                    let rest = p + 1..col_ptr[k + 1];
+                    for (&i, &lik) in row_idx[rest.clone()].iter().zip(&l[rest]) {
+                        x[i] += lik * scale;
                     }
                 }
                 // Move column k on to its next row.
@@ -248,9 +249,8 @@ impl AccurateLdlt {
                 return Err(SolverError::Singular { column: perm[j] });
             }
             d[j] = dj;
-            for q in range.clone() {
-                let i = row_idx[q];
-                l[q] = x[i] / dj;
+            for (&i, lij) in row_idx[range.clone()].iter().zip(&mut l[range.clone()]) {
+                *lij = x[i] / dj;
                 x[i] = 0.0;
             }
             if !range.is_empty() {
@@ -298,17 +298,21 @@ impl AccurateLdlt {
         }
         let mut y: Vec<f64> = self.perm.iter().map(|&old| x[old]).collect();
         // L y = b with L = I − (magnitudes): y_i += l_ij y_j.
+        let column = |j: usize| {
+            let range = self.col_ptr[j]..self.col_ptr[j + 1];
+            self.row_idx[range.clone()].iter().zip(&self.l[range])
+        };
         for j in 0..n {
             let yj = y[j];
-            for q in self.col_ptr[j]..self.col_ptr[j + 1] {
-                y[self.row_idx[q]] += self.l[q] * yj;
+            for (&i, &lij) in column(j) {
+                y[i] += lij * yj;
             }
         }
         // D z = y, then Lᵀ x = z: x_j = z_j + Σ_i l_ij x_i.
         for j in (0..n).rev() {
             let mut acc = y[j] / self.d[j];
-            for q in self.col_ptr[j]..self.col_ptr[j + 1] {
-                acc += self.l[q] * y[self.row_idx[q]];
+            for (&i, &lij) in column(j) {
+                acc += lij * y[i];
             }
             y[j] = acc;
         }

@@ -23,7 +23,7 @@ pub enum Ordering {
 }
 
 /// Below this many unknowns a nested-dissection piece is numbered as it comes.
-const ND_LEAF: usize = 64;
+const ND_LEAF: usize = 16;
 
 /// Nested-dissection permutation `perm[new] = old` of the unknowns of `a` from their coordinates.
 pub(crate) fn nested_dissection(
@@ -146,6 +146,29 @@ impl Dissector<'_> {
         let b_start = start + a_part.len();
         self.dissect(a_part, start);
         self.dissect(b_part, b_start);
+    }
+}
+
+impl Ordering {
+    /// The permutation `perm[new] = old` this ordering gives `a`'s unknowns (only the pattern
+    /// is read). A caller that factors many systems whose unknowns are subsets of one fixed
+    /// set (a lattice with varying obstacles) can compute it once and number each subset in
+    /// this order, then factor with [`Ordering::Natural`].
+    ///
+    /// ```
+    /// use harmonic_solver::{Ordering, SymmetricCsc};
+    /// // The path graph 0 - 1 - 2.
+    /// let a = SymmetricCsc::try_new(3, vec![0, 1, 3, 4], vec![1, 0, 2, 1], vec![-1.0; 4])?;
+    /// let perm = Ordering::NestedDissection { coords: vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]] }
+    ///     .permutation(&a)?;
+    /// let mut sorted = perm.clone();
+    /// sorted.sort();
+    /// assert_eq!(sorted, [0, 1, 2]);
+    /// assert_eq!(Ordering::Natural.permutation(&a)?, [0, 1, 2]);
+    /// # Ok::<(), harmonic_solver::SolverError>(())
+    /// ```
+    pub fn permutation(&self, a: &SymmetricCsc) -> Result<Vec<usize>, SolverError> {
+        permutation(a, self)
     }
 }
 

@@ -77,7 +77,19 @@ enum At {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn trace_exact(field: &P1Field<'_>, start: Point, opts: &ExactOptions) -> Path {
-    let t0 = match field.locate(start, None) {
+    trace_exact_with_hint(field, start, None, opts)
+}
+
+/// [`trace_exact`] with a triangle that probably holds `start`: the start is located by
+/// walking from it, so no point-location structure is built. A wrong hint costs a longer
+/// walk, never a wrong answer.
+pub fn trace_exact_with_hint(
+    field: &P1Field<'_>,
+    start: Point,
+    hint: Option<u32>,
+    opts: &ExactOptions,
+) -> Path {
+    let t0 = match field.locate(start, hint) {
         Locate::Inside(t) => t,
         Locate::Goal(j) => {
             return Path::new(vec![start], TraceStatus::ReachedGoal(j), f64::INFINITY, 0);

@@ -174,9 +174,21 @@ pub fn trace_smooth<F: Field>(
     start: Point,
     opts: &SmoothOptions,
 ) -> Result<Path, TraceError> {
+    trace_smooth_with_hint(field, start, None, opts)
+}
+
+/// [`trace_smooth`] with a cell that probably holds `start` (for instance the triangle the
+/// caller already knows the robot is in): the start is located by walking from it, so no
+/// point-location structure is built. A wrong hint costs a longer walk, never a wrong answer.
+pub fn trace_smooth_with_hint<F: Field>(
+    field: &F,
+    start: Point,
+    hint: Option<F::Cell>,
+    opts: &SmoothOptions,
+) -> Result<Path, TraceError> {
     opts.validate()?;
     let single = |s| Ok(Path::new(vec![start], s, f64::INFINITY, 0));
-    let mut cell = match field.locate(start, None) {
+    let mut cell = match field.locate(start, hint) {
         Locate::Inside(c) => c,
         Locate::Goal(j) => return single(TraceStatus::ReachedGoal(j)),
         Locate::InObstacle => return single(TraceStatus::StartInObstacle),
