@@ -36,6 +36,7 @@
 mod domain;
 mod geom;
 mod grading;
+mod halves;
 pub mod io;
 mod mesh;
 mod touch;

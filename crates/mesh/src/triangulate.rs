@@ -10,6 +10,7 @@ use spade::{
 
 use crate::geom::SegmentIndex;
 use crate::grading::SizeField;
+use crate::halves::{HalfInput, Seam, choose_cut, split_inputs};
 use crate::{BoundaryTag, Domain, Mesh, MeshError, Point};
 
 /// The largest minimum angle accepted: Delaunay refinement does not terminate reliably above it.
@@ -42,6 +43,10 @@ pub struct MeshOptions {
     /// Smaller triangles near the goals and at obstacle corners (default `None`: the area
     /// bound is `max_area` everywhere). See [`Grading`].
     pub grading: Option<Grading>,
+    /// Meshes estimated to have at least this many triangles are made as two halves on two
+    /// threads, glued along a cut (default 250 000; `usize::MAX` never). Not with grading or
+    /// prefill.
+    pub halves_from: usize,
 }
 
 impl Default for MeshOptions {
@@ -53,6 +58,7 @@ impl Default for MeshOptions {
             prefill: false,
             split_boundary_bridges: true,
             grading: None,
+            halves_from: HALVES_FROM,
         }
     }
 }
@@ -181,6 +187,10 @@ impl MeshOptions {
 pub struct MeshReport {
     /// False if refinement stopped at its vertex cap before meeting angle and area bounds.
     pub refinement_complete: bool,
+    /// `Some((axis, c))` if the mesh was made in two halves glued along `x = c` (axis 0) or
+    /// `y = c` (axis 1); see [`MeshOptions::halves_from`].
+    #[serde(default)]
+    pub seam: Option<(usize, f64)>,
     /// Vertices of the boundary rings handed to the triangulator.
     pub input_vertices: usize,
     /// Steiner vertices added by refinement.
@@ -275,33 +285,44 @@ fn sort3(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
     (v[0], v[1], v[2])
 }
 
-/// Midpoints of the non-constraint edges of free faces whose two ends lie on constraint edges,
-/// except the third edges of ears.
-fn boundary_bridges(cdt: &Cdt, excluded: &[bool]) -> Vec<Point2<f64>> {
+/// Midpoints of the interior edges of free faces whose two ends lie on the boundary (the
+/// constraint edges, less those on the seam of a mesh made in halves: the seam's own edges
+/// are interior edges of the glued mesh), except the third edges of ears.
+fn boundary_bridges(cdt: &Cdt, excluded: &[bool], seam: Option<&Seam>) -> Vec<Point2<f64>> {
+    let boundary = |e: spade::handles::UndirectedEdgeHandle<'_, _, _, _, _>| {
+        e.is_constraint_edge()
+            && !seam.is_some_and(|s| {
+                let [p, q] = e.positions();
+                s.holds_edge(p, q)
+            })
+    };
     let mut on_boundary = vec![false; cdt.num_vertices()];
     for e in cdt.undirected_edges() {
-        if e.is_constraint_edge() {
+        if boundary(e) {
             for v in e.vertices() {
                 on_boundary[v.fix().index()] = true;
             }
         }
     }
     cdt.undirected_edges()
-        .filter(|e| !e.is_constraint_edge())
+        .filter(|&e| !boundary(e))
         .filter(|e| e.vertices().iter().all(|v| on_boundary[v.fix().index()]))
         .filter(|e| {
-            e.as_directed()
-                .face()
-                .as_inner()
-                .is_some_and(|f| !excluded[f.fix().index()])
+            let d = e.as_directed();
+            [d, d.rev()].iter().any(|h| {
+                h.face()
+                    .as_inner()
+                    .is_some_and(|f| !excluded[f.fix().index()])
+            })
         })
         // The third edge of an ear (a triangle with two boundary edges, at a corner) seals
         // nothing: splitting it would only chase the corner.
         .filter(|e| {
             let d = e.as_directed();
-            [d, d.rev()]
-                .iter()
-                .all(|h| !(h.next().is_constraint_edge() && h.prev().is_constraint_edge()))
+            [d, d.rev()].iter().all(|h| {
+                h.face().is_outer()
+                    || !(boundary(h.next().as_undirected()) && boundary(h.prev().as_undirected()))
+            })
         })
         .map(|e| {
             let [a, b] = e.positions();
@@ -406,137 +427,70 @@ fn sorted_triangles(tris: &[[u32; 3]], nv: usize) -> Vec<[u32; 3]> {
     out
 }
 
-impl Domain {
-    /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
-    /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
-    /// curve. Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
-    pub fn mesh(&self, opts: &MeshOptions) -> Result<(Mesh, MeshReport), MeshError> {
-        opts.validate()?;
-        let max_area = opts.max_area.unwrap_or(self.free_area() / 20000.0);
-        let rings = self.free_rings();
-        let n_ring: usize = rings.iter().map(|r| r.points.len()).sum();
-        // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
-        let size_field = opts
-            .grading
-            .as_ref()
-            .map(|g| SizeField::new(self, max_area, g));
-        let est = 1.6 * self.free_area() / max_area
-            + 2.0 * n_ring as f64
-            + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
-        let estimated = if est.is_finite() && est < 1e18 {
-            est.ceil() as usize
-        } else {
-            usize::MAX
-        };
-        if estimated > opts.max_triangles {
-            return Err(MeshError::TooManyTriangles {
-                estimated,
-                limit: opts.max_triangles,
-            });
-        }
+/// A triangulated piece of free space (all of it, or one half) and what refinement left.
+struct Part {
+    cdt: Cdt,
+    /// Faces outside free space (indexed by face).
+    excluded: Vec<bool>,
+    complete: bool,
+    bridges_split: usize,
+    bridges_remaining: usize,
+}
 
-        // Constraint vertices (deduplicated: rings may touch) and edges.
-        let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
-        let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
-        let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n_ring);
-        let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * max_area);
-        let mut seg_tags: Vec<(Point, Point, BoundaryTag)> = Vec::with_capacity(n_ring);
-        for ring in rings {
-            let n = ring.points.len();
-            let idx: Vec<usize> = ring
-                .points
-                .iter()
-                .map(|p| {
-                    *ids.entry((p.x.to_bits(), p.y.to_bits()))
-                        .or_insert_with(|| {
-                            verts.push(Point2::new(p.x, p.y));
-                            verts.len() - 1
-                        })
-                })
-                .collect();
-            for k in 0..n {
-                let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
-                seg_tags.push((a, b, ring.tags[k]));
-                // With a lattice inside, split long boundary segments to the lattice spacing
-                // up front: refinement would otherwise split them one encroachment at a time.
-                let pieces = if opts.prefill {
-                    ((b - a).norm() / spacing).ceil().clamp(1.0, 1e6) as usize
-                } else {
-                    1
-                };
-                let mut prev = idx[k];
-                for i in 1..pieces {
-                    let p = a + (b - a) * (i as f64 / pieces as f64);
-                    verts.push(Point2::new(p.x, p.y));
-                    edges.push([prev, verts.len() - 1]);
-                    prev = verts.len() - 1;
-                }
-                edges.push([prev, idx[(k + 1) % n]]);
-            }
+/// Refinement of one piece: angle and area bounds, then the grading pass, then bridge
+/// splitting (see [`MeshOptions`]).
+#[derive(Clone)]
+struct Refiner<'a> {
+    params: RefinementParameters<f64>,
+    opts: &'a MeshOptions,
+    max_area: f64,
+    size_field: Option<&'a SizeField>,
+    /// Largest number of vertices the grading pass may grow the piece to.
+    vertex_cap: usize,
+    /// The seam of a mesh made in halves: its constraint edges are not boundary.
+    seam: Option<&'a Seam>,
+}
+
+impl Refiner<'_> {
+    fn spade_refine(&self, cdt: &mut Cdt) -> Result<(Vec<bool>, bool), MeshError> {
+        let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(self.params.clone())))
+            .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
+        let mut excluded = vec![false; cdt.num_all_faces()];
+        for f in &result.excluded_faces {
+            excluded[f.index()] = true;
         }
-        let input_vertices = verts.len();
-        if opts.prefill {
-            verts.extend(
-                lattice_points(self, LATTICE_AREA_RATIO * max_area, n_ring)
-                    .into_iter()
-                    .map(|p| Point2::new(p.x, p.y)),
-            );
-        }
-        let mut conflicts = Vec::new();
-        let cdt = catch_unwind(AssertUnwindSafe(|| {
-            Cdt::try_bulk_load_cdt(verts, edges, |e| conflicts.push(e))
-        }))
-        .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
-        if let Some(&[a, _]) = conflicts.first() {
-            let p = cdt
-                .vertices()
-                .nth(a)
-                .map(|v| v.position())
-                .unwrap_or(Point2::new(f64::NAN, f64::NAN));
-            return Err(MeshError::Triangulation(format!(
-                "{} boundary segments cross or overlap, first near ({}, {})",
-                conflicts.len(),
-                p.x,
-                p.y
-            )));
-        }
-        let mut cdt = cdt;
-        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
-        let params = RefinementParameters::<f64>::new()
-            .exclude_outer_faces(true)
-            .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
-            .with_max_allowed_area(max_area)
-            .with_max_additional_vertices(cap);
-        let refine = |cdt: &mut Cdt| {
-            let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(params.clone())))
-                .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
-            let mut excluded = vec![false; cdt.num_all_faces()];
-            for f in &result.excluded_faces {
-                excluded[f.index()] = true;
-            }
-            Ok::<_, MeshError>((excluded, result.refinement_complete))
-        };
-        let (mut excluded, mut complete) = refine(&mut cdt)?;
-        if let Some(size) = &size_field {
-            let vertex_cap = input_vertices.saturating_add(cap);
+        Ok((excluded, result.refinement_complete))
+    }
+
+    fn insert(
+        cdt: &mut Cdt,
+        p: Point2<f64>,
+    ) -> Result<spade::handles::FixedVertexHandle, MeshError> {
+        catch_unwind(AssertUnwindSafe(|| cdt.insert(p)))
+            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+            .map_err(|e| MeshError::Triangulation(format!("{e:?}")))
+    }
+
+    /// Refines `cdt` completely: the returned part owns it.
+    fn run(&self, mut cdt: Cdt) -> Result<Part, MeshError> {
+        let (opts, max_area) = (self.opts, self.max_area);
+        let (mut excluded, mut complete) = self.spade_refine(&mut cdt)?;
+        if let Some(size) = self.size_field {
             for round in 0..=GRADING_ROUNDS {
                 let centroids = too_large(&cdt, &excluded, size);
                 if centroids.is_empty() {
                     break;
                 }
                 if round == GRADING_ROUNDS
-                    || cdt.num_vertices().saturating_add(centroids.len()) > vertex_cap
+                    || cdt.num_vertices().saturating_add(centroids.len()) > self.vertex_cap
                 {
                     complete = false;
                     break;
                 }
                 for c in centroids {
-                    catch_unwind(AssertUnwindSafe(|| cdt.insert(c)))
-                        .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-                        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+                    Self::insert(&mut cdt, c)?;
                 }
-                let (e, c) = refine(&mut cdt)?;
+                let (e, c) = self.spade_refine(&mut cdt)?;
                 excluded = e;
                 complete &= c;
             }
@@ -546,7 +500,7 @@ impl Domain {
         if opts.split_boundary_bridges {
             let min_sin = opts.min_angle_deg.to_radians().sin();
             for round in 0..=BRIDGE_ROUNDS {
-                let mids = boundary_bridges(&cdt, &excluded);
+                let mids = boundary_bridges(&cdt, &excluded, self.seam);
                 if round == BRIDGE_ROUNDS || mids.is_empty() {
                     bridges_remaining = mids.len();
                     break;
@@ -554,11 +508,7 @@ impl Domain {
                 bridges_split += mids.len();
                 let mut inserted = Vec::with_capacity(mids.len());
                 for m in mids {
-                    inserted.push(
-                        catch_unwind(AssertUnwindSafe(|| cdt.insert(m)))
-                            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-                            .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?,
-                    );
+                    inserted.push(Self::insert(&mut cdt, m)?);
                 }
                 // Insertion only changes faces around the new vertices: refine again (a pass
                 // over the whole mesh) only if one of them breaks the angle or area bound.
@@ -590,7 +540,7 @@ impl Domain {
                     })
                 });
                 if bad {
-                    let (e, c) = refine(&mut cdt)?;
+                    let (e, c) = self.spade_refine(&mut cdt)?;
                     excluded = e;
                     complete &= c;
                 } else {
@@ -598,49 +548,298 @@ impl Domain {
                 }
             }
         }
+        Ok(Part {
+            cdt,
+            excluded,
+            complete,
+            bridges_split,
+            bridges_remaining,
+        })
+    }
+}
 
-        // Free faces, their vertices and boundary edges, from one pass over the edge array
-        // (both half-edges of an undirected edge are stored together, so this reads memory
-        // in order instead of jumping from each face to its edges and their twins). Face
-        // `f` collects its three directed edges `from -> to` (free space on their left).
-        let mut face_edges = vec![[u32::MAX; 6]; cdt.num_all_faces()];
-        let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
-        let free = |f: Option<usize>| f.filter(|&i| !excluded[i]);
-        for e in cdt.undirected_edges() {
-            let d = e.as_directed();
-            let (a, b) = (d.from().fix().index() as u32, d.to().fix().index() as u32);
-            let left = free(d.face().as_inner().map(|f| f.fix().index()));
-            let right = free(d.rev().face().as_inner().map(|f| f.fix().index()));
-            for (face, from, to, other) in [(left, a, b, right), (right, b, a, left)] {
-                if let Some(f) = face {
-                    let slots = &mut face_edges[f];
-                    let k = slots.iter().step_by(2).position(|&x| x == u32::MAX);
-                    let k = 2 * k.expect("a face has three edges");
-                    slots[k] = from;
-                    slots[k + 1] = to;
-                    if other.is_none() {
-                        bnd_raw.push((from as usize, to as usize));
+/// Bulk-loads the constraint input into a CDT; crossing input segments are an error.
+fn load(verts: Vec<Point2<f64>>, edges: Vec<[usize; 2]>) -> Result<Cdt, MeshError> {
+    let mut conflicts = Vec::new();
+    let cdt = catch_unwind(AssertUnwindSafe(|| {
+        Cdt::try_bulk_load_cdt(verts, edges, |e| conflicts.push(e))
+    }))
+    .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+    .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+    if let Some(&[a, _]) = conflicts.first() {
+        let p = cdt
+            .vertices()
+            .nth(a)
+            .map(|v| v.position())
+            .unwrap_or(Point2::new(f64::NAN, f64::NAN));
+        return Err(MeshError::Triangulation(format!(
+            "{} boundary segments cross or overlap, first near ({}, {})",
+            conflicts.len(),
+            p.x,
+            p.y
+        )));
+    }
+    Ok(cdt)
+}
+
+/// Rounds of exchanging cut vertices between two halves (each followed by refinement).
+const CUT_ROUNDS: usize = 8;
+
+/// Meshes `halves` (the constraint inputs of the two sides of `cut`) on two threads and
+/// refines them until they have the same vertices on the cut. `None` if they do not settle
+/// within [`CUT_ROUNDS`].
+fn mesh_halves(
+    halves: [HalfInput; 2],
+    refiner: &Refiner<'_>,
+    seam: &Seam,
+) -> Result<Option<[Part; 2]>, MeshError> {
+    let cut = seam.cut;
+    let [low, high] = halves;
+    let first = |h: HalfInput| refiner.run(load(h.vertices, h.edges)?);
+    let (a, b) = std::thread::scope(|s| {
+        let low = s.spawn(|| first(low));
+        let b = first(high);
+        (low.join(), b)
+    });
+    let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
+    let mut parts = [a?, b?];
+    // The positions along the cut of a part's vertices on it, sorted.
+    let on_cut = |part: &Part| {
+        let mut t: Vec<f64> = part
+            .cdt
+            .vertices()
+            .map(|v| v.position())
+            .filter(|&p| seam.holds(p))
+            .map(|p| cut.along(p))
+            .collect();
+        t.sort_by(f64::total_cmp);
+        t
+    };
+    for _ in 0..CUT_ROUNDS {
+        let [ta, tb] = [on_cut(&parts[0]), on_cut(&parts[1])];
+        let missing = |have: &[f64], other: &[f64]| -> Vec<f64> {
+            other
+                .iter()
+                .copied()
+                .filter(|t| have.binary_search_by(|x| x.total_cmp(t)).is_err())
+                .collect()
+        };
+        let (for_a, for_b) = (missing(&ta, &tb), missing(&tb, &ta));
+        if for_a.is_empty() && for_b.is_empty() {
+            return Ok(Some(parts));
+        }
+        // Each half takes the other's cut vertices (exactly on its cut edges, so they split
+        // them) and refines again.
+        let take = |part: Part, add: Vec<f64>| -> Result<Part, MeshError> {
+            if add.is_empty() {
+                return Ok(part);
+            }
+            let mut cdt = part.cdt;
+            for t in add {
+                Refiner::insert(&mut cdt, cut.point(t))?;
+            }
+            let mut again = refiner.run(cdt)?;
+            again.bridges_split += part.bridges_split;
+            Ok(again)
+        };
+        let [pa, pb] = parts;
+        let (a, b) = std::thread::scope(|s| {
+            let a = s.spawn(|| take(pa, for_a));
+            let b = take(pb, for_b);
+            (a.join(), b)
+        });
+        let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
+        parts = [a?, b?];
+    }
+    Ok(None)
+}
+
+/// Estimated triangle count from which [`Domain::mesh`] makes the mesh in two halves.
+const HALVES_FROM: usize = 250_000;
+
+impl Domain {
+    /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
+    /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
+    /// curve. Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
+    ///
+    /// Meshes of more than [`MeshOptions::halves_from`] triangles (estimated; without grading
+    /// or prefill) are made as two halves on two threads, cut along a line at `0` or `±2^k`
+    /// that splits free space evenly and glued along it: the same bounds hold everywhere, and
+    /// the result does not depend on the number of cores.
+    pub fn mesh(&self, opts: &MeshOptions) -> Result<(Mesh, MeshReport), MeshError> {
+        opts.validate()?;
+        let max_area = opts.max_area.unwrap_or(self.free_area() / 20000.0);
+        let rings = self.free_rings();
+        let n_ring: usize = rings.iter().map(|r| r.points.len()).sum();
+        // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
+        let size_field = opts
+            .grading
+            .as_ref()
+            .map(|g| SizeField::new(self, max_area, g));
+        let est = 1.6 * self.free_area() / max_area
+            + 2.0 * n_ring as f64
+            + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
+        let estimated = if est.is_finite() && est < 1e18 {
+            est.ceil() as usize
+        } else {
+            usize::MAX
+        };
+        if estimated > opts.max_triangles {
+            return Err(MeshError::TooManyTriangles {
+                estimated,
+                limit: opts.max_triangles,
+            });
+        }
+
+        let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * max_area);
+        let seg_tags: Vec<(Point, Point, BoundaryTag)> = rings
+            .iter()
+            .flat_map(|ring| {
+                let n = ring.points.len();
+                (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
+            })
+            .collect();
+        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
+        let mut refiner = Refiner {
+            params: RefinementParameters::<f64>::new()
+                .exclude_outer_faces(true)
+                .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
+                .with_max_allowed_area(max_area)
+                .with_max_additional_vertices(cap),
+            opts,
+            max_area,
+            size_field: size_field.as_ref(),
+            vertex_cap: usize::MAX,
+            seam: None,
+        };
+
+        let seg_index = SegmentIndex::new(
+            seg_tags
+                .iter()
+                .enumerate()
+                .map(|(k, &(a, b, _))| (a, b, k as u32)),
+        );
+        let (lo, hi) = self.bounding_box();
+        let split = (estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill)
+            .then(|| choose_cut(self))
+            .flatten()
+            .and_then(|cut| split_inputs(rings, cut, spacing, &seg_index, hi.x));
+        let mut halves = None;
+        let mut seam = None;
+        if let Some((inputs, s)) = split {
+            let input_vertices = inputs.iter().map(|h| h.vertices.len()).sum::<usize>();
+            let with_seam = Refiner {
+                seam: Some(&s),
+                ..refiner.clone()
+            };
+            halves = mesh_halves(inputs, &with_seam, &s)?.map(|parts| (parts, input_vertices));
+            seam = halves.is_some().then_some(s);
+        }
+        let (parts, input_vertices): (Vec<Part>, usize) = match halves {
+            Some((parts, n)) => (parts.into(), n),
+            None => {
+                // Constraint vertices (deduplicated: rings may touch) and edges.
+                let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
+                let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
+                let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n_ring);
+                for ring in rings {
+                    let n = ring.points.len();
+                    let idx: Vec<usize> = ring
+                        .points
+                        .iter()
+                        .map(|p| {
+                            *ids.entry((p.x.to_bits(), p.y.to_bits()))
+                                .or_insert_with(|| {
+                                    verts.push(Point2::new(p.x, p.y));
+                                    verts.len() - 1
+                                })
+                        })
+                        .collect();
+                    for k in 0..n {
+                        let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
+                        // With a lattice inside, split long boundary segments to the lattice
+                        // spacing up front: refinement would otherwise split them one
+                        // encroachment at a time.
+                        let pieces = if opts.prefill {
+                            ((b - a).norm() / spacing).ceil().clamp(1.0, 1e6) as usize
+                        } else {
+                            1
+                        };
+                        let mut prev = idx[k];
+                        for i in 1..pieces {
+                            let p = a + (b - a) * (i as f64 / pieces as f64);
+                            verts.push(Point2::new(p.x, p.y));
+                            edges.push([prev, verts.len() - 1]);
+                            prev = verts.len() - 1;
+                        }
+                        edges.push([prev, idx[(k + 1) % n]]);
                     }
                 }
+                let input_vertices = verts.len();
+                if opts.prefill {
+                    verts.extend(
+                        lattice_points(self, LATTICE_AREA_RATIO * max_area, n_ring)
+                            .into_iter()
+                            .map(|p| Point2::new(p.x, p.y)),
+                    );
+                }
+                refiner.vertex_cap = input_vertices.saturating_add(cap);
+                (vec![refiner.run(load(verts, edges)?)?], input_vertices)
             }
-        }
-        // Each free face as its vertices counter-clockwise: a -> b, then the edge leaving b.
-        let tri_raw: Vec<[usize; 3]> = face_edges
-            .iter()
-            .filter(|s| s[0] != u32::MAX)
-            .map(|s| {
-                let c = if s[2] == s[1] { s[3] } else { s[5] };
-                [s[0] as usize, s[1] as usize, c as usize]
-            })
-            .collect();
-        drop(face_edges);
-        let positions: Vec<Point> = cdt
-            .vertices()
-            .map(|v| {
+        };
+        let seam = seam.as_ref();
+
+        // One numbering of the parts' vertices: a vertex on the cut is the first part's.
+        let mut positions: Vec<Point> = Vec::new();
+        let mut cut_vertex: HashMap<u64, u32> = HashMap::new();
+        let mut numbering: Vec<Vec<u32>> = Vec::with_capacity(parts.len());
+        for (k, part) in parts.iter().enumerate() {
+            let mut ids = Vec::with_capacity(part.cdt.num_vertices());
+            for v in part.cdt.vertices() {
                 let p = v.position();
-                Point::new(p.x, p.y)
-            })
-            .collect();
+                let id = match seam.filter(|s| s.holds(p)) {
+                    Some(s) => {
+                        let key = s.cut.along(p).to_bits();
+                        match k {
+                            0 => *cut_vertex.entry(key).or_insert(positions.len() as u32),
+                            _ => *cut_vertex.get(&key).ok_or_else(|| {
+                                MeshError::Triangulation(
+                                    "the two halves disagree on the seam".to_string(),
+                                )
+                            })?,
+                        }
+                    }
+                    None => positions.len() as u32,
+                };
+                if id as usize == positions.len() {
+                    positions.push(Point::new(p.x, p.y));
+                }
+                ids.push(id);
+            }
+            numbering.push(ids);
+        }
+        // Free faces and boundary edges of each part (in parallel for halves).
+        let faces: Vec<FreeFaces> = std::thread::scope(|s| {
+            let handles: Vec<_> = parts
+                .iter()
+                .zip(&numbering)
+                .skip(1)
+                .map(|(part, ids)| s.spawn(move || free_faces(part, ids, seam)))
+                .collect();
+            let mut out = vec![free_faces(&parts[0], &numbering[0], seam)];
+            out.extend(handles.into_iter().map(|h| h.join().unwrap_or_default()));
+            out
+        });
+        let complete = parts.iter().all(|p| p.complete);
+        let bridges_split = parts.iter().map(|p| p.bridges_split).sum();
+        let bridges_remaining = parts.iter().map(|p| p.bridges_remaining).sum();
+        drop(parts);
+        let mut tri_raw = Vec::new();
+        let mut bnd_raw = Vec::new();
+        for (t, b) in faces {
+            tri_raw.extend(t);
+            bnd_raw.extend(b);
+        }
         // Renumber used vertices along a Hilbert curve.
         let mut used = vec![false; positions.len()];
         for t in &tri_raw {
@@ -648,7 +847,6 @@ impl Domain {
                 used[v] = true;
             }
         }
-        let (lo, hi) = self.bounding_box();
         let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
         let order = radix_sort_by_key(
             (0..positions.len())
@@ -676,12 +874,6 @@ impl Domain {
             })
             .collect();
         let triangles = sorted_triangles(&rotated, vertices.len());
-        let seg_index = SegmentIndex::new(
-            seg_tags
-                .iter()
-                .enumerate()
-                .map(|(k, &(a, b, _))| (a, b, k as u32)),
-        );
         let mut boundary = Vec::with_capacity(bnd_raw.len());
         for &(a, b) in &bnd_raw {
             let pa = positions[a];
@@ -692,7 +884,7 @@ impl Domain {
             })?;
             boundary.push((new_id[a], new_id[b], seg_tags[s as usize].2));
         }
-        let added_vertices = positions.len() - input_vertices;
+        let added_vertices = positions.len().saturating_sub(input_vertices);
         if triangles.is_empty() {
             // Free space has positive area (checked by `Domain::new`), so no triangle at all
             // means the boundary rings were inconsistent: say so rather than return nothing.
@@ -705,6 +897,7 @@ impl Domain {
             mesh,
             MeshReport {
                 refinement_complete: complete,
+                seam: seam.map(|s| (s.cut.axis, s.cut.at)),
                 bridges_split,
                 bridges_remaining,
                 input_vertices,
@@ -715,6 +908,54 @@ impl Domain {
             },
         ))
     }
+}
+
+/// Triangles (vertex numbers) and boundary edges `(from, to)` of a part.
+type FreeFaces = (Vec<[usize; 3]>, Vec<(usize, usize)>);
+
+/// The free faces of `part` as triangles of `ids` (counter-clockwise) and its boundary edges
+/// (free space on their left), leaving out edges on the seam; from one pass over the edge array
+/// (both half-edges of an undirected edge are stored together, so this reads memory in order
+/// instead of jumping from each face to its edges and their twins).
+fn free_faces(part: &Part, ids: &[u32], seam: Option<&Seam>) -> FreeFaces {
+    let cdt = &part.cdt;
+    let excluded = &part.excluded;
+    // Face `f` collects its three directed edges `from -> to` (local vertex indices).
+    let mut face_edges = vec![[u32::MAX; 6]; cdt.num_all_faces()];
+    let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
+    let free = |f: Option<usize>| f.filter(|&i| !excluded.get(i).copied().unwrap_or(true));
+    for e in cdt.undirected_edges() {
+        let d = e.as_directed();
+        let (a, b) = (d.from().fix().index() as u32, d.to().fix().index() as u32);
+        let left = free(d.face().as_inner().map(|f| f.fix().index()));
+        let right = free(d.rev().face().as_inner().map(|f| f.fix().index()));
+        let on_cut = seam.is_some_and(|s| {
+            let [p, q] = e.positions();
+            s.holds_edge(p, q)
+        });
+        for (face, from, to, other) in [(left, a, b, right), (right, b, a, left)] {
+            if let Some(f) = face {
+                let slots = &mut face_edges[f];
+                let k = slots.iter().step_by(2).position(|&x| x == u32::MAX);
+                let k = 2 * k.expect("a face has three edges");
+                slots[k] = from;
+                slots[k + 1] = to;
+                if other.is_none() && !on_cut {
+                    bnd_raw.push((ids[from as usize] as usize, ids[to as usize] as usize));
+                }
+            }
+        }
+    }
+    // Each free face as its vertices counter-clockwise: a -> b, then the edge leaving b.
+    let tri_raw = face_edges
+        .iter()
+        .filter(|s| s[0] != u32::MAX)
+        .map(|s| {
+            let c = if s[2] == s[1] { s[3] } else { s[5] };
+            [s[0], s[1], c].map(|v| ids[v as usize] as usize)
+        })
+        .collect();
+    (tri_raw, bnd_raw)
 }
 
 #[cfg(test)]

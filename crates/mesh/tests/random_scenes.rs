@@ -47,7 +47,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
 
     #[test]
-    fn random_scene_meshes_are_valid(obs in prop::collection::vec(obstacle(), 1..9), gx in 0.2..9.8f64, gy in 0.2..9.8f64, prefill in any::<bool>()) {
+    fn random_scene_meshes_are_valid(obs in prop::collection::vec(obstacle(), 1..9), gx in 0.2..9.8f64, gy in 0.2..9.8f64, prefill in any::<bool>(), halves in any::<bool>()) {
         let spec = DomainSpec {
             workspace: rect(0.0, 0.0, 10.0, 10.0),
             obstacles: obs.iter().map(|o| match *o {
@@ -57,7 +57,9 @@ proptest! {
             goals: vec![GoalShape::Point(p(gx, gy))],
             robot_radius: 0.0,
         };
-        let opts = MeshOptions { max_area: Some(0.05), prefill, ..MeshOptions::default() };
+        // `halves`: made in two halves glued along a cut wherever one exists.
+        let halves_from = if halves { 0 } else { usize::MAX };
+        let opts = MeshOptions { max_area: Some(0.05), prefill, halves_from, ..MeshOptions::default() };
         let domain = match Domain::new(&spec, &opts) {
             Ok(d) => d,
             Err(e) => {
@@ -71,6 +73,7 @@ proptest! {
         check_invariants_with_bridges(&mesh, domain.free_area(), 1e-9, report.bridges_remaining).map_err(TestCaseError::fail)?;
         let q = mesh.quality();
         prop_assert!(q.triangles > 0);
+        prop_assert_eq!(q.non_delaunay_edges, 0);
         let h = domain.target_edge_length();
         for e in mesh.boundary_edges() {
             let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);

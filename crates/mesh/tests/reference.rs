@@ -52,12 +52,16 @@ fn check_tags_on_inputs(mesh: &harmonic_mesh::Mesh) {
 }
 
 fn run(max_area: f64, prefill: bool) {
-    let spec = reference();
-    let opts = MeshOptions {
+    run_with(MeshOptions {
         max_area: Some(max_area),
         prefill,
         ..MeshOptions::default()
-    };
+    });
+}
+
+fn run_with(opts: MeshOptions) {
+    let spec = reference();
+    let max_area = opts.max_area.expect("an area bound");
     let domain = Domain::new(&spec, &opts).expect("domain");
     let exact = exact_free_area(12);
     assert!((domain.free_area() - exact).abs() < 1e-12 * exact);
@@ -92,6 +96,34 @@ fn reference_3k_with_and_without_prefill() {
 fn reference_30k_with_and_without_prefill() {
     run(0.0044, true);
     run(0.0044, false);
+}
+
+#[test]
+fn reference_in_two_halves() {
+    for max_area in [0.045, 0.0044] {
+        let opts = MeshOptions {
+            max_area: Some(max_area),
+            halves_from: 0,
+            ..MeshOptions::default()
+        };
+        run_with(opts.clone());
+        let domain = Domain::new(&reference(), &opts).expect("domain");
+        let (halves, report) = domain.mesh(&opts).expect("mesh");
+        // The cut y = 4 runs along the bottom edge of the obstacle [5, 9] × [4, 5].
+        assert_eq!(report.seam, Some((1, 4.0)));
+        // About as many triangles as in one piece.
+        let whole = MeshOptions {
+            halves_from: usize::MAX,
+            ..opts
+        };
+        let (one, report) = domain.mesh(&whole).expect("mesh");
+        assert_eq!(report.seam, None);
+        let (a, b) = (
+            halves.triangles().len() as f64,
+            one.triangles().len() as f64,
+        );
+        assert!((a / b - 1.0).abs() < 0.02, "{a} vs {b}");
+    }
 }
 
 #[test]

@@ -6,7 +6,9 @@
 mod common;
 
 use common::*;
-use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
+use harmonic_mesh::{
+    BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, MeshReport, Point, Shape,
+};
 use serde_json::Value;
 
 fn pt(v: &Value) -> Point {
@@ -65,10 +67,29 @@ fn load(name: &str) -> (DomainSpec, MeshOptions, Vec<Point>) {
     (spec, opts, pts(&v["starts"]))
 }
 
-fn check_scene(name: &str, max_triangles: usize) {
+/// `cut`: whether a cut for two halves exists (none meets 50 scattered obstacles steeply
+/// enough everywhere).
+fn check_scene(name: &str, max_triangles: usize, cut: bool) {
     let (spec, opts, starts) = load(name);
-    let domain = Domain::new(&spec, &opts).unwrap();
-    let (mesh, report) = domain.mesh(&opts).unwrap();
+    check_mesh(name, &spec, &opts, &starts, max_triangles);
+    // The same scene made in two halves glued along a cut (as large meshes are).
+    let halves = MeshOptions {
+        halves_from: 0,
+        ..opts
+    };
+    let report = check_mesh(name, &spec, &halves, &starts, max_triangles);
+    assert_eq!(report.seam.is_some(), cut, "{name}: {:?}", report.seam);
+}
+
+fn check_mesh(
+    name: &str,
+    spec: &DomainSpec,
+    opts: &MeshOptions,
+    starts: &[Point],
+    max_triangles: usize,
+) -> MeshReport {
+    let domain = Domain::new(spec, opts).unwrap();
+    let (mesh, report) = domain.mesh(opts).unwrap();
     let q = mesh.quality();
     eprintln!("{name}: {q:?}");
     assert!(report.refinement_complete, "{name}");
@@ -92,7 +113,7 @@ fn check_scene(name: &str, max_triangles: usize) {
         .map(|e| mesh.triangle_components()[e.triangle as usize])
         .collect();
     assert!(!starts.is_empty());
-    for s in starts {
+    for &s in starts {
         assert!(domain.contains_free(s), "{name}: start {s}");
         let t = mesh
             .locate(s, None)
@@ -106,28 +127,29 @@ fn check_scene(name: &str, max_triangles: usize) {
             "{name}: start {s} too close to an obstacle"
         );
     }
+    report
 }
 
 #[test]
 fn maze() {
-    check_scene("maze", 40_000);
+    check_scene("maze", 40_000, true);
 }
 
 #[test]
 fn office() {
-    check_scene("office", 40_000);
+    check_scene("office", 40_000, true);
 }
 
 #[test]
 fn concave_trap() {
-    check_scene("concave_trap", 40_000);
+    check_scene("concave_trap", 40_000, true);
 }
 
 #[test]
 fn clutter() {
     let (spec, _, _) = load("clutter");
     assert!(spec.obstacles.len() >= 45);
-    check_scene("clutter", 40_000);
+    check_scene("clutter", 40_000, false);
 }
 
 #[test]
@@ -135,6 +157,6 @@ fn reference_json_matches_the_rust_reference_scene() {
     let (spec, opts, _) = load("reference");
     assert_eq!(spec.workspace, reference().workspace);
     assert_eq!(spec.obstacles, reference().obstacles);
-    check_scene("reference", 40_000);
+    check_scene("reference", 40_000, true);
     assert_eq!(opts.max_area, Some(0.0044));
 }

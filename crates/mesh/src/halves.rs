@@ -1,0 +1,269 @@
+//! Large meshes in two halves: free space is cut along an axis-parallel line, each half is
+//! triangulated and refined on its own thread, and the halves are glued along the cut.
+//!
+//! The cut is the line `x = c` or `y = c` with `c = 0` or `±2^k`. Delaunay refinement splits a cut segment at a
+//! weighted mean `w₀·a + w₁·b` of its ends, and when both ends have the coordinate `c = ±2^k`
+//! (or 0) the products are exact and their sum rounds back to `c`: every vertex refinement
+//! puts on the cut stays exactly on it. So each half can take the other half's cut vertices
+//! verbatim (an insertion exactly on a constraint edge splits it), and refinement runs again
+//! until both halves have the same ones. The cut may pass through ring vertices and run along
+//! ring segments (such a segment stays boundary, on the side of free space); only its
+//! stretches through free space are glued. A cut with no such value near the middle of free
+//! space, or halves that do not settle, leave the caller to mesh in one piece.
+
+use spade::Point2;
+
+use crate::geom::SegmentIndex;
+use crate::{Domain, Point, TaggedRing};
+
+/// The cut line: points whose coordinate `axis` (0 = x, 1 = y) is `at`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cut {
+    pub axis: usize,
+    pub at: f64,
+}
+
+impl Cut {
+    /// The coordinate across the cut.
+    pub fn across(&self, p: Point2<f64>) -> f64 {
+        if self.axis == 0 { p.x } else { p.y }
+    }
+
+    /// The coordinate along the cut.
+    pub fn along(&self, p: Point2<f64>) -> f64 {
+        if self.axis == 0 { p.y } else { p.x }
+    }
+
+    /// The point of the cut at `t` along it.
+    pub fn point(&self, t: f64) -> Point2<f64> {
+        if self.axis == 0 {
+            Point2::new(self.at, t)
+        } else {
+            Point2::new(t, self.at)
+        }
+    }
+
+    /// Whether `p` lies exactly on the cut line.
+    pub fn holds(&self, p: Point2<f64>) -> bool {
+        self.across(p) == self.at
+    }
+
+    /// Area of `ring` (signed: counter-clockwise positive) on the low side of the cut
+    /// (half-plane clipping keeps the shoelace sum exact for any simple ring).
+    fn low_area(&self, ring: &[Point]) -> f64 {
+        let pt = |p: &Point| Point2::new(p.x, p.y);
+        let mut clipped: Vec<Point2<f64>> = Vec::with_capacity(ring.len() + 2);
+        for k in 0..ring.len() {
+            let (a, b) = (pt(&ring[k]), pt(&ring[(k + 1) % ring.len()]));
+            let (da, db) = (self.across(a) - self.at, self.across(b) - self.at);
+            if da <= 0.0 {
+                clipped.push(a);
+            }
+            if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+                clipped.push(self.crossing(a, b));
+            }
+        }
+        let n = clipped.len();
+        (0..n)
+            .map(|k| {
+                let (a, b) = (clipped[k], clipped[(k + 1) % n]);
+                a.x * b.y - a.y * b.x
+            })
+            .sum::<f64>()
+            * 0.5
+    }
+
+    /// Whether every ring segment that crosses or touches the cut (and does not run along
+    /// it) meets it at 60° or more: where the halves are refined alone, the cut is a boundary,
+    /// and a shallower angle there would be a small input angle that refinement cannot remove.
+    fn meets_rings_steeply(&self, rings: &[TaggedRing]) -> bool {
+        let min_sin = 60f64.to_radians().sin();
+        rings.iter().all(|ring| {
+            let n = ring.points.len();
+            (0..n).all(|k| {
+                let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
+                let (a, b) = (Point2::new(a.x, a.y), Point2::new(b.x, b.y));
+                let (da, db) = (self.across(a) - self.at, self.across(b) - self.at);
+                let meets = (da <= 0.0 && db >= 0.0) || (da >= 0.0 && db <= 0.0);
+                let along = da == 0.0 && db == 0.0;
+                let length = (b.x - a.x).hypot(b.y - a.y);
+                !meets || along || (db - da).abs() >= min_sin * length
+            })
+        })
+    }
+
+    /// Where segment `a`–`b` (with ends strictly on either side) crosses the cut.
+    fn crossing(&self, a: Point2<f64>, b: Point2<f64>) -> Point2<f64> {
+        let s = (self.at - self.across(a)) / (self.across(b) - self.across(a));
+        self.point(self.along(a) + s * (self.along(b) - self.along(a)))
+    }
+}
+
+/// The cut to mesh `domain` in two halves: the value `0` or `±2^k` on either axis that
+/// splits free space most evenly, if one leaves between 30 % and 70 % of it on each side and
+/// meets the rings steeply.
+pub(crate) fn choose_cut(domain: &Domain) -> Option<Cut> {
+    let rings = domain.free_rings();
+    let (lo, hi) = domain.bounding_box();
+    let total = domain.free_area();
+    let mut best: Option<(f64, Cut)> = None;
+    for axis in 0..2 {
+        let (l, h) = if axis == 0 {
+            (lo.x, hi.x)
+        } else {
+            (lo.y, hi.y)
+        };
+        let span = h - l;
+        if !(span > 0.0 && span.is_finite()) {
+            continue;
+        }
+        let top = l.abs().max(h.abs()).log2().ceil() as i32;
+        let powers = (top - 60..=top).flat_map(|k| [2f64.powi(k), -(2f64.powi(k))]);
+        for at in powers.chain([0.0]) {
+            if !(at > l + 0.05 * span && at < h - 0.05 * span) {
+                continue;
+            }
+            let cut = Cut { axis, at };
+            if !cut.meets_rings_steeply(rings) {
+                continue;
+            }
+            let low: f64 = rings.iter().map(|r| cut.low_area(&r.points)).sum();
+            let imbalance = (low / total - 0.5).abs();
+            if imbalance <= 0.2 && best.is_none_or(|(b, _)| imbalance < b) {
+                best = Some((imbalance, cut));
+            }
+        }
+    }
+    best.map(|(_, cut)| cut)
+}
+
+/// Constraint input of one half: vertices and edges (indices into the vertices).
+#[derive(Default)]
+pub(crate) struct HalfInput {
+    pub vertices: Vec<Point2<f64>>,
+    pub edges: Vec<[usize; 2]>,
+    ids: std::collections::HashMap<(u64, u64), usize>,
+}
+
+impl HalfInput {
+    fn vertex(&mut self, p: Point2<f64>) -> usize {
+        *self
+            .ids
+            .entry((p.x.to_bits(), p.y.to_bits()))
+            .or_insert_with(|| {
+                self.vertices.push(p);
+                self.vertices.len() - 1
+            })
+    }
+
+    fn edge(&mut self, a: Point2<f64>, b: Point2<f64>) {
+        let (i, j) = (self.vertex(a), self.vertex(b));
+        if i != j {
+            self.edges.push([i, j]);
+        }
+    }
+}
+
+/// A cut and its stretches through free space (intervals along it, sorted): where the two
+/// halves are glued.
+pub(crate) struct Seam {
+    pub cut: Cut,
+    stretches: Vec<(f64, f64)>,
+}
+
+impl Seam {
+    /// Whether `p` is on a stretch of the cut (ends included).
+    pub fn holds(&self, p: Point2<f64>) -> bool {
+        self.cut.holds(p) && self.on_stretch(self.cut.along(p))
+    }
+
+    /// Whether the segment `p`–`q` lies on a stretch (a glued edge, not boundary).
+    pub fn holds_edge(&self, p: Point2<f64>, q: Point2<f64>) -> bool {
+        let mid = 0.5 * (self.cut.along(p) + self.cut.along(q));
+        self.holds(p) && self.holds(q) && self.on_stretch(mid)
+    }
+
+    fn on_stretch(&self, t: f64) -> bool {
+        let k = self.stretches.partition_point(|&(_, t1)| t1 < t);
+        self.stretches.get(k).is_some_and(|&(t0, _)| t0 <= t)
+    }
+}
+
+/// The constraint inputs of the two halves (low side first) and the seam: the cut's
+/// stretches through free space. Ring segments are split where they cross the cut; a segment along the cut
+/// goes to the side of free space (on its left); the stretches (between consecutive points
+/// where rings meet the cut, when free space lies between) are pre-split into pieces no
+/// longer than `spacing` — the same points on both sides. `index` holds the rings'
+/// segments, `x_max` bounds them on the right. `None` for inputs no cut can serve
+/// (non-finite coordinates).
+pub(crate) fn split_inputs(
+    rings: &[TaggedRing],
+    cut: Cut,
+    spacing: f64,
+    index: &SegmentIndex,
+    x_max: f64,
+) -> Option<([HalfInput; 2], Seam)> {
+    let mut halves = [HalfInput::default(), HalfInput::default()];
+    // Positions along the cut where rings meet it.
+    let mut events: Vec<f64> = Vec::new();
+    for ring in rings {
+        let n = ring.points.len();
+        for k in 0..n {
+            let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
+            let (a, b) = (Point2::new(a.x, a.y), Point2::new(b.x, b.y));
+            let (da, db) = (cut.across(a) - cut.at, cut.across(b) - cut.at);
+            if !(da.is_finite() && db.is_finite()) {
+                return None;
+            }
+            for (d, p) in [(da, a), (db, b)] {
+                if d == 0.0 {
+                    events.push(cut.along(p));
+                }
+            }
+            if da == 0.0 && db == 0.0 {
+                // Along the cut: free space is on the segment's left.
+                let up = cut.along(b) > cut.along(a);
+                let side = usize::from(if cut.axis == 0 { !up } else { up });
+                halves[side].edge(a, b);
+            } else if da <= 0.0 && db <= 0.0 {
+                halves[0].edge(a, b);
+            } else if da >= 0.0 && db >= 0.0 {
+                halves[1].edge(a, b);
+            } else {
+                let p = cut.crossing(a, b);
+                events.push(cut.along(p));
+                let side = |d: f64| usize::from(d > 0.0);
+                halves[side(da)].edge(a, p);
+                halves[side(db)].edge(p, b);
+            }
+        }
+    }
+    events.sort_by(f64::total_cmp);
+    events.dedup();
+    let mut stretches = Vec::new();
+    for pair in events.windows(2) {
+        let (t0, t1) = (pair[0], pair[1]);
+        let m = cut.point(0.5 * (t0 + t1));
+        let m = Point::new(m.x, m.y);
+        if index.distance(m) > 0.0 && index.ray_parity(m, x_max) {
+            stretches.push((t0, t1));
+        }
+    }
+    for &(t0, t1) in &stretches {
+        let pieces = ((t1 - t0) / spacing).ceil().clamp(1.0, 1e6) as usize;
+        let at = |i: usize| {
+            if i == pieces {
+                t1
+            } else {
+                t0 + (t1 - t0) * (i as f64 / pieces as f64)
+            }
+        };
+        for i in 0..pieces {
+            let (a, b) = (cut.point(at(i)), cut.point(at(i + 1)));
+            for half in &mut halves {
+                half.edge(a, b);
+            }
+        }
+    }
+    Some((halves, Seam { cut, stretches }))
+}

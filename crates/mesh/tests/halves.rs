@@ -1,0 +1,129 @@
+//! Meshes made in two halves glued along a cut (`MeshOptions::halves_from`): the cut may run
+//! through obstacle corners and along obstacle edges, and the glued mesh must satisfy every
+//! invariant of a mesh made in one piece.
+
+mod common;
+
+use common::*;
+use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, Shape};
+
+fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
+    let opts = MeshOptions {
+        max_area: Some(0.01),
+        halves_from: 0,
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(spec, &opts).expect("domain");
+    let (mesh, report) = domain.mesh(&opts).expect("mesh");
+    assert_eq!(report.seam, Some(expected_seam));
+    assert!(report.refinement_complete);
+    check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
+    let q = mesh.quality();
+    assert_eq!(q.components, 1, "{q:?}");
+    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
+    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
+    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
+    // No boundary edge lies on the glued stretches of the cut: every one is on an input ring.
+    for e in mesh.boundary_edges() {
+        let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
+        let m = (a + b.coords) * 0.5;
+        let on_ring = |ring: &[harmonic_mesh::Point]| {
+            let n = ring.len();
+            (0..n).any(|k| seg_dist(m, ring[k], ring[(k + 1) % n]) < 1e-9)
+        };
+        let ok = match e.tag {
+            BoundaryTag::Wall => on_ring(&spec.workspace),
+            BoundaryTag::Obstacle(i) => match &spec.obstacles[i as usize] {
+                Shape::Polygon(p) => on_ring(p),
+                Shape::Circle { .. } => true,
+            },
+            BoundaryTag::Goal(_) => true,
+        };
+        assert!(ok, "{:?} edge {a} {b} is not on its ring", e.tag);
+    }
+    // The same mesh in one piece has about as many triangles.
+    let whole = MeshOptions {
+        halves_from: usize::MAX,
+        ..opts
+    };
+    let (one, _) = domain.mesh(&whole).expect("mesh");
+    let (a, b) = (mesh.triangles().len() as f64, one.triangles().len() as f64);
+    assert!((a / b - 1.0).abs() < 0.03, "{a} vs {b}");
+}
+
+#[test]
+fn a_cut_through_an_obstacle_corner() {
+    // x = 4 and y = 4 split free space equally; x = 4 is taken and touches the diamond's
+    // corner (4, 2), whose edges leave it at 63° to the cut.
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 8.0, 8.0),
+        obstacles: vec![
+            Shape::Polygon(vec![p(4.0, 2.0), p(5.0, 1.5), p(6.0, 2.0), p(5.0, 2.5)]),
+            Shape::Polygon(rect(1.0, 5.0, 2.0, 6.0)),
+        ],
+        goals: vec![GoalShape::Circle {
+            center: p(7.0, 7.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.0,
+    };
+    check(&spec, (0, 4.0));
+}
+
+#[test]
+fn a_cut_along_obstacle_edges_and_across_obstacles() {
+    // x = 4 runs along the right edge of [2, 4] × [4, 6] and across [3.5, 4.5] × [1, 2].
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 8.0, 8.0),
+        obstacles: vec![
+            Shape::Polygon(rect(2.0, 4.0, 4.0, 6.0)),
+            Shape::Polygon(rect(3.5, 1.0, 4.5, 2.0)),
+            Shape::Polygon(rect(5.0, 6.5, 7.0, 7.5)),
+        ],
+        goals: vec![GoalShape::Circle {
+            center: p(7.0, 1.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.0,
+    };
+    check(&spec, (0, 4.0));
+}
+
+#[test]
+fn no_cut_meets_an_obstacle_at_a_shallow_angle() {
+    // Both x = 4 and y = 4 would meet the triangle's edges at 27°: the mesh is made in one
+    // piece.
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 8.0, 8.0),
+        obstacles: vec![Shape::Polygon(vec![p(3.0, 3.0), p(5.0, 4.0), p(4.0, 6.0)])],
+        goals: vec![GoalShape::Circle {
+            center: p(7.0, 7.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.0,
+    };
+    let opts = MeshOptions {
+        max_area: Some(0.01),
+        halves_from: 0,
+        ..MeshOptions::default()
+    };
+    let (_, report) = Domain::new(&spec, &opts)
+        .and_then(|d| d.mesh(&opts))
+        .expect("mesh");
+    assert_eq!(report.seam, None);
+}
+
+#[test]
+fn a_horizontal_cut_along_the_top_of_an_obstacle() {
+    // y = 4 is the top edge of [3, 5] × [2, 4] (free space above it: the high side's).
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 7.0, 8.0),
+        obstacles: vec![Shape::Polygon(rect(3.0, 2.0, 5.0, 4.0))],
+        goals: vec![GoalShape::Circle {
+            center: p(6.0, 7.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.0,
+    };
+    check(&spec, (1, 4.0));
+}
