@@ -158,6 +158,34 @@ fn local_goal_is_on_the_global_path_at_the_window_edge_and_replans_go_around() {
 }
 
 #[test]
+fn a_kept_waypoint_never_moves_into_a_known_obstacle() {
+    // Up and down the reference scene's corridor past a sensed box, 5 cm per replan. The kept
+    // waypoint, nudged when it stopped being valid, once landed 0.19 m inside the obstacle
+    // [5, 9] × [4, 5] (far from its boundary, so "clear" by distance alone) and the replan
+    // failed with "goal 0 lies outside the workspace".
+    let scene = Scene::from_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/meshes/reference.json"
+    ))
+    .expect("reference scene");
+    let mut planner = DynamicPlanner::new(&scene, LocalMapOptions::default()).expect("planner");
+    planner.set_obstacle(0, rect(4.0, 4.6, 4.5, 5.1));
+    let up: Vec<[f64; 2]> = (0..=20).map(|k| [3.7, 5.5 + 0.05 * k as f64]).collect();
+    for robot in up.iter().chain(up.iter().rev()) {
+        let plan = planner
+            .replan(*robot)
+            .unwrap_or_else(|e| panic!("{robot:?}: {e}"));
+        assert_eq!(plan.path.status, "reached_goal", "{robot:?}");
+        let g = plan.local_goal;
+        let domain = planner.global().domain();
+        assert!(
+            domain.contains_free(harmonic_planner::mesh::Point::new(g[0], g[1])),
+            "{robot:?}: local goal {g:?} outside free space"
+        );
+    }
+}
+
+#[test]
 fn bad_positions_and_options_are_errors() {
     let scene = room();
     let mut planner = DynamicPlanner::new(&scene, small_window()).expect("planner");

@@ -14,12 +14,15 @@
 //! On this lattice the P1 stiffness is the 5-point stencil (the diagonal edges face right
 //! angles on both sides, so their cotangent weights vanish), and the Dirichlet problem of the
 //! kept mesh has the kept mesh's interior vertices as unknowns, each coupled to its four
-//! lattice neighbours; every other vertex is held at its boundary value. A nested-dissection
-//! order of the whole lattice is computed once, and each replan numbers its unknowns in that
-//! order, so it pays only for the symbolic structure of its own system (cheaper than carrying
-//! the blocked vertices' rows through a fixed pattern: in the benchmark window 690 of the 1681
-//! vertices are unknowns) and factors it with the M-matrix LDLᵀ of `harmonic-solver`, whose
-//! far-field ψ keeps its relative accuracy.
+//! lattice neighbours; every other vertex is held at its boundary value. Each replan builds,
+//! factors and solves only its own unknowns (in the benchmark window 690 of the 1681
+//! vertices), with the M-matrix LDLᵀ of `harmonic-solver`, whose far-field ψ keeps its
+//! relative accuracy. What is reused is the elimination order: a minimum-degree order
+//! computed for an earlier window is kept by global lattice vertex and numbers the unknowns
+//! while it still ranks most of them (it gives a fifth of the fill of the lattice's
+//! nested-dissection order restricted to them); when the robot has moved on far enough, the
+//! replan numbers them in that nested-dissection order and computes a fresh minimum-degree
+//! order to keep.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -105,8 +108,8 @@ pub(crate) struct LatticePlan {
     pub trace_ms: f64,
 }
 
-/// The fixed lattice: geometry, the nested-dissection order of its vertices and the cache of
-/// the known map's blocked vertices.
+/// The fixed lattice: geometry, the nested-dissection order of its vertices, the kept
+/// minimum-degree order and the cache of the known map's blocked vertices.
 pub(crate) struct Lattice {
     h: f64,
     cells: usize,
@@ -118,6 +121,9 @@ pub(crate) struct Lattice {
     /// A nested-dissection order of all `(cells + 1)²` lattice vertices (of the 5-point
     /// stencil's graph), computed once: each replan numbers its unknowns in this order.
     order: Vec<usize>,
+    /// The minimum-degree elimination order of an earlier window's unknowns, reused while
+    /// it covers most of the current ones.
+    elimination: Option<EliminationOrder>,
     known: HashMap<(i64, i64), Vec<bool>>,
 }
 
@@ -165,6 +171,7 @@ impl Lattice {
             robot_radius,
             goal_rings,
             order,
+            elimination: None,
             known: HashMap::new(),
         }
     }
@@ -286,11 +293,14 @@ impl Lattice {
         let mesh_ms = millis(t);
 
         let t = std::time::Instant::now();
-        let system = self.system(&mesh, &index)?;
+        let system = self.system(&mesh, &index, &window)?;
         let assemble_ms = millis(t);
 
         let t = std::time::Instant::now();
-        let psi = system.solve()?;
+        let (psi, fresh) = system.solve()?;
+        if let Some(order) = fresh {
+            self.elimination = Some(EliminationOrder::new(&window, &order));
+        }
         let potential =
             Potential::new(Arc::clone(&mesh), psi, 1.0).map_err(|_| LatticeMiss::Solve)?;
         let field =
@@ -530,10 +540,20 @@ impl Lattice {
         Ok((Arc::new(mesh), index))
     }
 
-    /// The local mesh's Dirichlet problem on the lattice. The unknowns are the kept mesh's interior vertices (5-point rows, numbered in the
-    /// lattice's nested-dissection order); every other vertex is held at its value (1 on the
+    /// The local mesh's Dirichlet problem on the lattice. The unknowns are the kept mesh's
+    /// interior vertices (5-point rows); every other vertex is held at its value (1 on the
     /// goal's boundary, else 0) and moves to the right-hand side.
-    fn system(&self, mesh: &Mesh, index: &[u32]) -> Result<LocalSystem, LatticeMiss> {
+    ///
+    /// The unknowns are numbered in the kept minimum-degree order of an earlier window while it
+    /// ranks at least 70 % of them (a vertex new to it goes just before its first ranked
+    /// neighbour, one with none last); otherwise in the lattice's nested-dissection order, and
+    /// the solve computes a fresh minimum-degree order to keep.
+    fn system(
+        &self,
+        mesh: &Mesh,
+        index: &[u32],
+        window: &Window,
+    ) -> Result<LocalSystem, LatticeMiss> {
         let tags = mesh.vertex_tags();
         let held = |v: usize| -> Option<f64> {
             match index[v] {
@@ -546,15 +566,51 @@ impl Lattice {
             }
         };
         let side = self.side();
+        let rank = |v: usize| {
+            self.elimination
+                .as_ref()
+                .map_or(u32::MAX, |e| e.rank_at(window.global(v)))
+        };
+        let mut ranked = 0usize;
+        let mut keyed: Vec<(u64, usize)> = Vec::new();
+        for v in (0..index.len()).filter(|&v| held(v).is_none()) {
+            let key = match rank(v) {
+                u32::MAX => {
+                    let (i, j) = (v % side, v / side);
+                    let neighbours = [
+                        (i > 0).then(|| v - 1),
+                        (i + 1 < side).then(|| v + 1),
+                        (j > 0).then(|| v - side),
+                        (j + 1 < side).then(|| v + side),
+                    ];
+                    match neighbours.into_iter().flatten().map(rank).min() {
+                        Some(r) if r != u32::MAX => u64::from(r) << 1,
+                        _ => u64::MAX,
+                    }
+                }
+                r => {
+                    ranked += 1;
+                    (u64::from(r) << 1) | 1
+                }
+            };
+            keyed.push((key, v));
+        }
+        let reuse = ranked >= 1 && 10 * ranked >= 7 * keyed.len();
+        let lattice_vertex: Vec<usize> = if reuse {
+            keyed.sort_unstable();
+            keyed.into_iter().map(|(_, v)| v).collect()
+        } else {
+            self.order
+                .iter()
+                .copied()
+                .filter(|&v| held(v).is_none())
+                .collect()
+        };
         let mut position = vec![u32::MAX; index.len()];
-        let mut unknowns = Vec::new();
-        let mut lattice_vertex = Vec::new();
-        for &v in &self.order {
-            if held(v).is_none() {
-                position[v] = unknowns.len() as u32;
-                unknowns.push(index[v]);
-                lattice_vertex.push(v);
-            }
+        let mut unknowns = Vec::with_capacity(lattice_vertex.len());
+        for &v in &lattice_vertex {
+            position[v] = unknowns.len() as u32;
+            unknowns.push(index[v]);
         }
         let m = unknowns.len();
         let mut col_ptr = Vec::with_capacity(m + 1);
@@ -601,6 +657,8 @@ impl Lattice {
             matrix,
             rhs,
             unknowns,
+            lattice_vertex,
+            fresh_order: !reuse,
             psi,
         })
     }
@@ -741,25 +799,77 @@ struct LocalSystem {
     rhs: Vec<f64>,
     /// The mesh vertex of each unknown.
     unknowns: Vec<u32>,
+    /// The window's lattice vertex of each unknown.
+    lattice_vertex: Vec<usize>,
+    /// Whether the unknowns still need a minimum-degree order (else they are numbered in a
+    /// kept one).
+    fresh_order: bool,
     /// ψ at the mesh's vertices, the unknowns' entries still to be solved for.
     psi: Vec<f64>,
 }
 
 impl LocalSystem {
-    /// Factors (the nested-dissection numbering is already the unknowns' order, so only the
-    /// symbolic structure of this window is computed) with the M-matrix LDLᵀ of
-    /// `harmonic-solver`, whose far-field ψ keeps its relative accuracy, and solves: ψ at the
-    /// mesh's vertices.
-    fn solve(mut self) -> Result<Vec<f64>, LatticeMiss> {
+    /// Factors with the M-matrix LDLᵀ of `harmonic-solver`, whose far-field ψ keeps its
+    /// relative accuracy, and solves: ψ at the mesh's vertices, and the window's lattice
+    /// vertices in the minimum-degree order computed here if the system needed one.
+    fn solve(mut self) -> Result<(Vec<f64>, Option<Vec<usize>>), LatticeMiss> {
+        let mut fresh = None;
         if let Some(matrix) = &self.matrix {
-            AccurateLdlt::factor(matrix, Ordering::Natural)
-                .and_then(|f| f.solve_in_place(&mut self.rhs))
+            let ordering = if self.fresh_order {
+                Ordering::Amd
+            } else {
+                Ordering::Natural
+            };
+            let factor = AccurateLdlt::factor(matrix, ordering).map_err(|_| LatticeMiss::Solve)?;
+            factor
+                .solve_in_place(&mut self.rhs)
                 .map_err(|_| LatticeMiss::Solve)?;
+            if self.fresh_order {
+                let perm = factor.permutation();
+                fresh = Some(perm.iter().map(|&k| self.lattice_vertex[k]).collect());
+            }
         }
         for (&k, &value) in self.unknowns.iter().zip(&self.rhs) {
             self.psi[k as usize] = value;
         }
-        Ok(self.psi)
+        Ok((self.psi, fresh))
+    }
+}
+
+/// A minimum-degree elimination order of one window's unknowns, by global lattice vertex.
+struct EliminationOrder {
+    /// Global index of that window's lower-left vertex.
+    origin: (i64, i64),
+    /// Vertices per side of the window.
+    side: usize,
+    /// Rank in the order of each of that window's vertices (row by row; `u32::MAX` for those
+    /// that were not unknowns).
+    rank: Vec<u32>,
+}
+
+impl EliminationOrder {
+    /// The order `order` (window vertices, first eliminated first) of `window`'s unknowns.
+    fn new(window: &Window, order: &[usize]) -> Self {
+        let mut rank = vec![u32::MAX; window.side * window.side];
+        for (r, &v) in order.iter().enumerate() {
+            rank[v] = r as u32;
+        }
+        EliminationOrder {
+            origin: window.origin,
+            side: window.side,
+            rank,
+        }
+    }
+
+    /// Rank of global lattice vertex `(gi, gj)` (`u32::MAX` if it is not ranked).
+    fn rank_at(&self, (gi, gj): (i64, i64)) -> u32 {
+        let (i, j) = (gi - self.origin.0, gj - self.origin.1);
+        let side = self.side as i64;
+        if (0..side).contains(&i) && (0..side).contains(&j) {
+            self.rank[(j * side + i) as usize]
+        } else {
+            u32::MAX
+        }
     }
 }
 
@@ -775,6 +885,14 @@ struct Window {
 }
 
 impl Window {
+    /// Global lattice index of window vertex `v`.
+    fn global(&self, v: usize) -> (i64, i64) {
+        (
+            self.origin.0 + (v % self.side) as i64,
+            self.origin.1 + (v / self.side) as i64,
+        )
+    }
+
     /// Position of window vertex `v` (numbered row by row from the lower left).
     fn at(&self, v: usize) -> [f64; 2] {
         [
@@ -888,7 +1006,16 @@ mod tests {
         plan(&mut reused, [1.9, 1.2]).expect("first replan");
         let again = plan(&mut reused, [2.0, 2.0]).expect("second replan");
         let fresh = plan(&mut Lattice::new(0.1, 40, 0.0, Vec::new()), [2.0, 2.0]).expect("fresh");
-        assert_eq!(again.path.points, fresh.path.points);
+        // The second replan numbers its unknowns by the first one's elimination order, the
+        // fresh one by its own: the same ψ and path up to rounding.
+        let (a, b) = (again.potential.expect("ψ"), fresh.potential.expect("ψ"));
+        for (x, y) in a.psi().iter().zip(b.psi()) {
+            assert!((x - y).abs() <= 1e-12 * y.abs(), "{x} vs {y}");
+        }
+        assert_eq!(again.path.points.len(), fresh.path.points.len());
+        for (p, q) in again.path.points.iter().zip(&fresh.path.points) {
+            assert!((p - q).norm() < 1e-9, "{p} vs {q}");
+        }
     }
 
     #[test]
