@@ -28,7 +28,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use harmonic_fem::Potential;
-use harmonic_mesh::{BoundaryTag, Domain, Mesh, Point};
+use harmonic_mesh::{BoundaryTag, Domain, Mesh, NO_NEIGHBOR, Point};
 use harmonic_solver::{AccurateLdlt, MMatrix, Ordering, SymmetricCsc};
 use harmonic_trajectory::{
     ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, trace_exact_with_hint,
@@ -516,7 +516,10 @@ impl Lattice {
         let mut vertices = Vec::new();
         let mut triangles = Vec::new();
         let mut boundary = Vec::new();
+        // Mesh number of each kept lattice triangle (the mesh keeps them in lattice order).
+        let mut number = vec![NO_NEIGHBOR; kind.len()];
         for (tri, _) in kind.iter().enumerate().filter(|(_, k)| **k == Kind::Mesh) {
+            number[tri] = triangles.len() as u32;
             let local = self.triangle_vertices(tri).map(|v| {
                 if index[v] == u32::MAX {
                     index[v] = vertices.len() as u32;
@@ -525,18 +528,28 @@ impl Lattice {
                 index[v]
             });
             triangles.push(local);
-            for (k, across) in self.neighbors(tri).into_iter().enumerate() {
-                let tag = match across.map(|u| kind[u]) {
-                    Some(Kind::Mesh) => continue,
+        }
+        let mut neighbors = Vec::with_capacity(triangles.len());
+        for (tri, _) in kind.iter().enumerate().filter(|(_, k)| **k == Kind::Mesh) {
+            let local = triangles[number[tri] as usize];
+            let mut across = [NO_NEIGHBOR; 3];
+            for (k, other) in self.neighbors(tri).into_iter().enumerate() {
+                let tag = match other.map(|u| kind[u]) {
+                    Some(Kind::Mesh) => {
+                        across[k] = other.map_or(NO_NEIGHBOR, |u| number[u]);
+                        continue;
+                    }
                     Some(Kind::Goal) => BoundaryTag::Goal(0),
                     Some(Kind::Removed) => BoundaryTag::Obstacle(0),
                     None => BoundaryTag::Wall,
                 };
                 boundary.push((local[(k + 1) % 3], local[(k + 2) % 3], tag));
             }
+            neighbors.push(across);
         }
-        let mesh =
-            Mesh::from_parts(vertices, triangles, &boundary).map_err(|_| LatticeMiss::Solve)?;
+        // The lattice knows the adjacency: the mesh only checks it.
+        let mesh = Mesh::from_parts_with_neighbors(vertices, triangles, neighbors, &boundary)
+            .map_err(|_| LatticeMiss::Solve)?;
         Ok((Arc::new(mesh), index))
     }
 
@@ -597,8 +610,24 @@ impl Lattice {
         }
         let reuse = ranked >= 1 && 10 * ranked >= 7 * keyed.len();
         let lattice_vertex: Vec<usize> = if reuse {
-            keyed.sort_unstable();
-            keyed.into_iter().map(|(_, v)| v).collect()
+            // Keys are below 2 side² (or MAX): a counting sort (stable, so ties keep the
+            // window's row-by-row order).
+            let last = 2 * index.len();
+            let bucket = |key: u64| usize::try_from(key).map_or(last, |k| k.min(last));
+            let mut start = vec![0usize; last + 2];
+            for &(key, _) in &keyed {
+                start[bucket(key) + 1] += 1;
+            }
+            for b in 0..=last {
+                start[b + 1] += start[b];
+            }
+            let mut sorted = vec![0usize; keyed.len()];
+            for &(key, v) in &keyed {
+                let slot = &mut start[bucket(key)];
+                sorted[*slot] = v;
+                *slot += 1;
+            }
+            sorted
         } else {
             self.order
                 .iter()

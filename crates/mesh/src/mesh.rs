@@ -272,6 +272,87 @@ impl Mesh {
                 }
             }
         }
+        drop(star);
+        Self::with_adjacency(vertices, triangles, neighbors, boundary)
+    }
+
+    /// [`Mesh::from_parts`] for a caller that already knows the adjacency (a structured
+    /// mesh): `neighbors[t][k]` is the triangle across the edge opposite local vertex `k` of
+    /// triangle `t`, or [`NO_NEIGHBOR`] on the boundary. The adjacency is checked (each
+    /// neighbour refers back across the same edge, reversed) instead of computed.
+    ///
+    /// ```
+    /// use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point};
+    /// let square = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::new(0.0, 1.0)];
+    /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
+    /// let walls = [(0, 1, BoundaryTag::Wall), (1, 2, BoundaryTag::Wall),
+    ///              (2, 3, BoundaryTag::Goal(0)), (3, 0, BoundaryTag::Wall)];
+    /// let neighbors = vec![[NO_NEIGHBOR, 1, NO_NEIGHBOR], [NO_NEIGHBOR, NO_NEIGHBOR, 0]];
+    /// let mesh = Mesh::from_parts_with_neighbors(square.clone(), triangles.clone(), neighbors, &walls)?;
+    /// let computed = Mesh::from_parts(square.clone(), triangles.clone(), &walls)?;
+    /// assert_eq!(mesh.neighbors(), computed.neighbors());
+    /// assert_eq!(mesh.boundary_edges(), computed.boundary_edges());
+    /// // A neighbour that does not share the edge is refused.
+    /// let wrong = vec![[1, NO_NEIGHBOR, NO_NEIGHBOR], [NO_NEIGHBOR, NO_NEIGHBOR, 0]];
+    /// assert!(Mesh::from_parts_with_neighbors(square, triangles, wrong, &walls).is_err());
+    /// # Ok::<(), harmonic_mesh::MeshError>(())
+    /// ```
+    pub fn from_parts_with_neighbors(
+        vertices: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+        neighbors: Vec<[u32; 3]>,
+        boundary: &[(u32, u32, BoundaryTag)],
+    ) -> Result<Self, MeshError> {
+        let nv = vertices.len();
+        if neighbors.len() != triangles.len() {
+            return Err(MeshError::InvalidMesh(format!(
+                "{} neighbour triples for {} triangles",
+                neighbors.len(),
+                triangles.len()
+            )));
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if tri.iter().any(|&v| v as usize >= nv) {
+                return Err(MeshError::InvalidMesh(format!(
+                    "triangle {t} refers to a vertex beyond the {nv} vertices"
+                )));
+            }
+            let [a, b, c] = tri.map(|v| vertices[v as usize]);
+            if crate::orient2d(a, b, c) <= 0.0 {
+                return Err(MeshError::InvalidMesh(format!(
+                    "triangle {t} is clockwise or degenerate"
+                )));
+            }
+        }
+        for (t, (tri, nbs)) in triangles.iter().zip(&neighbors).enumerate() {
+            for (k, &u) in nbs.iter().enumerate() {
+                if u == NO_NEIGHBOR {
+                    continue;
+                }
+                let (a, b) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                // Across edge a -> b, triangle u has the edge b -> a and refers back.
+                let back = triangles.get(u as usize).and_then(|other| {
+                    (0..3).find(|&j| other[(j + 1) % 3] == b && other[(j + 2) % 3] == a)
+                });
+                if back.is_none_or(|j| neighbors[u as usize][j] != t as u32) {
+                    return Err(MeshError::InvalidMesh(format!(
+                        "triangle {t}: neighbour {u} across edge ({a}, {b}) does not share it"
+                    )));
+                }
+            }
+        }
+        Self::with_adjacency(vertices, triangles, neighbors, boundary)
+    }
+
+    /// The rest of a mesh once its triangles and (consistent) adjacency are known: boundary
+    /// edges with their tags, vertex tags and components.
+    fn with_adjacency(
+        vertices: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+        neighbors: Vec<[u32; 3]>,
+        boundary: &[(u32, u32, BoundaryTag)],
+    ) -> Result<Self, MeshError> {
+        let nv = vertices.len();
         // Tags by undirected edge, sorted for binary search (the last of duplicates wins).
         let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
         let mut tag_of: Vec<(u64, BoundaryTag)> = boundary
