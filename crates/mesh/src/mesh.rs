@@ -190,6 +190,9 @@ impl Locator {
     }
 }
 
+/// Triangle count from which [`Mesh::from_parts`] finds neighbours on two threads.
+const PARALLEL_FROM: usize = 200_000;
+
 impl Mesh {
     /// Builds a mesh from vertices, counter-clockwise triangles and tagged boundary edges
     /// given as `(a, b, tag)` in any orientation. Computes adjacency, the boundary edge
@@ -263,14 +266,28 @@ impl Mesh {
             }
         }
         let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
-        for (tri, nbs) in triangles.iter().zip(neighbors.iter_mut()) {
-            for (k, nb) in nbs.iter_mut().enumerate() {
-                let a = tri[(k + 1) % 3];
-                let b = tri[(k + 2) % 3];
-                if let Some(&(u, _)) = star_of(b).iter().find(|e| e.1 == a) {
-                    *nb = u;
+        let find = |tris: &[[u32; 3]], out: &mut [[u32; 3]]| {
+            for (tri, nbs) in tris.iter().zip(out.iter_mut()) {
+                for (k, nb) in nbs.iter_mut().enumerate() {
+                    let a = tri[(k + 1) % 3];
+                    let b = tri[(k + 2) % 3];
+                    if let Some(&(u, _)) = star_of(b).iter().find(|e| e.1 == a) {
+                        *nb = u;
+                    }
                 }
             }
+        };
+        // Large meshes: two threads, one per half of the triangles (the stars are shared).
+        if triangles.len() >= PARALLEL_FROM {
+            let mid = triangles.len() / 2;
+            let (t0, t1) = triangles.split_at(mid);
+            let (n0, n1) = neighbors.split_at_mut(mid);
+            std::thread::scope(|s| {
+                s.spawn(|| find(t1, n1));
+                find(t0, n0);
+            });
+        } else {
+            find(&triangles, &mut neighbors);
         }
         drop(star);
         Self::with_adjacency(vertices, triangles, neighbors, boundary)

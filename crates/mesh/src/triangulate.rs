@@ -10,7 +10,7 @@ use spade::{
 
 use crate::geom::SegmentIndex;
 use crate::grading::SizeField;
-use crate::halves::{HalfInput, Seam, choose_cut, split_inputs};
+use crate::halves::{HalfInput, Seam, choose_cuts, split_inputs};
 use crate::{BoundaryTag, Domain, Mesh, MeshError, Point};
 
 /// The largest minimum angle accepted: Delaunay refinement does not terminate reliably above it.
@@ -592,10 +592,16 @@ fn mesh_halves(
     halves: [HalfInput; 2],
     refiner: &Refiner<'_>,
     seam: &Seam,
-) -> Result<Option<[Part; 2]>, MeshError> {
+) -> Result<Option<[(Part, FreeFaces); 2]>, MeshError> {
     let cut = seam.cut;
     let [low, high] = halves;
-    let first = |h: HalfInput| refiner.run(load(h.vertices, h.edges)?);
+    // Each thread also reads its half's free faces: the half done first does so while the
+    // other is still refining.
+    let first = |h: HalfInput| {
+        let part = refiner.run(load(h.vertices, h.edges)?)?;
+        let faces = free_faces(&part, Some(seam));
+        Ok::<_, MeshError>((part, faces))
+    };
     let (a, b) = std::thread::scope(|s| {
         let low = s.spawn(|| first(low));
         let b = first(high);
@@ -603,8 +609,29 @@ fn mesh_halves(
     });
     let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
     let mut parts = [a?, b?];
+    if !cut.exact {
+        // Points refinement put on this cut need not be exactly on it: glue only halves
+        // whose seam is still the pre-split one.
+        let intact = |(part, _): &(Part, FreeFaces)| {
+            let points = part
+                .cdt
+                .vertices()
+                .filter(|v| seam.holds(v.position()))
+                .count();
+            let pieces = part
+                .cdt
+                .undirected_edges()
+                .filter(|e| {
+                    let [p, q] = e.positions();
+                    e.is_constraint_edge() && seam.holds_edge(p, q)
+                })
+                .count();
+            points == seam.points && pieces == seam.pieces
+        };
+        return Ok(parts.iter().all(intact).then_some(parts));
+    }
     // The positions along the cut of a part's vertices on it, sorted.
-    let on_cut = |part: &Part| {
+    let on_cut = |(part, _): &(Part, FreeFaces)| {
         let mut t: Vec<f64> = part
             .cdt
             .vertices()
@@ -630,9 +657,9 @@ fn mesh_halves(
         }
         // Each half takes the other's cut vertices (exactly on its cut edges, so they split
         // them) and refines again.
-        let take = |part: Part, add: Vec<f64>| -> Result<Part, MeshError> {
+        let take = |(part, faces): (Part, FreeFaces), add: Vec<f64>| {
             if add.is_empty() {
-                return Ok(part);
+                return Ok((part, faces));
             }
             let mut cdt = part.cdt;
             for t in add {
@@ -640,7 +667,8 @@ fn mesh_halves(
             }
             let mut again = refiner.run(cdt)?;
             again.bridges_split += part.bridges_split;
-            Ok(again)
+            let faces = free_faces(&again, Some(seam));
+            Ok::<_, MeshError>((again, faces))
         };
         let [pa, pb] = parts;
         let (a, b) = std::thread::scope(|s| {
@@ -720,22 +748,35 @@ impl Domain {
                 .map(|(k, &(a, b, _))| (a, b, k as u32)),
         );
         let (lo, hi) = self.bounding_box();
-        let split = (estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill)
-            .then(|| choose_cut(self))
-            .flatten()
-            .and_then(|cut| split_inputs(rings, cut, spacing, &seg_index, hi.x));
+        let cuts = if estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill {
+            choose_cuts(self, spacing)
+        } else {
+            Vec::new()
+        };
+        // The most even cut; if refinement moved points of a cut that cannot exchange them,
+        // the best one that can; else one piece.
+        let attempts = cuts
+            .first()
+            .into_iter()
+            .chain(cuts.iter().find(|c| c.exact).filter(|_| !cuts[0].exact));
         let mut halves = None;
         let mut seam = None;
-        if let Some((inputs, s)) = split {
+        for &cut in attempts {
+            let Some((inputs, s)) = split_inputs(rings, cut, spacing, &seg_index, hi.x) else {
+                continue;
+            };
             let input_vertices = inputs.iter().map(|h| h.vertices.len()).sum::<usize>();
             let with_seam = Refiner {
                 seam: Some(&s),
                 ..refiner.clone()
             };
             halves = mesh_halves(inputs, &with_seam, &s)?.map(|parts| (parts, input_vertices));
-            seam = halves.is_some().then_some(s);
+            if halves.is_some() {
+                seam = Some(s);
+                break;
+            }
         }
-        let (parts, input_vertices): (Vec<Part>, usize) = match halves {
+        let (parts, input_vertices): (Vec<(Part, FreeFaces)>, usize) = match halves {
             Some((parts, n)) => (parts.into(), n),
             None => {
                 // Constraint vertices (deduplicated: rings may touch) and edges.
@@ -784,61 +825,52 @@ impl Domain {
                     );
                 }
                 refiner.vertex_cap = input_vertices.saturating_add(cap);
-                (vec![refiner.run(load(verts, edges)?)?], input_vertices)
+                let part = refiner.run(load(verts, edges)?)?;
+                let faces = free_faces(&part, None);
+                (vec![(part, faces)], input_vertices)
             }
         };
         let seam = seam.as_ref();
 
-        // One numbering of the parts' vertices: a vertex on the cut is the first part's.
+        // One numbering of the parts' vertices: the first part's as they are, then the
+        // others', a vertex on the seam being the first part's.
         let mut positions: Vec<Point> = Vec::new();
-        let mut cut_vertex: HashMap<u64, u32> = HashMap::new();
-        let mut numbering: Vec<Vec<u32>> = Vec::with_capacity(parts.len());
-        for (k, part) in parts.iter().enumerate() {
+        let mut on_seam: HashMap<u64, usize> = HashMap::new();
+        let mut tri_raw: Vec<[usize; 3]> = Vec::new();
+        let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
+        let complete = parts.iter().all(|(p, _)| p.complete);
+        let bridges_split = parts.iter().map(|(p, _)| p.bridges_split).sum();
+        let bridges_remaining = parts.iter().map(|(p, _)| p.bridges_remaining).sum();
+        for (k, (part, (tris, bnd))) in parts.into_iter().enumerate() {
             let mut ids = Vec::with_capacity(part.cdt.num_vertices());
             for v in part.cdt.vertices() {
                 let p = v.position();
-                let id = match seam.filter(|s| s.holds(p)) {
-                    Some(s) => {
-                        let key = s.cut.along(p).to_bits();
-                        match k {
-                            0 => *cut_vertex.entry(key).or_insert(positions.len() as u32),
-                            _ => *cut_vertex.get(&key).ok_or_else(|| {
-                                MeshError::Triangulation(
-                                    "the two halves disagree on the seam".to_string(),
-                                )
-                            })?,
-                        }
+                let key = seam
+                    .filter(|s| s.holds(p))
+                    .map(|s| s.cut.along(p).to_bits());
+                let id = match (key, k) {
+                    (Some(key), 0) => {
+                        on_seam.insert(key, positions.len());
+                        positions.len()
                     }
-                    None => positions.len() as u32,
+                    (Some(key), _) => *on_seam.get(&key).ok_or_else(|| {
+                        MeshError::Triangulation("the two halves disagree on the seam".to_string())
+                    })?,
+                    (None, _) => positions.len(),
                 };
-                if id as usize == positions.len() {
+                if id == positions.len() {
                     positions.push(Point::new(p.x, p.y));
                 }
                 ids.push(id);
             }
-            numbering.push(ids);
-        }
-        // Free faces and boundary edges of each part (in parallel for halves).
-        let faces: Vec<FreeFaces> = std::thread::scope(|s| {
-            let handles: Vec<_> = parts
-                .iter()
-                .zip(&numbering)
-                .skip(1)
-                .map(|(part, ids)| s.spawn(move || free_faces(part, ids, seam)))
-                .collect();
-            let mut out = vec![free_faces(&parts[0], &numbering[0], seam)];
-            out.extend(handles.into_iter().map(|h| h.join().unwrap_or_default()));
-            out
-        });
-        let complete = parts.iter().all(|p| p.complete);
-        let bridges_split = parts.iter().map(|p| p.bridges_split).sum();
-        let bridges_remaining = parts.iter().map(|p| p.bridges_remaining).sum();
-        drop(parts);
-        let mut tri_raw = Vec::new();
-        let mut bnd_raw = Vec::new();
-        for (t, b) in faces {
-            tri_raw.extend(t);
-            bnd_raw.extend(b);
+            if k == 0 {
+                // Numbered as they are.
+                tri_raw = tris;
+                bnd_raw = bnd;
+            } else {
+                tri_raw.extend(tris.iter().map(|t| t.map(|v| ids[v])));
+                bnd_raw.extend(bnd.iter().map(|&(a, b)| (ids[a], ids[b])));
+            }
         }
         // Renumber used vertices along a Hilbert curve.
         let mut used = vec![false; positions.len()];
@@ -913,11 +945,11 @@ impl Domain {
 /// Triangles (vertex numbers) and boundary edges `(from, to)` of a part.
 type FreeFaces = (Vec<[usize; 3]>, Vec<(usize, usize)>);
 
-/// The free faces of `part` as triangles of `ids` (counter-clockwise) and its boundary edges
+/// The free faces of `part` as triangles of its vertex numbers (counter-clockwise) and its boundary edges
 /// (free space on their left), leaving out edges on the seam; from one pass over the edge array
 /// (both half-edges of an undirected edge are stored together, so this reads memory in order
 /// instead of jumping from each face to its edges and their twins).
-fn free_faces(part: &Part, ids: &[u32], seam: Option<&Seam>) -> FreeFaces {
+fn free_faces(part: &Part, seam: Option<&Seam>) -> FreeFaces {
     let cdt = &part.cdt;
     let excluded = &part.excluded;
     // Face `f` collects its three directed edges `from -> to` (local vertex indices).
@@ -941,7 +973,7 @@ fn free_faces(part: &Part, ids: &[u32], seam: Option<&Seam>) -> FreeFaces {
                 slots[k] = from;
                 slots[k + 1] = to;
                 if other.is_none() && !on_cut {
-                    bnd_raw.push((ids[from as usize] as usize, ids[to as usize] as usize));
+                    bnd_raw.push((from as usize, to as usize));
                 }
             }
         }
@@ -952,7 +984,7 @@ fn free_faces(part: &Part, ids: &[u32], seam: Option<&Seam>) -> FreeFaces {
         .filter(|s| s[0] != u32::MAX)
         .map(|s| {
             let c = if s[2] == s[1] { s[3] } else { s[5] };
-            [s[0], s[1], c].map(|v| ids[v as usize] as usize)
+            [s[0], s[1], c].map(|v| v as usize)
         })
         .collect();
     (tri_raw, bnd_raw)

@@ -72,13 +72,14 @@ fn a_cut_through_an_obstacle_corner() {
 
 #[test]
 fn a_cut_along_obstacle_edges_and_across_obstacles() {
-    // x = 4 runs along the right edge of [2, 4] × [4, 6] and across [3.5, 4.5] × [1, 2].
+    // x = 4 runs along the right edge of [2, 4] × [4, 6] and across [3.5, 4.5] × [1, 2], and
+    // splits free space evenly (so it beats a cut through the median, which is not exact).
     let spec = DomainSpec {
         workspace: rect(0.0, 0.0, 8.0, 8.0),
         obstacles: vec![
             Shape::Polygon(rect(2.0, 4.0, 4.0, 6.0)),
             Shape::Polygon(rect(3.5, 1.0, 4.5, 2.0)),
-            Shape::Polygon(rect(5.0, 6.5, 7.0, 7.5)),
+            Shape::Polygon(rect(5.0, 6.0, 7.0, 8.0)),
         ],
         goals: vec![GoalShape::Circle {
             center: p(7.0, 1.0),
@@ -87,6 +88,36 @@ fn a_cut_along_obstacle_edges_and_across_obstacles() {
         robot_radius: 0.0,
     };
     check(&spec, (0, 4.0));
+}
+
+#[test]
+fn a_cut_through_the_median_of_free_space() {
+    // No exact cut splits this room within 30–70 %: the cut goes through the median of free
+    // area, off every vertex.
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 6.0, 3.0),
+        obstacles: vec![Shape::Polygon(rect(1.0, 1.0, 1.5, 2.0))],
+        goals: vec![GoalShape::Circle {
+            center: p(5.5, 1.5),
+            radius: 0.2,
+        }],
+        robot_radius: 0.0,
+    };
+    let opts = MeshOptions {
+        max_area: Some(0.01),
+        halves_from: 0,
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(&spec, &opts).expect("domain");
+    let (mesh, report) = domain.mesh(&opts).expect("mesh");
+    let (axis, at) = report.seam.expect("made in two halves");
+    assert_eq!(axis, 0);
+    assert!(at > 2.5 && at < 3.5 && at.fract() != 0.0, "{at}");
+    check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
+    let q = mesh.quality();
+    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
+    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
+    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
 }
 
 #[test]
@@ -115,10 +146,14 @@ fn no_cut_meets_an_obstacle_at_a_shallow_angle() {
 
 #[test]
 fn a_horizontal_cut_along_the_top_of_an_obstacle() {
-    // y = 4 is the top edge of [3, 5] × [2, 4] (free space above it: the high side's).
+    // y = 4 is the top edge of [3, 5] × [2, 4] (free space above it: the high side's) and
+    // splits free space evenly.
     let spec = DomainSpec {
         workspace: rect(0.0, 0.0, 7.0, 8.0),
-        obstacles: vec![Shape::Polygon(rect(3.0, 2.0, 5.0, 4.0))],
+        obstacles: vec![
+            Shape::Polygon(rect(3.0, 2.0, 5.0, 4.0)),
+            Shape::Polygon(rect(1.0, 5.0, 3.0, 7.0)),
+        ],
         goals: vec![GoalShape::Circle {
             center: p(6.0, 7.0),
             radius: 0.3,
