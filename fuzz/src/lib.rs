@@ -1,7 +1,8 @@
-//! What the `scene` fuzz target runs on every input, shared with the corpus replay in
+//! What the `scene` fuzz target runs on every input (the scene also meshed in two halves), shared with the corpus replay in
 //! `tests/robustness.rs` (which includes this file with `#[path]`), so CI replays the corpus
 //! exactly as the fuzzer ran it.
 
+use harmonic_planner::mesh::{Domain, MeshOptions};
 use harmonic_planner::{Planner, Scene};
 
 /// Triangle budget of one fuzz case: the area-driven part of the mesh is kept to roughly
@@ -54,6 +55,15 @@ pub fn run(data: &[u8]) -> Outcome {
         return Outcome::BadScene;
     };
     cap_mesh(&mut scene);
+    // The same free space in two halves glued along a cut (what meshes above 250 k
+    // triangles go through): errors are fine, panics are not.
+    let halves = MeshOptions {
+        halves_from: 0,
+        ..scene.mesh_options()
+    };
+    if let Ok(domain) = Domain::new(&scene.domain_spec(), &halves) {
+        let _ = domain.mesh(&halves);
+    }
     let Ok(planner) = Planner::new(&scene) else {
         return Outcome::NotPlannable;
     };
