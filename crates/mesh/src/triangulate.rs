@@ -612,21 +612,25 @@ fn mesh_halves(
     if !cut.exact {
         // Points refinement put on this cut need not be exactly on it: glue only halves
         // whose seam is still the pre-split one.
+        // (Seam edges are counted from the seam's vertices, each twice.)
         let intact = |(part, _): &(Part, FreeFaces)| {
-            let points = part
+            let on_seam: Vec<_> = part
                 .cdt
                 .vertices()
                 .filter(|v| seam.holds(v.position()))
-                .count();
-            let pieces = part
-                .cdt
-                .undirected_edges()
-                .filter(|e| {
-                    let [p, q] = e.positions();
-                    e.is_constraint_edge() && seam.holds_edge(p, q)
+                .collect();
+            let ends: usize = on_seam
+                .iter()
+                .map(|v| {
+                    v.out_edges()
+                        .filter(|e| {
+                            let [p, q] = e.positions();
+                            e.is_constraint_edge() && seam.holds_edge(p, q)
+                        })
+                        .count()
                 })
-                .count();
-            points == seam.points && pieces == seam.pieces
+                .sum();
+            on_seam.len() == seam.points && ends == 2 * seam.pieces
         };
         return Ok(parts.iter().all(intact).then_some(parts));
     }
@@ -896,15 +900,27 @@ impl Domain {
             new_id[v as usize] = i as u32;
             vertices.push(positions[v as usize]);
         }
-        let rotated: Vec<[u32; 3]> = tri_raw
-            .iter()
-            .map(|t| {
+        // New numbers, rotated so the smallest comes first (keeps orientation); large meshes
+        // on two threads.
+        let renumber = |tris: &[[usize; 3]], out: &mut [[u32; 3]]| {
+            for (t, o) in tris.iter().zip(out.iter_mut()) {
                 let t = t.map(|v| new_id[v]);
-                // Rotate so the smallest index comes first (keeps orientation).
                 let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
-                [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-            })
-            .collect();
+                *o = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+            }
+        };
+        let mut rotated = vec![[0u32; 3]; tri_raw.len()];
+        if tri_raw.len() >= 200_000 {
+            let mid = tri_raw.len() / 2;
+            let (r0, r1) = rotated.split_at_mut(mid);
+            let (t0, t1) = tri_raw.split_at(mid);
+            std::thread::scope(|s| {
+                s.spawn(|| renumber(t1, r1));
+                renumber(t0, r0);
+            });
+        } else {
+            renumber(&tri_raw, &mut rotated);
+        }
         let triangles = sorted_triangles(&rotated, vertices.len());
         let mut boundary = Vec::with_capacity(bnd_raw.len());
         for &(a, b) in &bnd_raw {
