@@ -190,8 +190,47 @@ impl Locator {
     }
 }
 
-/// Triangle count from which [`Mesh::from_parts`] finds neighbours on two threads.
-const PARALLEL_FROM: usize = 200_000;
+/// Errors unless every triangle refers to existing vertices and is counter-clockwise.
+fn check_triangles(vertices: &[Point], triangles: &[[u32; 3]]) -> Result<(), MeshError> {
+    let nv = vertices.len();
+    for (t, tri) in triangles.iter().enumerate() {
+        if tri.iter().any(|&v| v as usize >= nv) {
+            return Err(MeshError::InvalidMesh(format!(
+                "triangle {t} refers to a vertex beyond the {nv} vertices"
+            )));
+        }
+        let [a, b, c] = tri.map(|v| vertices[v as usize]);
+        if crate::orient2d(a, b, c) <= 0.0 {
+            return Err(MeshError::InvalidMesh(format!(
+                "triangle {t} is clockwise or degenerate"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Length from which [`map_in_two`] uses a second thread.
+const TWO_THREADS_FROM: usize = 200_000;
+
+/// Runs `f` over `input` and the matching `output` — for long slices as two halves on two
+/// threads (the meshing of large meshes: neighbours, renumbering).
+pub(crate) fn map_in_two<T: Sync, U: Send>(
+    input: &[T],
+    output: &mut [U],
+    f: impl Fn(&[T], &mut [U]) + Sync,
+) {
+    if input.len() >= TWO_THREADS_FROM {
+        let mid = input.len() / 2;
+        let (i0, i1) = input.split_at(mid);
+        let (o0, o1) = output.split_at_mut(mid);
+        std::thread::scope(|s| {
+            s.spawn(|| f(i1, o1));
+            f(i0, o0);
+        });
+    } else {
+        f(input, output);
+    }
+}
 
 impl Mesh {
     /// Builds a mesh from vertices, counter-clockwise triangles and tagged boundary edges
@@ -207,19 +246,7 @@ impl Mesh {
         boundary: &[(u32, u32, BoundaryTag)],
     ) -> Result<Self, MeshError> {
         let nv = vertices.len();
-        for (t, tri) in triangles.iter().enumerate() {
-            if tri.iter().any(|&v| v as usize >= nv) {
-                return Err(MeshError::InvalidMesh(format!(
-                    "triangle {t} refers to a vertex beyond the {nv} vertices"
-                )));
-            }
-            let [a, b, c] = tri.map(|v| vertices[v as usize]);
-            if crate::orient2d(a, b, c) <= 0.0 {
-                return Err(MeshError::InvalidMesh(format!(
-                    "triangle {t} is clockwise or degenerate"
-                )));
-            }
-        }
+        check_triangles(&vertices, &triangles)?;
         // Adjacency through the triangle stars of the vertices (compressed rows): for each
         // triangle at vertex v, the triangle and the vertex after v in it (so star entry
         // (u, w) of v is the directed edge v -> w of triangle u). The triangle across
@@ -278,17 +305,7 @@ impl Mesh {
             }
         };
         // Large meshes: two threads, one per half of the triangles (the stars are shared).
-        if triangles.len() >= PARALLEL_FROM {
-            let mid = triangles.len() / 2;
-            let (t0, t1) = triangles.split_at(mid);
-            let (n0, n1) = neighbors.split_at_mut(mid);
-            std::thread::scope(|s| {
-                s.spawn(|| find(t1, n1));
-                find(t0, n0);
-            });
-        } else {
-            find(&triangles, &mut neighbors);
-        }
+        map_in_two(&triangles, &mut neighbors, find);
         drop(star);
         Self::with_adjacency(vertices, triangles, neighbors, boundary)
     }
@@ -320,7 +337,6 @@ impl Mesh {
         neighbors: Vec<[u32; 3]>,
         boundary: &[(u32, u32, BoundaryTag)],
     ) -> Result<Self, MeshError> {
-        let nv = vertices.len();
         if neighbors.len() != triangles.len() {
             return Err(MeshError::InvalidMesh(format!(
                 "{} neighbour triples for {} triangles",
@@ -328,19 +344,7 @@ impl Mesh {
                 triangles.len()
             )));
         }
-        for (t, tri) in triangles.iter().enumerate() {
-            if tri.iter().any(|&v| v as usize >= nv) {
-                return Err(MeshError::InvalidMesh(format!(
-                    "triangle {t} refers to a vertex beyond the {nv} vertices"
-                )));
-            }
-            let [a, b, c] = tri.map(|v| vertices[v as usize]);
-            if crate::orient2d(a, b, c) <= 0.0 {
-                return Err(MeshError::InvalidMesh(format!(
-                    "triangle {t} is clockwise or degenerate"
-                )));
-            }
-        }
+        check_triangles(&vertices, &triangles)?;
         for (t, (tri, nbs)) in triangles.iter().zip(&neighbors).enumerate() {
             for (k, &u) in nbs.iter().enumerate() {
                 if u == NO_NEIGHBOR {

@@ -910,17 +910,7 @@ impl Domain {
             }
         };
         let mut rotated = vec![[0u32; 3]; tri_raw.len()];
-        if tri_raw.len() >= 200_000 {
-            let mid = tri_raw.len() / 2;
-            let (r0, r1) = rotated.split_at_mut(mid);
-            let (t0, t1) = tri_raw.split_at(mid);
-            std::thread::scope(|s| {
-                s.spawn(|| renumber(t1, r1));
-                renumber(t0, r0);
-            });
-        } else {
-            renumber(&tri_raw, &mut rotated);
-        }
+        crate::mesh::map_in_two(&tri_raw, &mut rotated, renumber);
         let triangles = sorted_triangles(&rotated, vertices.len());
         let mut boundary = Vec::with_capacity(bnd_raw.len());
         for &(a, b) in &bnd_raw {
