@@ -34,11 +34,36 @@ pub enum PlanError {
     Trace(#[from] harmonic_trajectory::TraceError),
 }
 
+/// A stage of [`Planner::with_options`], reported to [`PlannerOptions::on_stage`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Validating the scene and meshing its free space.
+    Meshing,
+    /// Assembling the finite element system.
+    Assembling,
+    /// Factoring and solving for the potential.
+    Solving,
+    /// The planner is built.
+    Done,
+}
+
+/// Something told of each [`Stage`] as it starts (the command line draws a spinner with it).
+pub type StageObserver = Arc<dyn Fn(Stage) + Send + Sync>;
+
 /// How to build a planner.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct PlannerOptions {
-    /// Show progress on stderr for work that takes longer than a second.
-    pub progress: bool,
+    /// Called as each stage starts, and with [`Stage::Done`] at the end.
+    pub on_stage: Option<StageObserver>,
+}
+
+impl std::fmt::Debug for PlannerOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PlannerOptions")
+            .field("on_stage", &self.on_stage.as_ref().map(|_| "observer"))
+            .finish()
+    }
 }
 
 /// Wall-clock time of each stage, in milliseconds.
@@ -318,10 +343,14 @@ impl Planner {
         Planner::with_options(scene, &PlannerOptions::default())
     }
 
-    /// [`Planner::new`] with options (progress display).
+    /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        let progress = Progress::new(options.progress);
-        progress.stage("meshing");
+        let stage = |s: Stage| {
+            if let Some(observe) = &options.on_stage {
+                observe(s);
+            }
+        };
+        stage(Stage::Meshing);
         let t = Instant::now();
         let mesh_options = scene.mesh_options();
         let domain = Domain::new(&scene.domain_spec(), &mesh_options)?;
@@ -329,14 +358,14 @@ impl Planner {
         let mesh = Arc::new(mesh);
         let mesh_ms = millis(t);
 
-        progress.stage("assembling");
+        stage(Stage::Assembling);
         let t = Instant::now();
         let bcs = scene.boundary_conditions();
         let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
         let system = assembler.assemble(&bcs)?;
         let assemble_ms = millis(t);
 
-        progress.stage("solving");
+        stage(Stage::Solving);
         let t = Instant::now();
         // Geometric nested dissection: about half AMD's factorisation time at 1M triangles.
         let solver = Solver::new(&system, assembler.nested_dissection())?;
@@ -345,7 +374,7 @@ impl Planner {
         // Checked once here, so queries need not.
         SmoothP1Field::ascending(&mesh, potential.psi(), &nodal_gradients)?;
         let solve_ms = millis(t);
-        progress.finish();
+        stage(Stage::Done);
 
         let quality = mesh.quality();
         let (lo, hi) = domain.bounding_box();
@@ -663,31 +692,6 @@ pub fn interior_local_minima(mesh: &Mesh, psi: &[f64]) -> usize {
         .zip(&dominated)
         .filter(|(tag, d)| tag.is_none() && !**d)
         .count()
-}
-
-/// Progress on stderr (a spinner naming the stage), shown only on a terminal and only when
-/// asked for.
-struct Progress(Option<indicatif::ProgressBar>);
-
-impl Progress {
-    fn new(enabled: bool) -> Progress {
-        if !enabled {
-            return Progress(None);
-        }
-        let bar = indicatif::ProgressBar::new_spinner();
-        bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        Progress(Some(bar))
-    }
-    fn stage(&self, name: &'static str) {
-        if let Some(bar) = &self.0 {
-            bar.set_message(name);
-        }
-    }
-    fn finish(&self) {
-        if let Some(bar) = &self.0 {
-            bar.finish_and_clear();
-        }
-    }
 }
 
 impl<P: PathSummary> Report<P> {

@@ -7,7 +7,6 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use assert_cmd::Command;
 use geo::{Contains, Coord, LineString, Polygon};
 use harmonic_planner::Planner;
 use harmonic_planner::map::{Cell, MapError, MapOptions, OccupancyMap, UnknownCells};
@@ -406,61 +405,6 @@ fn paths_on_the_warehouse_map_reach_the_goal_and_keep_the_radius() {
             path.start
         );
     }
-}
-
-#[test]
-fn the_command_line_plans_on_a_map() {
-    let out = Command::cargo_bin("hplan")
-        .expect("hplan is built")
-        .args(["plan", "--map"])
-        .arg(warehouse_yaml())
-        .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
-        .args(["--start", "3.0,4.0", "--start", "16.4,11.8"])
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-    let paths = report["paths"].as_array().expect("paths");
-    assert_eq!(paths[0]["status"], "reached_goal");
-    assert_ne!(paths[1]["status"], "reached_goal");
-
-    let fails = |args: &[&str], needle: &str| {
-        let out = Command::cargo_bin("hplan")
-            .expect("hplan is built")
-            .current_dir(root())
-            .args(args)
-            .output()
-            .expect("runs");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        assert!(err.contains(needle), "{args:?}: {err}");
-    };
-    fails(&["plan", "--json"], "required");
-    fails(
-        &[
-            "plan",
-            "meshes/reference.json",
-            "--map",
-            "meshes/warehouse_map.yaml",
-        ],
-        "cannot be used with",
-    );
-    fails(&["plan", "--map", "meshes/warehouse_map.yaml"], "--goal");
-    fails(
-        &[
-            "plan",
-            "--map",
-            "meshes/warehouse_map.yaml",
-            "--goal",
-            "0.0,2.5",
-        ],
-        "occupied",
-    );
-    fails(&["plan", "meshes/reference.json", "--goal", "1,1"], "--map");
 }
 
 /// A scratch folder for map files.

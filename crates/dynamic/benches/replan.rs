@@ -10,8 +10,8 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use harmonic_dynamic::{DynamicPlanner, LocalMapMode, LocalMapOptions};
 use harmonic_planner::Scene;
-use harmonic_planner::dynamic::{DynamicPlanner, LocalMapMode, LocalMapOptions};
 use harmonic_planner::fem::{Assembler, AssemblyOptions, SolveMethod, Solver};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::solver::Ordering;
@@ -19,7 +19,7 @@ use harmonic_planner::solver::Ordering;
 fn reference() -> Scene {
     Scene::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/meshes/reference.json"
+        "/../../meshes/reference.json"
     ))
     .expect("the reference scene is valid")
 }

@@ -16,7 +16,7 @@
 
 use std::time::Instant;
 
-use harmonic_planner::baselines::{GridHarmonic, Raster, SorOptions};
+use harmonic_baselines::{GridHarmonic, Raster, SorOptions};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::scene::Region;
 use harmonic_planner::{Planner, Point, Scene};
@@ -40,7 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut scene = Scene::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/meshes/garrido_fig1.json"
+        "/../../meshes/garrido_fig1.json"
     ))?;
     scene.goal.0 = vec![Region {
         polygon: Some(vec![[0.7, 0.1], [0.8, 0.1], [0.8, 0.2], [0.7, 0.2]]),

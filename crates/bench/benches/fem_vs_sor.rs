@@ -8,7 +8,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use harmonic_planner::baselines::{GridHarmonic, Raster, SorOptions};
+use harmonic_baselines::{GridHarmonic, Raster, SorOptions};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::scene::Region;
 use harmonic_planner::{Planner, Scene};
@@ -16,7 +16,7 @@ use harmonic_planner::{Planner, Scene};
 fn scene() -> Scene {
     let mut scene = Scene::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/meshes/garrido_fig1.json"
+        "/../../meshes/garrido_fig1.json"
     ))
     .expect("bundled scene");
     scene.goal.0 = vec![Region {

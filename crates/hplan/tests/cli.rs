@@ -2,7 +2,7 @@
 //! plans, the JSON fields are present and consistent with an independent recount, and every
 //! bad scene fails with one clear line.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use assert_cmd::Command;
 use serde_json::Value;
@@ -12,13 +12,7 @@ fn hplan() -> Command {
 }
 
 fn scenes() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> =
-        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes"))
-            .expect("meshes/ exists")
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    v.sort();
+    let v = harmonic_fixtures::plane_scenes();
     assert!(v.len() >= 6, "expected the bundled scenes, found {v:?}");
     v
 }
@@ -263,7 +257,7 @@ fn svg_and_vtk_are_written() {
     let dir = std::env::temp_dir();
     let svg = dir.join(format!("hplan-{}.svg", std::process::id()));
     let vtu = dir.join(format!("hplan-{}.vtu", std::process::id()));
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
+    let scene = harmonic_fixtures::mesh_file("reference.json");
     hplan()
         .args([
             "plan",
@@ -292,7 +286,7 @@ fn svg_and_vtk_are_written() {
 
 #[test]
 fn car_reports_poses() {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
+    let scene = harmonic_fixtures::mesh_file("reference.json");
     let report = run_json(&[
         "car",
         scene.to_str().expect("utf-8"),
@@ -308,7 +302,7 @@ fn car_reports_poses() {
 
 #[test]
 fn starts_outside_or_in_obstacles_are_statuses_not_errors() {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
+    let scene = harmonic_fixtures::mesh_file("reference.json");
     let report = run_json(&[
         "plan",
         scene.to_str().expect("utf-8"),
@@ -324,7 +318,7 @@ fn starts_outside_or_in_obstacles_are_statuses_not_errors() {
 
 #[test]
 fn bad_scenes_fail_with_one_clear_line() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_scenes");
+    let dir = harmonic_fixtures::repo_root().join("tests/bad_scenes");
     let expected = std::fs::read_to_string(dir.join("EXPECTED")).expect("EXPECTED exists");
     let mut checked = 0;
     for line in expected
@@ -356,7 +350,7 @@ fn bad_scenes_fail_with_one_clear_line() {
 
 #[test]
 fn bad_flags_fail_clearly() {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
+    let scene = harmonic_fixtures::mesh_file("reference.json");
     let out = hplan()
         .args(["plan", scene.to_str().expect("utf-8"), "--start", "1,nan"])
         .output()

@@ -951,9 +951,9 @@ enum Kind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Scene;
-    use crate::planner::interior_local_minima;
     use harmonic_fem::{BoundaryConditions, solve_potential};
+    use harmonic_planner::Scene;
+    use harmonic_planner::planner::interior_local_minima;
 
     /// A 6 × 4 room with a post; the lattice is the 10 cm one of the paper, 4 m wide around the
     /// robot, the goal at (3.8, 2) inside it.

@@ -11,8 +11,8 @@
 use std::path::PathBuf;
 
 use clap::Parser;
+use harmonic_bench::compare::{Arena, CompareOptions, Row, markdown_table};
 use harmonic_planner::Scene;
-use harmonic_planner::compare::{Arena, CompareOptions, Row, markdown_table};
 
 /// Compare the FEM harmonic planner with the baselines on the bundled scenes.
 #[derive(Parser)]
@@ -48,7 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let files: Vec<PathBuf> = if args.scenes.is_empty() {
         BUNDLED
             .iter()
-            .map(|s| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("meshes/{s}.json")))
+            .map(|s| harmonic_fixtures::mesh_file(&format!("{s}.json")))
             .collect()
     } else {
         args.scenes.clone()

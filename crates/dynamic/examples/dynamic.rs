@@ -12,16 +12,16 @@ use std::fmt::Write as _;
 use std::process::ExitCode;
 
 use clap::Parser;
-use harmonic_planner::Scene;
-use harmonic_planner::dynamic::{
+use harmonic_dynamic::{
     DynamicPlanner, LocalMapMode, LocalMapOptions, Run, RunOptions, World, WorldObstacle,
 };
+use harmonic_planner::Scene;
 
 #[derive(Parser)]
 #[command(about = "A robot crossing the reference scene among moving and unmapped obstacles")]
 struct Args {
     /// The known map.
-    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/meshes/reference.json"))]
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/reference.json"))]
     scene: String,
     /// Write an SVG of the run.
     #[arg(long)]
@@ -88,7 +88,7 @@ fn run(args: &Args) -> Result<ExitCode, Box<dyn std::error::Error>> {
         ],
     );
     let run_opts = RunOptions::default();
-    let result = harmonic_planner::dynamic::run(&mut planner, &world, start, &run_opts);
+    let result = harmonic_dynamic::run(&mut planner, &world, start, &run_opts);
     let (median, p99) = result.replan_percentiles();
     if let Some(path) = &args.svg {
         std::fs::write(path, svg(&scene, &world, &result))?;

@@ -2,12 +2,12 @@
 //! randomised worlds with moving and unmapped obstacles the robot reaches the goal without
 //! ever touching a true obstacle.
 
-use harmonic_planner::Scene;
-use harmonic_planner::dynamic::{
+use harmonic_dynamic::{
     DynamicError, DynamicPlanner, LaserScan, LocalMapMode, LocalMapOptions, RunOptions,
     ScanOptions, World, WorldObstacle, cluster_points, inflated_hull, polygon_contains,
     polygon_distance, run, scan_obstacles,
 };
+use harmonic_planner::Scene;
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<[f64; 2]> {
     vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
@@ -165,7 +165,7 @@ fn a_kept_waypoint_never_moves_into_a_known_obstacle() {
     // failed with "goal 0 lies outside the workspace".
     let scene = Scene::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/meshes/reference.json"
+        "/../../meshes/reference.json"
     ))
     .expect("reference scene");
     let mut planner = DynamicPlanner::new(&scene, LocalMapOptions::default()).expect("planner");

@@ -2,14 +2,14 @@
 //! Neumann row through Robin K = 1, 2, 3, 10 toward Dirichlet, and K = 100, 1000 come within
 //! 5 % of it; every path arrives.
 
+use harmonic_bench::tables::{PAPER_ROWS, bc_table};
 use harmonic_planner::Scene;
-use harmonic_planner::tables::{PAPER_ROWS, bc_table};
 
 #[test]
 fn boundary_condition_table_has_the_papers_shape() {
     let mut scene = Scene::from_file(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/meshes/garrido_fig1.json"
+        "/../../meshes/garrido_fig1.json"
     ))
     .expect("bundled scene");
     scene.mesh.max_area = Some(0.001);

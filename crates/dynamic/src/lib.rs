@@ -27,7 +27,7 @@
 //! waypoint (kept while it stays valid).
 //!
 //! ```
-//! use harmonic_planner::dynamic::{DynamicPlanner, LocalMapOptions};
+//! use harmonic_dynamic::{DynamicPlanner, LocalMapOptions};
 //! use harmonic_planner::Scene;
 //! let scene = Scene::from_json(r#"{
 //!     "workspace": [[0, 0], [8, 0], [8, 3], [0, 3]],
@@ -51,8 +51,8 @@ use geo::{Area, BooleanOps, ConvexHull, Coord, LineString, MultiPoint, Polygon};
 use harmonic_mesh::Point;
 use serde::Serialize;
 
-use crate::planner::{PlanError, PlannedPath, Planner};
-use crate::scene::{Circle, Goals, MeshSpec, Region, Scene};
+use harmonic_planner::scene::{Circle, Goals, MeshSpec, Region, Scene};
+use harmonic_planner::{PlanError, PlannedPath, Planner};
 use harmonic_trajectory::path_metrics;
 use lattice::{Lattice, LatticeGoal, LatticeMiss};
 
@@ -391,7 +391,7 @@ impl Default for ScanOptions {
 /// (single linkage, on a grid of cells of side `gap`).
 ///
 /// ```
-/// use harmonic_planner::dynamic::cluster_points;
+/// use harmonic_dynamic::cluster_points;
 /// let pts = [[0.0, 0.0], [0.1, 0.0], [2.0, 2.0], [0.2, 0.05]];
 /// let clusters = cluster_points(&pts, 0.15);
 /// assert_eq!(clusters.len(), 2);

@@ -3,15 +3,14 @@
 //! cases and never longer than a planner's collision-free path, and every FEM path the
 //! harness produces on the bundled scenes is collision-free.
 
-use harmonic_planner::Scene;
-use harmonic_planner::compare::{
+use harmonic_bench::compare::{
     Arena, CompareOptions, PlannerKind, VisibilityGraph, markdown_table,
 };
+use harmonic_planner::Scene;
 use harmonic_planner::mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
 
 fn bundled(name: &str) -> Scene {
-    Scene::from_file(format!("{}/meshes/{name}.json", env!("CARGO_MANIFEST_DIR")))
-        .expect("bundled scene")
+    Scene::from_file(harmonic_fixtures::mesh_file(&format!("{name}.json"))).expect("bundled scene")
 }
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {

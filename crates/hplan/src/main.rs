@@ -10,6 +10,8 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod progress;
+
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{CarParams, Planner, PlannerOptions, Scene, SvgOptions};
@@ -183,7 +185,9 @@ fn write_file(path: &Path, text: &str) -> Result<(), String> {
 }
 
 fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
-    let opts = PlannerOptions { progress: !quiet };
+    let opts = PlannerOptions {
+        on_stage: progress::spinner(quiet),
+    };
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
 }
 

@@ -14,7 +14,7 @@
 //!
 //! ```
 //! use harmonic_planner::Scene;
-//! use harmonic_planner::compare::{Arena, CompareOptions, PlannerKind};
+//! use harmonic_bench::compare::{Arena, CompareOptions, PlannerKind};
 //! let scene = Scene::from_json(r#"{
 //!     "workspace": [[0, 0], [4, 0], [4, 4], [0, 4]],
 //!     "obstacles": [{"polygon": [[1.5, 1], [2.5, 1], [2.5, 3], [1.5, 3]]}],
@@ -46,9 +46,9 @@ use harmonic_trajectory::{SmoothOptions, TraceStatus, path_metrics, trace_smooth
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::planner::{PlanError, Planner};
-use crate::render::Picture;
-use crate::scene::{Condition, Scene};
+use harmonic_planner::render::Picture;
+use harmonic_planner::scene::{Condition, Scene};
+use harmonic_planner::{PlanError, Planner};
 
 /// Why a comparison could not be set up.
 #[derive(Debug, thiserror::Error)]
@@ -105,7 +105,7 @@ pub struct ShortestPath {
 /// about 1e-7 × the scene's size per corner.
 ///
 /// ```
-/// use harmonic_planner::compare::VisibilityGraph;
+/// use harmonic_bench::compare::VisibilityGraph;
 /// use harmonic_planner::mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};
 /// let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
 ///     vec![Point::new(x0, y0), Point::new(x1, y0), Point::new(x1, y1), Point::new(x0, y1)]

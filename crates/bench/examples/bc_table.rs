@@ -7,8 +7,8 @@
 //! cargo run --release --example bc_table -- --scene meshes/garrido_fig1.json --max-area 0.0001
 //! ```
 
+use harmonic_bench::tables::{PAPER_ROWS, bc_table};
 use harmonic_planner::Scene;
-use harmonic_planner::tables::{PAPER_ROWS, bc_table};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

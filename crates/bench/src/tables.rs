@@ -5,8 +5,8 @@
 
 use serde::Serialize;
 
-use crate::planner::{PlanError, Planner};
-use crate::scene::{Condition, Scene};
+use harmonic_planner::scene::{Condition, Scene};
+use harmonic_planner::{PlanError, Planner};
 
 /// One row of the boundary-condition table: the condition `(a, b, K)` on walls and obstacles
 /// (∂φ/∂n = K(1 − φ) for Robin rows), the goal held at φ = 0.

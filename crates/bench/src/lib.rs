@@ -1,0 +1,11 @@
+//! # harmonic-bench
+//!
+//! The workspace's experiments, not published: the comparison [`compare::Arena`] that runs
+//! every planner on the same scene and measures it against the exact geometry, the
+//! shortest-path oracle it measures against ([`compare::VisibilityGraph`]), and the seed
+//! papers' tables ([`tables`]). The examples and benches that reproduce the papers depend on
+//! this crate; library users depend on `harmonic-planner` and never compile it.
+// (missing_docs: enabled once every item is documented)
+
+pub mod compare;
+pub mod tables;

@@ -1,0 +1,143 @@
+//! The command line's errors: every bad flag value and usage error fails with one line on
+//! stderr, exit non-zero, nothing on stdout, no panic; and `hplan plan --map` end to end.
+
+use std::path::PathBuf;
+
+use assert_cmd::Command;
+
+fn root() -> PathBuf {
+    harmonic_fixtures::repo_root()
+}
+
+fn warehouse_yaml() -> PathBuf {
+    harmonic_fixtures::mesh_file("warehouse_map.yaml")
+}
+
+fn hplan_fails_with_one_line(args: &[&str], fragment: &str) -> Result<(), String> {
+    let out = Command::cargo_bin("hplan")
+        .expect("the hplan binary is built")
+        .args(args)
+        .output()
+        .expect("hplan runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let ok = !out.status.success()
+        && !stderr.contains("panicked")
+        && stderr.trim_end().lines().count() == 1
+        && stderr.to_lowercase().contains(&fragment.to_lowercase())
+        && out.stdout.is_empty();
+    if ok {
+        Ok(())
+    } else {
+        Err(format!(
+            "hplan {args:?}: exit {:?}, wanted one line with `{fragment}`, got:\n{stderr}",
+            out.status.code()
+        ))
+    }
+}
+
+fn reference() -> String {
+    root()
+        .join("meshes/reference.json")
+        .to_str()
+        .expect("utf-8 path")
+        .to_string()
+}
+
+/// Options checked after argument parsing fail with one line.
+#[test]
+fn bad_flag_values_fail_with_one_line() {
+    let s = reference();
+    let dir = root().join("meshes");
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["car", &s, "--pose", "1,1,0", "--max-steer", "120"],
+            "max_steer",
+        ),
+        (&["plan", dir.to_str().expect("utf-8")], "cannot read"),
+        (&["export", &s], "--potential"),
+    ];
+    let wrong: Vec<String> = cases
+        .iter()
+        .filter_map(|(args, fragment)| hplan_fails_with_one_line(args, fragment).err())
+        .collect();
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// Errors found by the argument parser (unknown flags, missing arguments, values its
+/// `value_parser`s refuse) also fail with one line.
+#[test]
+fn usage_errors_fail_with_one_line() {
+    let s = reference();
+    let cases: &[(&[&str], &str)] = &[
+        (&["plan", &s, "--bogus"], "--bogus"),
+        (&["plan", &s, "--start", "1e999,0"], "not a finite number"),
+        (&["plan", &s, "--start", "1,2,3"], "expected X,Y"),
+        (&["car", &s, "--pose", "1,2"], "expected X,Y,THETA"),
+        (&["plan"], "required"),
+        (&["frobnicate"], "frobnicate"),
+        (
+            &["car", &s, "--pose", "1,1,0", "--wheelbase", "-1"],
+            "wheelbase",
+        ),
+    ];
+    let wrong: Vec<String> = cases
+        .iter()
+        .filter_map(|(args, fragment)| hplan_fails_with_one_line(args, fragment).err())
+        .collect();
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn the_command_line_plans_on_a_map() {
+    let out = Command::cargo_bin("hplan")
+        .expect("hplan is built")
+        .args(["plan", "--map"])
+        .arg(warehouse_yaml())
+        .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
+        .args(["--start", "3.0,4.0", "--start", "16.4,11.8"])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let paths = report["paths"].as_array().expect("paths");
+    assert_eq!(paths[0]["status"], "reached_goal");
+    assert_ne!(paths[1]["status"], "reached_goal");
+
+    let fails = |args: &[&str], needle: &str| {
+        let out = Command::cargo_bin("hplan")
+            .expect("hplan is built")
+            .current_dir(root())
+            .args(args)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    };
+    fails(&["plan", "--json"], "required");
+    fails(
+        &[
+            "plan",
+            "meshes/reference.json",
+            "--map",
+            "meshes/warehouse_map.yaml",
+        ],
+        "cannot be used with",
+    );
+    fails(&["plan", "--map", "meshes/warehouse_map.yaml"], "--goal");
+    fails(
+        &[
+            "plan",
+            "--map",
+            "meshes/warehouse_map.yaml",
+            "--goal",
+            "0.0,2.5",
+        ],
+        "occupied",
+    );
+    fails(&["plan", "meshes/reference.json", "--goal", "1,1"], "--map");
+}
