@@ -1,4 +1,4 @@
-//! The scene file: the JSON contract of `SCENE_FORMAT.md`, parsed with errors that say where.
+//! The scene file: the JSON contract of `docs/scene-format.md`, parsed with errors that say where.
 //!
 //! A scene names a workspace polygon, obstacles (polygons or circles), one or more goal
 //! regions, optional start points, boundary conditions per boundary part, mesh options and the

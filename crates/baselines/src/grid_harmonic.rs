@@ -14,7 +14,7 @@ use crate::{BaselineError, Cell, Connectivity, Raster};
 /// Far from the goal a Dirichlet potential becomes flat: `1 − φ` falls below the float
 /// spacing near 1 and `φ` rounds to exactly 1, leaving cells with no lower neighbour.
 /// Iterating on `ψ = 1 − φ` (goal 1, walls 0) keeps ψ's relative precision however small it
-/// gets, as the FEM solver does (DESIGN.md, "flat fields").
+/// gets, as the FEM solver does (ARCHITECTURE.md, "Numerical conventions").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Unknown {
     /// `ψ = 1 − φ`: goal cells 1, wall and obstacle cells 0 (the default).

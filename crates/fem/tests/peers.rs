@@ -1,5 +1,5 @@
 //! Agreement with the Python (scikit-fem on Triangle) and FreeFEM peers on the reference scene
-//! (`../shared/peers/RESULTS.md`): φ at six sample points, Dirichlet and Robin cases.
+//! (docs/peers.md): φ at six sample points, Dirichlet and Robin cases.
 
 #[path = "support/reference.rs"]
 mod reference;
@@ -94,7 +94,7 @@ fn agrees_with_peers_at_30k_triangles() {
     }
 }
 
-/// The peers' ~1M-triangle values (RESULTS.md, "same points across mesh sizes"): Python on
+/// The peers' ~1M-triangle values (docs/peers.md, "same points across mesh sizes"): Python on
 /// Triangle (1008704 triangles) and FreeFEM buildmesh (1023290 triangles).
 const DIRICHLET_1M: [[f64; 6]; 2] = [
     [

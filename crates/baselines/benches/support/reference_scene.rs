@@ -1,4 +1,4 @@
-//! The peers' reference workload (../shared/peers/scenes/reference.json): the square
+//! The peers' reference workload (`meshes/reference.json`, docs/peers.md): the square
 //! [0, 10]², five obstacles and a goal disc of radius 0.15 at (8.5, 1.5) as a 16-gon.
 
 use harmonic_mesh::Point;

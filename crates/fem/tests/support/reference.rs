@@ -1,4 +1,4 @@
-//! The reference scene of the peer comparison (`../shared/reference_scene.json`): the
+//! The reference scene of the peer comparison (`meshes/reference.json`, docs/peers.md): the
 //! square [0, 10]² with five obstacles and a 16-gon goal of radius 0.15 at (8.5, 1.5).
 //! Shared by the peer tests and the `fem` bench.
 
