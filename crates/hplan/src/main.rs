@@ -92,7 +92,7 @@ enum Command {
 
 #[derive(Args)]
 struct Common {
-    /// The scene file (see SCENE_FORMAT in the README).
+    /// The scene file (see docs/scene-format.md).
     scene: Option<PathBuf>,
     /// Print one JSON object on stdout instead of a summary.
     #[arg(long)]

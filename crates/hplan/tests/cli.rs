@@ -1,4 +1,4 @@
-//! End-to-end tests of `hplan` against the contract of SCENE_FORMAT.md: every bundled scene
+//! End-to-end tests of `hplan` against the contract of docs/scene-format.md: every bundled scene
 //! plans, the JSON fields are present and consistent with an independent recount, and every
 //! bad scene fails with one clear line.
 
