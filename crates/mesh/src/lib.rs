@@ -34,6 +34,8 @@
 //! # Ok::<(), harmonic_mesh::MeshError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod domain;
 mod geom;
 mod grading;
@@ -76,27 +78,58 @@ pub enum MeshError {
     InvalidMesh(String),
     /// A coordinate (or radius) is NaN or infinite.
     #[error("{part}: vertex {vertex} has a non-finite coordinate")]
-    NonFinite { part: Part, vertex: usize },
+    NonFinite {
+        /// The input shape that holds the coordinate.
+        part: Part,
+        /// Index of the offending vertex in that shape's input list (0 for a circle).
+        vertex: usize,
+    },
     /// Fewer than three distinct vertices.
     #[error("{part}: polygon has {count} distinct vertices, at least 3 are needed")]
-    TooFewVertices { part: Part, count: usize },
+    TooFewVertices {
+        /// The input polygon.
+        part: Part,
+        /// How many distinct vertices it has.
+        count: usize,
+    },
     /// Two non-adjacent edges of a polygon touch or cross (edge `k` runs from input vertex `k`).
     #[error("{part}: polygon self-intersects (edges {} and {})", edges.0, edges.1)]
-    SelfIntersection { part: Part, edges: (usize, usize) },
+    SelfIntersection {
+        /// The input polygon.
+        part: Part,
+        /// The two edges (by input index of their first vertex) that touch or cross.
+        edges: (usize, usize),
+    },
     /// The polygon encloses no area (all its vertices are collinear).
     #[error("{part}: polygon has zero area (all vertices collinear)")]
-    ZeroArea { part: Part },
+    ZeroArea {
+        /// The input polygon.
+        part: Part,
+    },
     /// A circle radius that is not positive and finite.
     #[error("{part}: circle radius {radius} must be positive and finite")]
-    InvalidRadius { part: Part, radius: f64 },
+    InvalidRadius {
+        /// The circular obstacle or goal.
+        part: Part,
+        /// The radius given, in workspace units.
+        radius: f64,
+    },
     /// An obstacle or goal lies entirely outside the workspace.
     #[error("{part}: lies outside the workspace")]
-    OutsideWorkspace { part: Part },
+    OutsideWorkspace {
+        /// The obstacle or goal.
+        part: Part,
+    },
     /// A goal lies entirely inside obstacles (inflated by the robot radius, if any).
     #[error(
         "goal {goal}: lies inside obstacle {obstacle} (after inflating obstacles by the robot radius)"
     )]
-    GoalInObstacle { goal: usize, obstacle: usize },
+    GoalInObstacle {
+        /// Index of the goal in [`DomainSpec::goals`].
+        goal: usize,
+        /// Index of an obstacle covering it in [`DomainSpec::obstacles`].
+        obstacle: usize,
+    },
     /// The robot radius is negative or not finite.
     #[error("robot radius {0} must be finite and non-negative")]
     InvalidRobotRadius(f64),
@@ -104,32 +137,52 @@ pub enum MeshError {
     #[error(
         "no free space is left: obstacles inflated by the robot radius {robot_radius} cover the workspace"
     )]
-    NoFreeSpace { robot_radius: f64 },
+    NoFreeSpace {
+        /// The robot radius the obstacles were inflated by, in workspace units.
+        robot_radius: f64,
+    },
     /// A goal does not touch the free space left for a robot of the given radius.
     #[error(
         "goal {goal}: not reachable by a robot of radius {robot_radius} (it touches no free space)"
     )]
-    GoalNotInFreeSpace { goal: usize, robot_radius: f64 },
+    GoalNotInFreeSpace {
+        /// Index of the goal in [`DomainSpec::goals`].
+        goal: usize,
+        /// The robot radius, in workspace units.
+        robot_radius: f64,
+    },
     /// An option has a value outside its allowed range.
     #[error("mesh option {name} = {value}: {reason}")]
     InvalidOption {
+        /// The option's field name in [`MeshOptions`] (e.g. `grading.radius`).
         name: &'static str,
+        /// The value given.
         value: f64,
+        /// What is required of it.
         reason: &'static str,
     },
     /// The requested mesh would exceed the triangle budget.
     #[error(
         "mesh would need about {estimated} triangles, more than the limit of {limit} (raise max_area or max_triangles)"
     )]
-    TooManyTriangles { estimated: usize, limit: usize },
+    TooManyTriangles {
+        /// The triangle count estimated from the free area and `max_area`.
+        estimated: usize,
+        /// [`MeshOptions::max_triangles`].
+        limit: usize,
+    },
     /// The triangulation library failed on the (already validated) boundary.
     #[error("triangulation failed: {0}")]
     Triangulation(String),
     /// A Triangle `.node/.ele/.poly` file could not be read or written.
     #[error("{file}: line {line}: {message}")]
     Io {
+        /// Which file: its path, or its kind (`.node`, `.ele`, `.poly`) when parsing text, or
+        /// `marker` for a tag with no Triangle boundary marker.
         file: String,
+        /// The line the problem is on (0 when it concerns the whole file).
         line: usize,
+        /// What is wrong.
         message: String,
     },
 }

@@ -46,10 +46,14 @@ impl std::fmt::Display for BoundaryTag {
 /// into the wall, obstacle or goal) lies to the right.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoundaryEdge {
+    /// The edge's two end vertices (indices into [`Mesh::vertices`]), counter-clockwise
+    /// with respect to `triangle`.
     pub vertices: [u32; 2],
+    /// The one triangle of the mesh that has this edge (index into [`Mesh::triangles`]).
     pub triangle: u32,
     /// The local index `k` of the edge in `triangle` (the edge opposite local vertex `k`).
     pub local_edge: u8,
+    /// What the edge lies on: a wall, an obstacle or a goal.
     pub tag: BoundaryTag,
 }
 

@@ -46,6 +46,8 @@
 //! # Ok::<(), harmonic_solver::SolverError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod csc;
 mod direct;
 mod error;
