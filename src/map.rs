@@ -31,7 +31,7 @@
 //! let scene = map.to_scene([3.5, 0.5], 0.0, &MapOptions::default())?;
 //! let planner = Planner::new(&scene)?;
 //! let path = planner.plan([0.5, 0.5]);
-//! assert_eq!(path.status, "reached_goal");
+//! assert!(path.status.reached_goal());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

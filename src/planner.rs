@@ -13,7 +13,7 @@ use harmonic_mesh::{
 };
 use harmonic_trajectory::{
     CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, SmoothOptions, SmoothP1Field,
-    TraceStatus, drive, path_metrics, trace_exact, trace_smooth,
+    TraceStatus, Tracer, descend, drive, path_metrics, trace_exact,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -87,7 +87,7 @@ pub struct Timings {
 /// }"#)?;
 /// let planner = Planner::new(&scene)?;
 /// let path = planner.plan([0.5, 2.0]);
-/// assert_eq!(path.status, "reached_goal");
+/// assert!(path.status.reached_goal());
 /// assert!(path.min_clearance > 0.0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -106,13 +106,14 @@ pub struct Planner {
 #[derive(Clone, Debug, Serialize)]
 pub struct PlannedPath {
     pub start: [f64; 2],
-    /// `reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`, `outside_workspace`, `max_steps`.
-    pub status: &'static str,
+    /// How the path ended, serialised as `reached_goal`, `unreachable`, `stalled`,
+    /// `start_in_obstacle`, `outside_workspace` or `max_steps`.
+    pub status: TraceStatus,
     /// The goal reached, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
     /// Which tracer made the path: `smooth` (the default) or `exact` (the fallback).
-    pub tracer: &'static str,
+    pub tracer: Tracer,
     pub length: f64,
     /// Smallest distance from the path to a wall or an obstacle (exact geometry).
     pub min_clearance: f64,
@@ -125,7 +126,8 @@ pub struct PlannedPath {
 #[derive(Clone, Debug, Serialize)]
 pub struct CarRun {
     pub start: [f64; 3],
-    pub status: &'static str,
+    /// How the run ended (as for [`PlannedPath::status`], or `collision`).
+    pub status: TraceStatus,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
     pub length: f64,
@@ -181,7 +183,7 @@ impl PathSummary for PlannedPath {
     fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
         (
             self.start.to_vec(),
-            self.status,
+            self.status.as_str(),
             self.length,
             self.min_clearance,
             self.min_gradient,
@@ -193,7 +195,7 @@ impl PathSummary for CarRun {
     fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
         (
             self.start.to_vec(),
-            self.status,
+            self.status.as_str(),
             self.length,
             self.min_clearance,
             self.min_gradient,
@@ -424,20 +426,10 @@ impl Planner {
     /// first; where it stalls or runs out of steps, the exact triangle-to-triangle tracer,
     /// along which φ strictly decreases.
     pub fn plan(&self, start: [f64; 2]) -> PlannedPath {
-        let p = point(start);
         let field = self.smooth_field();
         let opts = SmoothOptions::for_scale(self.scale);
-        match trace_smooth(&field, p, &opts) {
-            Ok(path) if !self.exact_might_help(&path.status) => self.planned(start, path, "smooth"),
-            _ => {
-                let exact = trace_exact(field.p1(), p, &ExactOptions::default());
-                self.planned(start, exact, "exact")
-            }
-        }
-    }
-
-    fn exact_might_help(&self, status: &TraceStatus) -> bool {
-        matches!(status, TraceStatus::Stalled { .. } | TraceStatus::MaxSteps)
+        let (path, tracer) = descend(&field, point(start), None, &opts, &ExactOptions::default());
+        self.planned(start, path, tracer)
     }
 
     /// The exact tracer's path from `start` (straight within each triangle, φ strictly
@@ -445,7 +437,7 @@ impl Planner {
     pub fn plan_exact(&self, start: [f64; 2]) -> PlannedPath {
         let p = point(start);
         let path = trace_exact(self.smooth_field().p1(), p, &ExactOptions::default());
-        self.planned(start, path, "exact")
+        self.planned(start, path, Tracer::Exact)
     }
 
     /// Plans from every start, in parallel.
@@ -453,11 +445,11 @@ impl Planner {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: [f64; 2], path: Path, tracer: &'static str) -> PlannedPath {
+    fn planned(&self, start: [f64; 2], path: Path, tracer: Tracer) -> PlannedPath {
         let metrics = path_metrics(&path.points, |a, b| self.domain.segment_clearance(a, b));
         PlannedPath {
             start,
-            status: path.status.as_str(),
+            status: path.status,
             goal: path.goal,
             tracer,
             length: metrics.length,
@@ -496,7 +488,7 @@ impl Planner {
         let metrics = path_metrics(&points, |a, b| self.domain.segment_clearance(a, b));
         Ok(CarRun {
             start: pose,
-            status: car.status.as_str(),
+            status: car.status,
             goal: car.goal,
             length: car.length,
             min_clearance: finite_or_zero(metrics.min_clearance),

@@ -394,10 +394,10 @@ fn paths_on_the_warehouse_map_reach_the_goal_and_keep_the_radius() {
             path.start, path.status, path.length, path.min_clearance
         );
         if !reachable {
-            assert_ne!(path.status, "reached_goal", "{:?}", path.start);
+            assert_ne!(path.status.as_str(), "reached_goal", "{:?}", path.start);
             continue;
         }
-        assert_eq!(path.status, "reached_goal", "{:?}", path.start);
+        assert_eq!(path.status.as_str(), "reached_goal", "{:?}", path.start);
         let clearance = path_clearance(&map, &path.points, radius);
         assert!(
             clearance >= radius - 0.1 * map.resolution(),
@@ -562,6 +562,6 @@ fn a_rotated_map_traces_in_its_frame() {
         .expect("scene");
     let planner = Planner::new(&scene).expect("planner");
     let path = planner.plan(map.cell_center(10, 6));
-    assert_eq!(path.status, "reached_goal");
+    assert_eq!(path.status.as_str(), "reached_goal");
     assert!(path_clearance(&map, &path.points, 0.1) >= 0.1 - 0.01);
 }

@@ -280,20 +280,21 @@ fn check_path(planner: &Planner, case: &Case, path: &PlannedPath) -> Result<(), 
         // `start_in_obstacle` (tests/robustness.rs,
         // start_outside_beside_an_obstacle_over_the_wall_is_outside).
         prop_assert!(
-            path.status == "outside_workspace" || path.status == "start_in_obstacle",
+            path.status.as_str() == "outside_workspace"
+                || path.status.as_str() == "start_in_obstacle",
             "{}",
             tag
         );
     } else if let Some(t) = mesh.locate(p, None) {
         if goal_components.contains(&mesh.triangle_components()[t as usize]) {
-            prop_assert_eq!(path.status, "reached_goal", "{}", tag);
+            prop_assert_eq!(path.status.as_str(), "reached_goal", "{}", tag);
         } else {
-            prop_assert_eq!(path.status, "unreachable", "{}", tag);
+            prop_assert_eq!(path.status.as_str(), "unreachable", "{}", tag);
         }
     } else if !in_goal {
         let near_boundary = case.obstacles.iter().any(|o| o.distance(s) < 1e-6);
         prop_assert!(
-            path.status == "start_in_obstacle" || near_boundary,
+            path.status.as_str() == "start_in_obstacle" || near_boundary,
             "{}: not in the mesh, in no obstacle",
             tag
         );
@@ -304,7 +305,7 @@ fn check_path(planner: &Planner, case: &Case, path: &PlannedPath) -> Result<(), 
         "{}",
         tag
     );
-    if path.status == "reached_goal" {
+    if path.status.as_str() == "reached_goal" {
         let last = *path.points.last().expect("a path has points");
         prop_assert!(
             dist(last, gc) <= gr + 1e-6,

@@ -354,7 +354,12 @@ fn bad_starts_are_statuses_not_errors() {
     ];
     for (start, want) in cases {
         for path in [planner.plan(start), planner.plan_exact(start)] {
-            assert_eq!(path.status, want, "from {start:?} ({})", path.tracer);
+            assert_eq!(
+                path.status.as_str(),
+                want,
+                "from {start:?} ({})",
+                path.tracer
+            );
             assert!(path.length.is_finite() && path.min_clearance.is_finite());
             assert!(path.points.iter().flatten().all(|v| v.is_finite()));
         }
@@ -379,8 +384,11 @@ fn start_outside_beside_an_obstacle_over_the_wall_is_outside() {
     let scene = Scene::from_json(&text).expect("valid");
     let planner = Planner::new(&scene).expect("plans");
     let start = [-0.47063641634060016, 2.87149896653013];
-    assert_eq!(planner.plan(start).status, "outside_workspace");
-    assert_eq!(planner.plan_exact(start).status, "outside_workspace");
+    assert_eq!(planner.plan(start).status.as_str(), "outside_workspace");
+    assert_eq!(
+        planner.plan_exact(start).status.as_str(),
+        "outside_workspace"
+    );
 }
 
 #[test]
@@ -595,7 +603,11 @@ fn an_obstacle_corner_a_rounding_error_off_the_wall_plans() {
     let planner = Planner::new(&scene).expect("plans");
     for &start in &scene.starts {
         let path = planner.plan(start);
-        assert_eq!(path.status, "reached_goal", "from {start:?}: {path:?}");
+        assert_eq!(
+            path.status.as_str(),
+            "reached_goal",
+            "from {start:?}: {path:?}"
+        );
         assert!(path.min_clearance > 0.0, "from {start:?}");
     }
 }

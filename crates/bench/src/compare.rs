@@ -791,7 +791,12 @@ impl Arena {
             Engine::Fem(planner) => {
                 let path = planner.plan(start);
                 let pts = path.points.iter().map(|q| Point::new(q[0], q[1])).collect();
-                (pts, path.status, path.status == "stalled", None)
+                (
+                    pts,
+                    path.status.as_str(),
+                    matches!(path.status, TraceStatus::Stalled { .. }),
+                    None,
+                )
             }
             Engine::Grid(field) => {
                 let (lo, hi) = self.domain.bounding_box();

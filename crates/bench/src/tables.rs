@@ -8,13 +8,42 @@ use serde::Serialize;
 use harmonic_planner::scene::{Condition, Scene};
 use harmonic_planner::{PlanError, Planner};
 
+/// The kind of condition a row of the boundary-condition table puts on walls and obstacles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BcKind {
+    /// ∂φ/∂n = [`NEUMANN_INFLOW`].
+    Neumann,
+    /// ∂φ/∂n = K(1 − φ).
+    Robin,
+    /// φ = 1.
+    Dirichlet,
+}
+
+impl BcKind {
+    /// The word the table and the JSON print.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BcKind::Neumann => "neumann",
+            BcKind::Robin => "robin",
+            BcKind::Dirichlet => "dirichlet",
+        }
+    }
+}
+
+impl std::fmt::Display for BcKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// One row of the boundary-condition table: the condition `(a, b, K)` on walls and obstacles
 /// (∂φ/∂n = K(1 − φ) for Robin rows), the goal held at φ = 0.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct BcRow {
-    /// `neumann`, `robin` or `dirichlet`.
+    /// Serialised as `"type": "neumann" | "robin" | "dirichlet"`.
     #[serde(rename = "type")]
-    pub kind: &'static str,
+    pub kind: BcKind,
     pub a: f64,
     pub b: f64,
     pub k: f64,
@@ -23,49 +52,49 @@ pub struct BcRow {
 /// The rows of Garrido et al. (2010), Table 1, in the paper's order.
 pub const PAPER_ROWS: [BcRow; 8] = [
     BcRow {
-        kind: "neumann",
+        kind: BcKind::Neumann,
         a: 1.0,
         b: 1.0,
         k: 0.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 1.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 2.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 3.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 10.0,
     },
     BcRow {
-        kind: "dirichlet",
+        kind: BcKind::Dirichlet,
         a: 0.0,
         b: 1.0,
         k: 0.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 100.0,
     },
     BcRow {
-        kind: "robin",
+        kind: BcKind::Robin,
         a: 1.0,
         b: 1.0,
         k: 1000.0,
@@ -81,9 +110,9 @@ impl BcRow {
     /// The condition on walls and obstacles this row stands for.
     pub fn condition(&self) -> Condition {
         match self.kind {
-            "dirichlet" => Condition::Dirichlet(1.0),
-            "neumann" => Condition::Neumann(NEUMANN_INFLOW),
-            _ => Condition::Robin {
+            BcKind::Dirichlet => Condition::Dirichlet(1.0),
+            BcKind::Neumann => Condition::Neumann(NEUMANN_INFLOW),
+            BcKind::Robin => Condition::Robin {
                 a: 1.0,
                 b: self.k,
                 g: self.k,
@@ -141,7 +170,7 @@ pub fn bc_table(
                     .map(|(p, d_d)| 100.0 * p.min_clearance / d_d)
                     .collect(),
                 clearance: paths.iter().map(|p| p.min_clearance).collect(),
-                reached: paths.iter().map(|p| p.status == "reached_goal").collect(),
+                reached: paths.iter().map(|p| p.status.reached_goal()).collect(),
                 length: paths.iter().map(|p| p.length).collect(),
                 min_gradient: paths.iter().map(|p| p.min_gradient).collect(),
             })

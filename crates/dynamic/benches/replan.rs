@@ -41,7 +41,7 @@ fn replan(c: &mut Criterion) {
         let mut planner = DynamicPlanner::new(&scene, options).expect("reference scene");
         planner.set_obstacle(0, obstacle.clone());
         let plan = planner.replan(robot).expect("replan");
-        assert_eq!(plan.path.status, "reached_goal");
+        assert_eq!(plan.path.status.as_str(), "reached_goal");
         assert_eq!(plan.method, mode);
         eprintln!(
             "{name}: {} triangles; one replan: {:?}",
@@ -62,7 +62,7 @@ fn replan(c: &mut Criterion) {
     for &p in &route {
         let plan = planner.replan(p).expect("replan");
         assert_eq!(plan.method, LocalMapMode::Lattice, "{p:?}");
-        assert_eq!(plan.path.status, "reached_goal", "{p:?}");
+        assert_eq!(plan.path.status.as_str(), "reached_goal", "{p:?}");
     }
     let mut k = 0;
     group.bench_function("full_replan_lattice_moving_5cm", |b| {

@@ -31,8 +31,7 @@ use harmonic_fem::Potential;
 use harmonic_mesh::{BoundaryTag, Domain, Mesh, NO_NEIGHBOR, Point};
 use harmonic_solver::{AccurateLdlt, MMatrix, Ordering, SymmetricCsc};
 use harmonic_trajectory::{
-    ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, trace_exact_with_hint,
-    trace_smooth_with_hint,
+    ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, Tracer, descend,
 };
 
 use super::{polygon_contains, polygon_distance};
@@ -92,7 +91,7 @@ pub(crate) struct LatticePlan {
     /// The traced path (its last point is in the goal region).
     pub path: Path,
     /// Which tracer made it.
-    pub tracer: &'static str,
+    pub tracer: Tracer,
     /// Triangles of the local mesh (kept triangles, goal triangles included).
     pub triangles: usize,
     /// The local potential on the kept triangles less the goal's (`None` when the robot
@@ -280,7 +279,7 @@ impl Lattice {
             points.extend(self.goal_targets(robot_tri, robot, &is_goal, goals, &window));
             return Ok(LatticePlan {
                 path: Path::new(points, TraceStatus::ReachedGoal(0), f64::INFINITY, 0),
-                tracer: "lattice",
+                tracer: Tracer::Straight,
                 triangles: kept,
                 potential: None,
                 mesh_ms: millis(t),
@@ -318,22 +317,13 @@ impl Lattice {
             .iter()
             .filter(|&&k| k == Kind::Mesh)
             .count() as u32;
-        let smooth =
-            trace_smooth_with_hint(&field, start, Some(hint), &SmoothOptions::for_scale(span)).ok();
-        let (mut path, tracer) = match smooth {
-            Some(p)
-                if !matches!(
-                    p.status,
-                    TraceStatus::Stalled { .. } | TraceStatus::MaxSteps
-                ) =>
-            {
-                (p, "smooth")
-            }
-            _ => (
-                trace_exact_with_hint(field.p1(), start, Some(hint), &ExactOptions::default()),
-                "exact",
-            ),
-        };
+        let (mut path, tracer) = descend(
+            &field,
+            start,
+            Some(hint),
+            &SmoothOptions::for_scale(span),
+            &ExactOptions::default(),
+        );
         if !matches!(path.status, TraceStatus::ReachedGoal(_)) {
             return Err(LatticeMiss::NotReached);
         }

@@ -39,7 +39,7 @@
 //! // An obstacle seen on the way: the local path goes around it.
 //! planner.set_obstacle(7, vec![[1.4, 1.2], [1.7, 1.2], [1.7, 1.8], [1.4, 1.8]]);
 //! let plan = planner.replan([0.5, 1.5])?;
-//! assert_eq!(plan.path.status, "reached_goal");
+//! assert!(plan.path.status.reached_goal());
 //! assert!(plan.local_goal[0] > 1.0);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -53,7 +53,7 @@ use serde::Serialize;
 
 use harmonic_planner::scene::{Circle, Goals, MeshSpec, Region, Scene};
 use harmonic_planner::{PlanError, PlannedPath, Planner};
-use harmonic_trajectory::path_metrics;
+use harmonic_trajectory::{TraceStatus, path_metrics};
 use lattice::{Lattice, LatticeGoal, LatticeMiss};
 
 mod lattice;
@@ -81,7 +81,7 @@ pub enum DynamicError {
         /// Robot position.
         y: f64,
         /// The global tracer's status.
-        status: &'static str,
+        status: TraceStatus,
     },
     /// Every candidate local goal on the global path is blocked by a sensed obstacle.
     #[error("no free local goal on the global path from ({x}, {y})")]
@@ -613,7 +613,7 @@ impl DynamicPlanner {
             }
             _ => {
                 let path = self.global.plan(robot);
-                if path.status != "reached_goal" {
+                if !path.status.reached_goal() {
                     return Err(DynamicError::NoGlobalPath {
                         x: robot[0],
                         y: robot[1],
@@ -965,7 +965,7 @@ impl DynamicPlanner {
     pub fn replan(&mut self, robot: [f64; 2]) -> Result<LocalPlan, DynamicError> {
         let plan = self.replan_once(robot);
         // A waypoint that led nowhere is not kept.
-        if !plan.as_ref().is_ok_and(|p| p.path.status == "reached_goal") {
+        if !plan.as_ref().is_ok_and(|p| p.path.status.reached_goal()) {
             self.waypoint = None;
         }
         plan
@@ -1053,7 +1053,7 @@ impl DynamicPlanner {
         let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
         let path = PlannedPath {
             start: robot,
-            status: plan.path.status.as_str(),
+            status: plan.path.status,
             goal: plan.path.goal,
             tracer: plan.tracer,
             length: metrics.length,
@@ -1387,7 +1387,7 @@ pub fn run(planner: &mut DynamicPlanner, world: &World, start: [f64; 2], opts: &
             .fold(f64::INFINITY, f64::min);
         planner.set_obstacles(sensed);
         let plan = match planner.replan(pos) {
-            Ok(plan) if plan.path.status == "reached_goal" && plan.path.points.len() >= 2 => plan,
+            Ok(plan) if plan.path.status.reached_goal() && plan.path.points.len() >= 2 => plan,
             other => {
                 out.failed_replans += 1;
                 out.last_error = Some(match other {

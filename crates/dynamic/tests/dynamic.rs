@@ -120,7 +120,7 @@ fn local_goal_is_on_the_global_path_at_the_window_edge_and_replans_go_around() {
     let scene = room();
     let mut planner = DynamicPlanner::new(&scene, small_window()).expect("planner");
     let plan = planner.replan([0.5, 2.0]).expect("empty room");
-    assert_eq!(plan.path.status, "reached_goal");
+    assert_eq!(plan.path.status.as_str(), "reached_goal");
     assert!(!plan.goal_in_window);
     // The window is [-0.75, 1.75]: the goal sits near its right edge, on the way to (5.5, 2).
     assert!(
@@ -138,7 +138,7 @@ fn local_goal_is_on_the_global_path_at_the_window_edge_and_replans_go_around() {
     let wall = rect(1.0, 1.5, 1.2, 2.5);
     planner.set_obstacle(3, wall.clone());
     let plan = planner.replan([0.5, 2.0]).expect("around the wall");
-    assert_eq!(plan.path.status, "reached_goal");
+    assert_eq!(plan.path.status.as_str(), "reached_goal");
     assert!(
         plan.path
             .points
@@ -154,7 +154,7 @@ fn local_goal_is_on_the_global_path_at_the_window_edge_and_replans_go_around() {
     // Near the goal the real goal is used.
     let plan = planner.replan([4.8, 2.0]).expect("near the goal");
     assert!(plan.goal_in_window);
-    assert_eq!(plan.path.status, "reached_goal");
+    assert_eq!(plan.path.status.as_str(), "reached_goal");
 }
 
 #[test]
@@ -175,7 +175,7 @@ fn a_kept_waypoint_never_moves_into_a_known_obstacle() {
         let plan = planner
             .replan(*robot)
             .unwrap_or_else(|e| panic!("{robot:?}: {e}"));
-        assert_eq!(plan.path.status, "reached_goal", "{robot:?}");
+        assert_eq!(plan.path.status.as_str(), "reached_goal", "{robot:?}");
         let g = plan.local_goal;
         let domain = planner.global().domain();
         assert!(

@@ -13,6 +13,7 @@
 #![warn(missing_docs)]
 
 mod car;
+mod descend;
 mod exact;
 mod field;
 mod metrics;
@@ -20,6 +21,7 @@ mod path;
 mod smooth;
 
 pub use car::{CarOptions, CarSpeed, CarTarget, Collision, Footprint, drive};
+pub use descend::{Tracer, descend};
 pub use exact::{ExactOptions, trace_exact, trace_exact_with_hint};
 
 pub use field::{Fallback, Field, Locate, P1Field, Segment, SmoothP1Field};
