@@ -278,6 +278,352 @@ fn residual(v: &[f64], order: &[u32], n: usize, cx: f64, cy: f64, relative: bool
     })
 }
 
+/// The SOR relaxation factor ω of `relaxation` on an `n × n` grid (1 for Gauss–Seidel, the
+/// optimum `2 / (1 + sin(π / n))` if none is given); an error unless it is in (0, 2).
+fn relaxation_factor(relaxation: Relaxation, n: usize) -> Result<f64, BaselineError> {
+    let omega = match relaxation {
+        Relaxation::GaussSeidel => 1.0,
+        Relaxation::RedBlackSor { omega: None } => {
+            2.0 / (1.0 + (std::f64::consts::PI / n as f64).sin())
+        }
+        Relaxation::RedBlackSor { omega: Some(w) } => w,
+    };
+    if !(omega > 0.0 && omega < 2.0) {
+        return Err(BaselineError::InvalidParameter {
+            name: "omega",
+            value: omega,
+            reason: "SOR converges only for 0 < ω < 2",
+        });
+    }
+    Ok(omega)
+}
+
+/// Checks the stopping rule's tolerance (positive and finite) and the sweep budget (at
+/// least 1).
+fn check_stopping(options: &SorOptions) -> Result<(), BaselineError> {
+    let tol = match options.stop {
+        StopRule::MaxUpdate(t) | StopRule::Residual(t) | StopRule::RelativeResidual(t) => t,
+    };
+    if !(tol > 0.0 && tol.is_finite()) {
+        return Err(BaselineError::InvalidParameter {
+            name: "tolerance",
+            value: tol,
+            reason: "must be positive and finite",
+        });
+    }
+    if options.max_iterations == 0 {
+        return Err(BaselineError::InvalidParameter {
+            name: "max_iterations",
+            value: 0.0,
+            reason: "must be at least 1",
+        });
+    }
+    Ok(())
+}
+
+/// The goal and wall values `(goal, wall)` of the iterated quantity: ψ is 1 at goals and 0
+/// at walls, φ the other way round.
+fn boundary_values(unknown: Unknown) -> (f64, f64) {
+    match unknown {
+        Unknown::Psi => (1.0, 0.0),
+        Unknown::Phi => (0.0, 1.0),
+    }
+}
+
+/// The Robin wall coefficients `(a, b, g)` of `options` with `g` in the iterated quantity's
+/// terms (`b − g` for ψ), `None` for Dirichlet walls; an error if they are not finite, not a
+/// valid Robin condition, or leave nothing but the goal to drive the potential.
+fn robin_walls(
+    options: &SorOptions,
+    raster: &Raster,
+) -> Result<Option<(f64, f64, f64)>, BaselineError> {
+    let WallCondition::Robin { a, b, g } = options.walls else {
+        return Ok(None);
+    };
+    for (name, v) in [("robin a", a), ("robin b", b), ("robin g", g)] {
+        if !v.is_finite() {
+            return Err(BaselineError::NonFinite {
+                what: name.to_string(),
+                value: v,
+            });
+        }
+    }
+    if a < 0.0 || b < 0.0 || a + b <= 0.0 {
+        return Err(BaselineError::InvalidParameter {
+            name: "robin a, b",
+            value: a.min(b),
+            reason: "need a ≥ 0, b ≥ 0 and a + b > 0",
+        });
+    }
+    let driven = b > 0.0
+        || g != 0.0
+        || raster
+            .cells()
+            .iter()
+            .any(|c| matches!(c, Cell::Obstacle(_)));
+    if !driven {
+        return Err(BaselineError::InvalidParameter {
+            name: "robin b",
+            value: b,
+            reason: "homogeneous Neumann walls and no obstacle: only the goal is \
+                     Dirichlet and the potential is constant",
+        });
+    }
+    // In the unknown's own terms (ψ = 1 − φ turns g into b − g).
+    let g = match options.unknown {
+        Unknown::Psi => b - g,
+        Unknown::Phi => g,
+    };
+    Ok(Some((a, b, g)))
+}
+
+/// The 5-point stencil of a grid: `n` cells a side, cells `hx × hy` (workspace units), and
+/// the weights `cx`, `cy` of the horizontal and vertical neighbours in the normalised
+/// equation (`2 (cx + cy) = 1`).
+#[derive(Clone, Copy, Debug)]
+struct Stencil {
+    n: usize,
+    hx: f64,
+    hy: f64,
+    cx: f64,
+    cy: f64,
+}
+
+impl Stencil {
+    /// The stencil of `raster`'s grid.
+    fn of(raster: &Raster) -> Stencil {
+        let (hx, hy) = raster.cell_size();
+        let (wx, wy) = (1.0 / (hx * hx), 1.0 / (hy * hy));
+        Stencil {
+            n: raster.n(),
+            hx,
+            hy,
+            cx: wx / (2.0 * (wx + wy)),
+            cy: wy / (2.0 * (wx + wy)),
+        }
+    }
+}
+
+/// The starting values (goal cells at the goal value, every other cell at the wall value)
+/// and the free cells split into red and black, a cell next to a Robin wall with its own
+/// equation.
+fn initial_values(
+    raster: &Raster,
+    unknown: Unknown,
+    robin: Option<(f64, f64, f64)>,
+    stencil: Stencil,
+) -> (Vec<f64>, Order, Order) {
+    let Stencil { n, hx, hy, cx, cy } = stencil;
+    let (goal_value, wall_value) = boundary_values(unknown);
+    // Free cells never touch the grid's edge (the outer ring is wall), so k ± 1 and
+    // k ± n stay in range.
+    let cells = raster.cells();
+    let mut values = Vec::with_capacity(n * n);
+    let mut red = Order::default();
+    let mut black = Order::default();
+    for (k, cell) in cells.iter().enumerate() {
+        values.push(match cell {
+            Cell::Goal(_) => goal_value,
+            _ => wall_value,
+        });
+        if *cell != Cell::Free {
+            continue;
+        }
+        let order = if (k % n + k / n).is_multiple_of(2) {
+            &mut red
+        } else {
+            &mut black
+        };
+        // Each Robin face adds c·α·(g − b v) to the balance Σ c (v_nb − v) = 0, with
+        // α = 1 / (a/h + b/2), in place of c·(v_wall − v).
+        let mut special = None;
+        if let Some((a, b, g)) = robin {
+            for (m, c, h) in [
+                (k - 1, cx, hx),
+                (k + 1, cx, hx),
+                (k - n, cy, hy),
+                (k + n, cy, hy),
+            ] {
+                if cells[m] == Cell::Wall {
+                    let alpha = 1.0 / (a / h + 0.5 * b);
+                    let (r, d) = special.unwrap_or((0.0, 1.0));
+                    special = Some((r + c * (alpha * g - wall_value), d - c * (1.0 - alpha * b)));
+                }
+            }
+        }
+        match special {
+            Some((r, d)) => order.robin.push(RobinCell {
+                k: k as u32,
+                r,
+                s: 1.0 / d,
+            }),
+            None => order.plain.push(k as u32),
+        }
+    }
+    (values, red, black)
+}
+
+/// All free cells in row-by-row order for Gauss–Seidel (empty for red–black SOR, which
+/// sweeps the colours).
+fn lexicographic_order(relaxation: Relaxation, red: &Order, black: &Order) -> Order {
+    match relaxation {
+        Relaxation::GaussSeidel => {
+            let mut all = Order {
+                plain: red.plain.iter().chain(&black.plain).copied().collect(),
+                robin: red.robin.iter().chain(&black.robin).copied().collect(),
+            };
+            all.plain.sort_unstable();
+            all.robin.sort_unstable_by_key(|c| c.k);
+            all
+        }
+        Relaxation::RedBlackSor { .. } => Order::default(),
+    }
+}
+
+/// Per cell: whether it is 4-connected to a goal cell through traversable cells.
+fn goal_reachability(raster: &Raster) -> Vec<bool> {
+    raster
+        .goal_distances(Connectivity::Four)
+        .into_iter()
+        .map(|d| d != UNREACHED)
+        .collect()
+}
+
+/// The relaxation: the cells to sweep, the stencil and the stopping rule.
+struct Relax<'a> {
+    red: &'a Order,
+    black: &'a Order,
+    /// Every free cell in Gauss–Seidel order (empty for red–black SOR).
+    lexicographic: &'a Order,
+    stencil: Stencil,
+    reaches_goal: &'a [bool],
+    options: &'a SorOptions,
+}
+
+/// The current stage of the relaxation: the relaxation factor and the cells over-relaxed
+/// (all of them, except in the later stages of [`StopRule::RelativeResidual`]'s cascade,
+/// which over-relaxes only the cells below `tau`), with the smallest largest change of a
+/// sweep seen in the stage and the sweep that saw it.
+struct Stage {
+    omega: f64,
+    tau: f64,
+    red: Order,
+    black: Order,
+    smallest_update: f64,
+    smallest_at: usize,
+}
+
+impl Relax<'_> {
+    /// Sweeps `values` until the stopping rule holds or the budget is spent; returns the
+    /// sweeps done, the largest change in the last one and whether the rule was met.
+    fn run(&self, values: &mut [f64], omega: f64) -> (usize, f64, bool) {
+        let mut iterations = 0;
+        let mut max_update = f64::INFINITY;
+        let mut stage = Stage {
+            omega,
+            tau: 1.0,
+            red: self.red.clone(),
+            black: self.black.clone(),
+            smallest_update: f64::INFINITY,
+            smallest_at: 0,
+        };
+        while iterations < self.options.max_iterations {
+            iterations += 1;
+            max_update = self.sweep(values, &stage);
+            let done = match self.options.stop {
+                StopRule::MaxUpdate(t) => max_update < t,
+                // The full residual pass costs as much as half a sweep: run it only once the
+                // largest change (ω times the residual each cell saw when it was updated) is
+                // within a factor RESIDUAL_GATE of the tolerance. It only delays the check.
+                StopRule::Residual(t) => {
+                    max_update < RESIDUAL_GATE * t && self.residual(values, false) < t
+                }
+                StopRule::RelativeResidual(t) => {
+                    self.relative_done(values, &mut stage, iterations, max_update, t)
+                }
+            };
+            if done {
+                return (iterations, max_update, true);
+            }
+        }
+        (iterations, max_update, false)
+    }
+
+    /// One sweep of the stage's cells (of every cell for Gauss–Seidel); the largest change.
+    fn sweep(&self, values: &mut [f64], stage: &Stage) -> f64 {
+        let Stencil { n, cx, cy, .. } = self.stencil;
+        match self.options.relaxation {
+            Relaxation::GaussSeidel => self.lexicographic.sweep(values, n, cx, cy, 1.0),
+            Relaxation::RedBlackSor { .. } => {
+                let a = stage.red.sweep(values, n, cx, cy, stage.omega);
+                a.max(stage.black.sweep(values, n, cx, cy, stage.omega))
+            }
+        }
+    }
+
+    /// The largest residual of every free cell, absolute or relative to the cell's value.
+    fn residual(&self, values: &[f64], relative: bool) -> f64 {
+        let Stencil { n, cx, cy, .. } = self.stencil;
+        self.red
+            .residual(values, n, cx, cy, relative)
+            .max(self.black.residual(values, n, cx, cy, relative))
+    }
+
+    /// [`StopRule::RelativeResidual`] with tolerance `t` after sweep `iterations`: whether
+    /// every cell is resolved; moves `stage` on to the next stage of the cascade when the
+    /// current one has reached its noise floor.
+    fn relative_done(
+        &self,
+        values: &[f64],
+        stage: &mut Stage,
+        iterations: usize,
+        max_update: f64,
+        t: f64,
+    ) -> bool {
+        let Stencil { n, cx, cy, .. } = self.stencil;
+        if max_update < stage.smallest_update {
+            (stage.smallest_update, stage.smallest_at) = (max_update, iterations);
+        }
+        let floor = max_update < SOR_NOISE_FLOOR * stage.tau
+            || iterations - stage.smallest_at >= STAGNATION_SWEEPS;
+        let active_done = || {
+            stage
+                .red
+                .residual(values, n, cx, cy, true)
+                .max(stage.black.residual(values, n, cx, cy, true))
+                < t
+        };
+        if stage.omega == 1.0 {
+            iterations.is_multiple_of(16) && self.residual(values, true) < t
+        } else if !floor {
+            // A stage may already have resolved everything.
+            iterations.is_multiple_of(16) && active_done() && self.residual(values, true) < t
+        } else if self.residual(values, true) < t {
+            true
+        } else {
+            self.next_stage(values, stage, iterations);
+            false
+        }
+    }
+
+    /// The next stage of the cascade, from sweep `iterations` on.
+    fn next_stage(&self, values: &[f64], stage: &mut Stage, iterations: usize) {
+        // Cells of at least `tau / CASCADE_STEP` are now resolved to about 1e-10 of their
+        // value: hold them, and over-relax the rest, whose rounding noise is now that much
+        // smaller.
+        stage.tau /= CASCADE_STEP;
+        let tau = stage.tau;
+        let below = |k: usize| self.reaches_goal[k] && values[k] < tau;
+        stage.red = self.red.filtered(below);
+        stage.black = self.black.filtered(below);
+        (stage.smallest_update, stage.smallest_at) = (f64::INFINITY, iterations);
+        let empty = stage.red.is_empty() && stage.black.is_empty();
+        if self.options.unknown == Unknown::Phi || empty || tau < CASCADE_END {
+            (stage.omega, stage.red, stage.black) = (1.0, self.red.clone(), self.black.clone());
+        }
+    }
+}
+
 impl GridHarmonic {
     /// Relaxes the 5-point Laplace equation on `raster`'s free cells.
     ///
@@ -296,235 +642,27 @@ impl GridHarmonic {
     /// assert_eq!(field.flat_cells(), 0);
     /// ```
     pub fn solve(raster: Raster, options: &SorOptions) -> Result<Self, BaselineError> {
-        let n = raster.n();
-        let omega = match options.relaxation {
-            Relaxation::GaussSeidel => 1.0,
-            Relaxation::RedBlackSor { omega: None } => {
-                2.0 / (1.0 + (std::f64::consts::PI / n as f64).sin())
-            }
-            Relaxation::RedBlackSor { omega: Some(w) } => w,
-        };
-        if !(omega > 0.0 && omega < 2.0) {
-            return Err(BaselineError::InvalidParameter {
-                name: "omega",
-                value: omega,
-                reason: "SOR converges only for 0 < ω < 2",
-            });
-        }
-        let tol = match options.stop {
-            StopRule::MaxUpdate(t) | StopRule::Residual(t) | StopRule::RelativeResidual(t) => t,
-        };
-        if !(tol > 0.0 && tol.is_finite()) {
-            return Err(BaselineError::InvalidParameter {
-                name: "tolerance",
-                value: tol,
-                reason: "must be positive and finite",
-            });
-        }
-        if options.max_iterations == 0 {
-            return Err(BaselineError::InvalidParameter {
-                name: "max_iterations",
-                value: 0.0,
-                reason: "must be at least 1",
-            });
-        }
-        let (goal_value, wall_value) = match options.unknown {
-            Unknown::Psi => (1.0, 0.0),
-            Unknown::Phi => (0.0, 1.0),
-        };
-        let (hx, hy) = raster.cell_size();
-        let (wx, wy) = (1.0 / (hx * hx), 1.0 / (hy * hy));
-        let cx = wx / (2.0 * (wx + wy));
-        let cy = wy / (2.0 * (wx + wy));
-        let robin = match options.walls {
-            WallCondition::Dirichlet => None,
-            WallCondition::Robin { a, b, g } => {
-                for (name, v) in [("robin a", a), ("robin b", b), ("robin g", g)] {
-                    if !v.is_finite() {
-                        return Err(BaselineError::NonFinite {
-                            what: name.to_string(),
-                            value: v,
-                        });
-                    }
-                }
-                if a < 0.0 || b < 0.0 || a + b <= 0.0 {
-                    return Err(BaselineError::InvalidParameter {
-                        name: "robin a, b",
-                        value: a.min(b),
-                        reason: "need a ≥ 0, b ≥ 0 and a + b > 0",
-                    });
-                }
-                let driven = b > 0.0
-                    || g != 0.0
-                    || raster
-                        .cells()
-                        .iter()
-                        .any(|c| matches!(c, Cell::Obstacle(_)));
-                if !driven {
-                    return Err(BaselineError::InvalidParameter {
-                        name: "robin b",
-                        value: b,
-                        reason: "homogeneous Neumann walls and no obstacle: only the goal is \
-                                 Dirichlet and the potential is constant",
-                    });
-                }
-                // In the unknown's own terms (ψ = 1 − φ turns g into b − g).
-                let g = match options.unknown {
-                    Unknown::Psi => b - g,
-                    Unknown::Phi => g,
-                };
-                Some((a, b, g))
-            }
-        };
-        // Free cells never touch the grid's edge (the outer ring is wall), so k ± 1 and
-        // k ± n stay in range.
-        let cells = raster.cells();
-        let mut values = Vec::with_capacity(n * n);
-        let mut red = Order::default();
-        let mut black = Order::default();
-        for (k, cell) in cells.iter().enumerate() {
-            values.push(match cell {
-                Cell::Goal(_) => goal_value,
-                _ => wall_value,
-            });
-            if *cell != Cell::Free {
-                continue;
-            }
-            let order = if (k % n + k / n).is_multiple_of(2) {
-                &mut red
-            } else {
-                &mut black
-            };
-            // Each Robin face adds c·α·(g − b v) to the balance Σ c (v_nb − v) = 0, with
-            // α = 1 / (a/h + b/2), in place of c·(v_wall − v).
-            let mut special = None;
-            if let Some((a, b, g)) = robin {
-                for (m, c, h) in [
-                    (k - 1, cx, hx),
-                    (k + 1, cx, hx),
-                    (k - n, cy, hy),
-                    (k + n, cy, hy),
-                ] {
-                    if cells[m] == Cell::Wall {
-                        let alpha = 1.0 / (a / h + 0.5 * b);
-                        let (r, d) = special.unwrap_or((0.0, 1.0));
-                        special =
-                            Some((r + c * (alpha * g - wall_value), d - c * (1.0 - alpha * b)));
-                    }
-                }
-            }
-            match special {
-                Some((r, d)) => order.robin.push(RobinCell {
-                    k: k as u32,
-                    r,
-                    s: 1.0 / d,
-                }),
-                None => order.plain.push(k as u32),
-            }
-        }
-        let lexicographic = match options.relaxation {
-            Relaxation::GaussSeidel => {
-                let mut all = Order {
-                    plain: red.plain.iter().chain(&black.plain).copied().collect(),
-                    robin: red.robin.iter().chain(&black.robin).copied().collect(),
-                };
-                all.plain.sort_unstable();
-                all.robin.sort_unstable_by_key(|c| c.k);
-                all
-            }
-            Relaxation::RedBlackSor { .. } => Order::default(),
-        };
-        let reaches_goal: Vec<bool> = raster
-            .goal_distances(Connectivity::Four)
-            .into_iter()
-            .map(|d| d != UNREACHED)
-            .collect();
+        let omega = relaxation_factor(options.relaxation, raster.n())?;
+        check_stopping(options)?;
+        let robin = robin_walls(options, &raster)?;
+        let stencil = Stencil::of(&raster);
+        let (mut values, red, black) = initial_values(&raster, options.unknown, robin, stencil);
+        let lexicographic = lexicographic_order(options.relaxation, &red, &black);
+        let reaches_goal = goal_reachability(&raster);
         let start = Instant::now();
-        let mut iterations = 0;
-        let mut max_update = f64::INFINITY;
-        let mut converged = false;
-        let mut w = omega;
-        let (mut smallest_update, mut smallest_at) = (f64::INFINITY, 0);
-        // StopRule::RelativeResidual's cascade: the cells over-relaxed in the current stage
-        // (below `tau`, all of them at first).
-        let mut tau = 1.0;
-        let (mut active_red, mut active_black) = (red.clone(), black.clone());
-        while iterations < options.max_iterations {
-            iterations += 1;
-            max_update = match options.relaxation {
-                Relaxation::GaussSeidel => lexicographic.sweep(&mut values, n, cx, cy, 1.0),
-                Relaxation::RedBlackSor { .. } => {
-                    let a = active_red.sweep(&mut values, n, cx, cy, w);
-                    a.max(active_black.sweep(&mut values, n, cx, cy, w))
-                }
-            };
-            let done = match options.stop {
-                StopRule::MaxUpdate(t) => max_update < t,
-                // The full residual pass costs as much as half a sweep: run it only once the
-                // largest change (ω times the residual each cell saw when it was updated) is
-                // within a factor RESIDUAL_GATE of the tolerance. It only delays the check.
-                StopRule::Residual(t) => {
-                    max_update < RESIDUAL_GATE * t
-                        && red
-                            .residual(&values, n, cx, cy, false)
-                            .max(black.residual(&values, n, cx, cy, false))
-                            < t
-                }
-                StopRule::RelativeResidual(t) => {
-                    let relative = |v: &[f64]| {
-                        red.residual(v, n, cx, cy, true)
-                            .max(black.residual(v, n, cx, cy, true))
-                    };
-                    if max_update < smallest_update {
-                        (smallest_update, smallest_at) = (max_update, iterations);
-                    }
-                    let floor = max_update < SOR_NOISE_FLOOR * tau
-                        || iterations - smallest_at >= STAGNATION_SWEEPS;
-                    let active_done = || {
-                        active_red
-                            .residual(&values, n, cx, cy, true)
-                            .max(active_black.residual(&values, n, cx, cy, true))
-                            < t
-                    };
-                    if w == 1.0 {
-                        iterations % 16 == 0 && relative(&values) < t
-                    } else if !floor {
-                        // A stage may already have resolved everything.
-                        iterations % 16 == 0 && active_done() && relative(&values) < t
-                    } else if relative(&values) < t {
-                        true
-                    } else {
-                        // Cells of at least `tau / CASCADE_STEP` are now resolved to about
-                        // 1e-10 of their value: hold them, and over-relax the rest, whose
-                        // rounding noise is now that much smaller.
-                        tau /= CASCADE_STEP;
-                        let below = |k: usize| reaches_goal[k] && values[k] < tau;
-                        active_red = red.filtered(below);
-                        active_black = black.filtered(below);
-                        (smallest_update, smallest_at) = (f64::INFINITY, iterations);
-                        let empty = active_red.is_empty() && active_black.is_empty();
-                        if options.unknown == Unknown::Phi || empty || tau < CASCADE_END {
-                            (w, active_red, active_black) = (1.0, red.clone(), black.clone());
-                        }
-                        false
-                    }
-                }
-            };
-            if done {
-                converged = true;
-                break;
-            }
-        }
-        let residual = red
-            .residual(&values, n, cx, cy, false)
-            .max(black.residual(&values, n, cx, cy, false));
-        let relative_residual = red
-            .residual(&values, n, cx, cy, true)
-            .max(black.residual(&values, n, cx, cy, true));
+        let relax = Relax {
+            red: &red,
+            black: &black,
+            lexicographic: &lexicographic,
+            stencil,
+            reaches_goal: &reaches_goal,
+            options,
+        };
+        let (iterations, max_update, converged) = relax.run(&mut values, omega);
         let report = SolveReport {
             iterations,
-            residual,
-            relative_residual,
+            residual: relax.residual(&values, false),
+            relative_residual: relax.residual(&values, true),
             max_update,
             converged,
             omega,

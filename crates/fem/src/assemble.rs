@@ -287,31 +287,33 @@ pub struct Assembler {
     component_vertex: Vec<u32>,
 }
 
-impl Assembler {
-    /// Computes the sparsity pattern and the Dirichlet map for `mesh` and the kinds of `bcs`
-    /// (only which parts are Dirichlet matters here; values are taken by
-    /// [`assemble`](Self::assemble)). Validates `bcs`.
-    pub fn new(
-        mesh: Arc<Mesh>,
-        bcs: &BoundaryConditions,
-        options: AssemblyOptions,
-    ) -> Result<Self, FemError> {
-        bcs.validate()?;
-        let nv = mesh.vertices().len();
-        let triangles = mesh.triangles();
-        let mut kinds = BTreeMap::new();
-        let mut fixed = vec![false; nv];
-        for e in mesh.boundary_edges() {
-            let kind = bcs.for_tag(e.tag).kind();
-            kinds.insert(e.tag, kind);
-            if kind == ConditionKind::Essential {
-                for &v in &e.vertices {
-                    fixed[v as usize] = true;
-                }
+/// The condition kind on each boundary tag of `mesh` under `bcs`, and per vertex whether
+/// it lies on an essential (Dirichlet) part.
+fn condition_kinds(
+    mesh: &Mesh,
+    bcs: &BoundaryConditions,
+) -> (BTreeMap<BoundaryTag, ConditionKind>, Vec<bool>) {
+    let mut kinds = BTreeMap::new();
+    let mut fixed = vec![false; mesh.vertices().len()];
+    for e in mesh.boundary_edges() {
+        let kind = bcs.for_tag(e.tag).kind();
+        kinds.insert(e.tag, kind);
+        if kind == ConditionKind::Essential {
+            for &v in &e.vertices {
+                fixed[v as usize] = true;
             }
         }
+    }
+    (kinds, fixed)
+}
+
+impl DofMap {
+    /// The unknowns of `mesh`: every vertex used by a triangle and not `fixed`, in vertex
+    /// order.
+    fn new(mesh: &Mesh, fixed: &[bool]) -> DofMap {
+        let nv = mesh.vertices().len();
         let mut used = vec![false; nv];
-        for tri in triangles {
+        for tri in mesh.triangles() {
             for &v in tri {
                 used[v as usize] = true;
             }
@@ -324,156 +326,301 @@ impl Assembler {
                 free_vertices.push(v as u32);
             }
         }
-        let n = free_vertices.len();
+        DofMap {
+            unknown_of,
+            free_vertices,
+        }
+    }
+}
 
-        // Pattern, without sorting or searching: (1) an unsorted column structure U with the
-        // diagonal first and each mesh edge between unknowns once (from the triangle with the
-        // smaller index), recording each triangle's slots in U; (2) its transpose T, which is
-        // the same symmetric pattern with rows increasing in every column, and the map from
-        // U slots to T positions.
-        let neighbors = mesh.neighbors();
-        let unknowns_of = |tri: &[u32; 3], k: usize| {
-            (
-                unknown_of[tri[(k + 1) % 3] as usize],
-                unknown_of[tri[(k + 2) % 3] as usize],
-            )
-        };
-        let mut count = vec![1usize; n];
-        // Fused into this pass: per component of free space, whether it holds a prescribed
-        // vertex, and one of its vertices (for error messages).
-        let components = mesh.component_count() as usize;
-        let mut component_fixed = vec![false; components];
-        let mut component_vertex = vec![NONE; components];
-        let triangle_components = mesh.triangle_components();
-        for (t, (tri, nbs)) in triangles.iter().zip(neighbors).enumerate() {
-            let c = triangle_components[t] as usize;
-            component_vertex[c] = tri[0];
-            if tri.iter().any(|&v| unknown_of[v as usize] == NONE) {
-                component_fixed[c] = true;
+/// The unknowns `(a, b)` (or `NONE`) at the ends of local edge `k` of `tri`, the edge
+/// joining local vertices `k + 1` and `k + 2`.
+fn edge_unknowns(unknown_of: &[u32], tri: &[u32; 3], k: usize) -> (u32, u32) {
+    (
+        unknown_of[tri[(k + 1) % 3] as usize],
+        unknown_of[tri[(k + 2) % 3] as usize],
+    )
+}
+
+/// Per component of free space: whether it holds a prescribed vertex, and one of its
+/// vertices (for error messages).
+struct Components {
+    fixed: Vec<bool>,
+    vertex: Vec<u32>,
+}
+
+/// The number of entries of each column of the pattern (the diagonal, and each mesh edge
+/// between unknowns once), with the components' [`Components`] fused into the same pass.
+fn column_counts(mesh: &Mesh, dofs: &DofMap) -> (Vec<usize>, Components) {
+    let unknown_of = &dofs.unknown_of;
+    let mut count = vec![1usize; dofs.free_vertices.len()];
+    let components = mesh.component_count() as usize;
+    let mut component_fixed = vec![false; components];
+    let mut component_vertex = vec![NONE; components];
+    let triangle_components = mesh.triangle_components();
+    for (t, (tri, nbs)) in mesh.triangles().iter().zip(mesh.neighbors()).enumerate() {
+        let c = triangle_components[t] as usize;
+        component_vertex[c] = tri[0];
+        if tri.iter().any(|&v| unknown_of[v as usize] == NONE) {
+            component_fixed[c] = true;
+        }
+        for (k, &nb) in nbs.iter().enumerate() {
+            let (a, b) = edge_unknowns(unknown_of, tri, k);
+            if (nb == NO_NEIGHBOR || nb as usize > t) && a != NONE && b != NONE {
+                count[a as usize] += 1;
+                count[b as usize] += 1;
             }
-            for (k, &nb) in nbs.iter().enumerate() {
-                let (a, b) = unknowns_of(tri, k);
-                if (nb == NO_NEIGHBOR || nb as usize > t) && a != NONE && b != NONE {
-                    count[a as usize] += 1;
-                    count[b as usize] += 1;
-                }
-            }
         }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        col_ptr.push(0usize);
-        for c in &count {
-            col_ptr.push(col_ptr[col_ptr.len() - 1] + c);
-        }
-        let nnz = col_ptr[n];
-        if nnz >= NONE as usize {
-            return Err(FemError::TooLarge { nnz });
-        }
-        let mut next: Vec<usize> = col_ptr[..n].to_vec();
-        let mut u_rows = vec![0u32; nnz];
-        for (j, slot) in next.iter_mut().enumerate() {
-            u_rows[*slot] = j as u32;
-            *slot += 1;
-        }
-        // tri_pos[t][2k]: slot of (row a, col b), [2k+1]: slot of (row b, col a), where
-        // (a, b) are the unknowns of local edge k; first in U, remapped to T below.
-        let mut tri_pos = vec![[NONE; 6]; triangles.len()];
-        // Fused into this pass: the lifting edges (one end unknown, one prescribed), each once,
-        // so their weights are summed over both triangles before use: a single triangle's
-        // share may be negative.
-        let mut lift_pos = vec![[NONE; 3]; triangles.len()];
-        let mut lift_edges = Vec::new();
-        for (t, tri) in triangles.iter().enumerate() {
-            for k in 0..3 {
-                let (a, b) = unknowns_of(tri, k);
-                if a == NONE || b == NONE {
-                    if (a == NONE) != (b == NONE) {
-                        let nb = neighbors[t][k];
-                        if nb == NO_NEIGHBOR || nb as usize > t {
-                            lift_pos[t][k] = lift_edges.len() as u32;
-                            let (u, v) = if a != NONE {
-                                (a, tri[(k + 2) % 3])
-                            } else {
-                                (b, tri[(k + 1) % 3])
-                            };
-                            lift_edges.push((u, v));
+    }
+    (
+        count,
+        Components {
+            fixed: component_fixed,
+            vertex: component_vertex,
+        },
+    )
+}
+
+/// The column pointers of columns with `count` entries; an error if the entries would not
+/// fit the `u32` position tables.
+fn column_pointers(count: &[usize]) -> Result<Vec<usize>, FemError> {
+    let mut col_ptr = Vec::with_capacity(count.len() + 1);
+    col_ptr.push(0usize);
+    for c in count {
+        col_ptr.push(col_ptr[col_ptr.len() - 1] + c);
+    }
+    let nnz = col_ptr[count.len()];
+    if nnz >= NONE as usize {
+        return Err(FemError::TooLarge { nnz });
+    }
+    Ok(col_ptr)
+}
+
+/// The unsorted column structure U of the pattern and where each triangle's entries and
+/// lifting edges are in it.
+struct UnsortedPattern {
+    /// Per slot of U: its row (the diagonal first in each column, then each mesh edge
+    /// between unknowns once, from the triangle with the smaller index).
+    u_rows: Vec<u32>,
+    /// As [`Assembler::tri_pos`], but slots in U.
+    tri_pos: Vec<[u32; 6]>,
+    /// As [`Assembler::lift_pos`].
+    lift_pos: Vec<[u32; 3]>,
+    /// As [`Assembler::lift_edges`].
+    lift_edges: Vec<(u32, u32)>,
+}
+
+/// The local index in triangle `nb` of its edge shared with triangle `t`.
+fn shared_edge(neighbors: &[[u32; 3]], nb: usize, t: usize) -> usize {
+    (0..3)
+        .find(|&m| neighbors[nb][m] as usize == t)
+        .expect("adjacency is symmetric")
+}
+
+/// Pattern, without sorting or searching, step 1: the unsorted column structure U with
+/// the diagonal first and each mesh edge between unknowns once (from the triangle with the
+/// smaller index), recording each triangle's slots in U, and the lifting edges.
+fn unsorted_pattern(mesh: &Mesh, unknown_of: &[u32], col_ptr: &[usize]) -> UnsortedPattern {
+    let triangles = mesh.triangles();
+    let neighbors = mesh.neighbors();
+    let n = col_ptr.len() - 1;
+    let nnz = col_ptr[n];
+    let mut next: Vec<usize> = col_ptr[..n].to_vec();
+    let mut u_rows = vec![0u32; nnz];
+    for (j, slot) in next.iter_mut().enumerate() {
+        u_rows[*slot] = j as u32;
+        *slot += 1;
+    }
+    // tri_pos[t][2k]: slot of (row a, col b), [2k+1]: slot of (row b, col a), where
+    // (a, b) are the unknowns of local edge k; in U, remapped to T by `sort_pattern`.
+    let mut tri_pos = vec![[NONE; 6]; triangles.len()];
+    // Fused into this pass: the lifting edges (one end unknown, one prescribed), each once,
+    // so their weights are summed over both triangles before use: a single triangle's
+    // share may be negative.
+    let mut lift_pos = vec![[NONE; 3]; triangles.len()];
+    let mut lift_edges = Vec::new();
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = edge_unknowns(unknown_of, tri, k);
+            if a == NONE || b == NONE {
+                if (a == NONE) != (b == NONE) {
+                    let nb = neighbors[t][k];
+                    if nb == NO_NEIGHBOR || nb as usize > t {
+                        lift_pos[t][k] = lift_edges.len() as u32;
+                        let (u, v) = if a != NONE {
+                            (a, tri[(k + 2) % 3])
                         } else {
-                            let nb = nb as usize;
-                            let kn = (0..3)
-                                .find(|&m| neighbors[nb][m] as usize == t)
-                                .expect("adjacency is symmetric");
-                            lift_pos[t][k] = lift_pos[nb][kn];
-                        }
+                            (b, tri[(k + 1) % 3])
+                        };
+                        lift_edges.push((u, v));
+                    } else {
+                        let nb = nb as usize;
+                        let kn = shared_edge(neighbors, nb, t);
+                        lift_pos[t][k] = lift_pos[nb][kn];
                     }
-                    continue;
                 }
-                let nb = neighbors[t][k];
-                if nb == NO_NEIGHBOR || nb as usize > t {
-                    let s_ab = next[b as usize];
-                    u_rows[s_ab] = a;
-                    next[b as usize] += 1;
-                    let s_ba = next[a as usize];
-                    u_rows[s_ba] = b;
-                    next[a as usize] += 1;
-                    tri_pos[t][2 * k] = s_ab as u32;
-                    tri_pos[t][2 * k + 1] = s_ba as u32;
-                } else {
-                    let nb = nb as usize;
-                    let kn = (0..3)
-                        .find(|&m| neighbors[nb][m] as usize == t)
-                        .expect("adjacency is symmetric");
-                    let [s0, s1] = [tri_pos[nb][2 * kn], tri_pos[nb][2 * kn + 1]];
-                    // Same orientation in both triangles only if the mesh is inconsistent;
-                    // compare vertices rather than assume.
-                    let same = triangles[nb][(kn + 1) % 3] == tri[(k + 1) % 3];
-                    let (ab, ba) = if same { (s0, s1) } else { (s1, s0) };
-                    tri_pos[t][2 * k] = ab;
-                    tri_pos[t][2 * k + 1] = ba;
-                }
+                continue;
+            }
+            let nb = neighbors[t][k];
+            if nb == NO_NEIGHBOR || nb as usize > t {
+                let s_ab = next[b as usize];
+                u_rows[s_ab] = a;
+                next[b as usize] += 1;
+                let s_ba = next[a as usize];
+                u_rows[s_ba] = b;
+                next[a as usize] += 1;
+                tri_pos[t][2 * k] = s_ab as u32;
+                tri_pos[t][2 * k + 1] = s_ba as u32;
+            } else {
+                let nb = nb as usize;
+                let kn = shared_edge(neighbors, nb, t);
+                let [s0, s1] = [tri_pos[nb][2 * kn], tri_pos[nb][2 * kn + 1]];
+                // Same orientation in both triangles only if the mesh is inconsistent;
+                // compare vertices rather than assume.
+                let same = triangles[nb][(kn + 1) % 3] == tri[(k + 1) % 3];
+                let (ab, ba) = if same { (s0, s1) } else { (s1, s0) };
+                tri_pos[t][2 * k] = ab;
+                tri_pos[t][2 * k + 1] = ba;
             }
         }
-        let mut next: Vec<usize> = col_ptr[..n].to_vec();
-        let mut row_idx = vec![0usize; nnz];
-        // to_t[s]: for the U entry (row i, col j) in slot s, the T position of (row j, col i).
-        let mut to_t = vec![0u32; nnz];
-        for j in 0..n {
-            for s in col_ptr[j]..col_ptr[j + 1] {
-                let i = u_rows[s] as usize;
-                row_idx[next[i]] = j;
-                to_t[s] = next[i] as u32;
-                next[i] += 1;
-            }
-        }
-        drop(u_rows);
-        for pos in &mut tri_pos {
-            for k in 0..3 {
-                if pos[2 * k] != NONE {
-                    let (ab, ba) = (pos[2 * k], pos[2 * k + 1]);
-                    pos[2 * k] = to_t[ba as usize];
-                    pos[2 * k + 1] = to_t[ab as usize];
-                }
-            }
-        }
-        let diag_pos: Vec<u32> = (0..n).map(|j| to_t[col_ptr[j]]).collect();
+    }
+    UnsortedPattern {
+        u_rows,
+        tri_pos,
+        lift_pos,
+        lift_edges,
+    }
+}
 
+/// Pattern, step 2: the transpose T of U, which is the same symmetric pattern with rows
+/// increasing in every column; remaps `pattern.tri_pos` from U slots to T positions and
+/// returns T's row indices and the position of each diagonal entry.
+fn sort_pattern(col_ptr: &[usize], pattern: &mut UnsortedPattern) -> (Vec<usize>, Vec<u32>) {
+    let n = col_ptr.len() - 1;
+    let nnz = col_ptr[n];
+    let u_rows = std::mem::take(&mut pattern.u_rows);
+    let mut next: Vec<usize> = col_ptr[..n].to_vec();
+    let mut row_idx = vec![0usize; nnz];
+    // to_t[s]: for the U entry (row i, col j) in slot s, the T position of (row j, col i).
+    let mut to_t = vec![0u32; nnz];
+    for j in 0..n {
+        for s in col_ptr[j]..col_ptr[j + 1] {
+            let i = u_rows[s] as usize;
+            row_idx[next[i]] = j;
+            to_t[s] = next[i] as u32;
+            next[i] += 1;
+        }
+    }
+    drop(u_rows);
+    for pos in &mut pattern.tri_pos {
+        for k in 0..3 {
+            if pos[2 * k] != NONE {
+                let (ab, ba) = (pos[2 * k], pos[2 * k + 1]);
+                pos[2 * k] = to_t[ba as usize];
+                pos[2 * k + 1] = to_t[ab as usize];
+            }
+        }
+    }
+    let diag_pos: Vec<u32> = (0..n).map(|j| to_t[col_ptr[j]]).collect();
+    (row_idx, diag_pos)
+}
+
+/// The boundary values of one assembly: each condition's constant, or the spatially
+/// varying `data` when given (see [`BoundaryData`]).
+struct BoundaryValues<'a> {
+    vertices: &'a [Point],
+    data: Option<BoundaryData<'a>>,
+}
+
+impl BoundaryValues<'_> {
+    /// The value of `bc` (the Dirichlet value, or the Neumann or Robin `g`) at vertex `v` of
+    /// boundary edge `e`; an error if `data` gives a number that is not finite.
+    fn at(&self, bc: BoundaryCondition, e: &BoundaryEdge, v: u32) -> Result<f64, FemError> {
+        let constant = match bc {
+            BoundaryCondition::Dirichlet(v) => v,
+            BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
+        };
+        match self.data {
+            None => Ok(constant),
+            Some(f) => {
+                let p = self.vertices[v as usize];
+                let value = f(e, p);
+                if value.is_finite() {
+                    Ok(value)
+                } else {
+                    Err(FemError::NonFiniteData {
+                        part: e.tag.to_string(),
+                        x: p.x,
+                        y: p.y,
+                        value,
+                    })
+                }
+            }
+        }
+    }
+}
+
+/// What drives the flow of one assembly: the φ levels that the boundary prescribes
+/// (Dirichlet values and Robin `g/b`), whether some Neumann or Robin flux is nonzero, and
+/// per component of free space whether a Robin part anchors its level.
+struct Drive {
+    levels: Vec<f64>,
+    flux: bool,
+    anchored_by_robin: Vec<bool>,
+}
+
+impl Drive {
+    /// The reference value c of ψ = c − φ: the highest prescribed level (0 if none); an
+    /// error if nothing drives a flow (no flux and every level the same).
+    fn reference(&self) -> Result<f64, FemError> {
+        let levels = &self.levels;
+        let reference = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let reference = if reference.is_finite() {
+            reference
+        } else {
+            0.0
+        };
+        let tol = 1e-12 * reference.abs().max(1.0);
+        if !self.flux && levels.iter().all(|&l| (l - reference).abs() <= tol) {
+            return Err(FemError::ConstantPotential { value: reference });
+        }
+        Ok(reference)
+    }
+}
+
+impl Assembler {
+    /// Computes the sparsity pattern and the Dirichlet map for `mesh` and the kinds of `bcs`
+    /// (only which parts are Dirichlet matters here; values are taken by
+    /// [`assemble`](Self::assemble)). Validates `bcs`.
+    pub fn new(
+        mesh: Arc<Mesh>,
+        bcs: &BoundaryConditions,
+        options: AssemblyOptions,
+    ) -> Result<Self, FemError> {
+        bcs.validate()?;
+        let (kinds, fixed) = condition_kinds(&mesh, bcs);
+        let dofs = DofMap::new(&mesh, &fixed);
+        let (count, components) = column_counts(&mesh, &dofs);
+        let col_ptr = column_pointers(&count)?;
+        let mut pattern = unsorted_pattern(&mesh, &dofs.unknown_of, &col_ptr);
+        let (row_idx, diag_pos) = sort_pattern(&col_ptr, &mut pattern);
+        let n = dofs.free_vertices.len();
+        let nnz = col_ptr[n];
         // Built from undirected mesh edges: symmetric by construction.
         let template =
             SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])?;
-
         Ok(Assembler {
             mesh,
             options,
             kinds,
-            dofs: Arc::new(DofMap {
-                unknown_of,
-                free_vertices,
-            }),
+            dofs: Arc::new(dofs),
             template,
-            tri_pos,
+            tri_pos: pattern.tri_pos,
             diag_pos,
-            lift_pos,
-            lift_edges,
-            component_fixed,
-            component_vertex,
+            lift_pos: pattern.lift_pos,
+            lift_edges: pattern.lift_edges,
+            component_fixed: components.fixed,
+            component_vertex: components.vertex,
         })
     }
 
@@ -549,6 +696,30 @@ impl Assembler {
         data: Option<BoundaryData<'_>>,
         system: &mut LinearSystem,
     ) -> Result<(), FemError> {
+        self.check_compatible(bcs, system)?;
+        let values = BoundaryValues {
+            vertices: self.mesh.vertices(),
+            data,
+        };
+        let drive = self.prescribed_phi(bcs, &values, &mut system.psi_fixed)?;
+        self.check_anchored(&drive.anchored_by_robin)?;
+        let reference = drive.reference()?;
+        self.psi_of_prescribed(reference, &mut system.psi_fixed);
+        system.reference = reference;
+        let lift_weight = self.scatter_stiffness(system);
+        let not_m_matrix = self.lift(&lift_weight, system);
+        self.boundary_terms(bcs, &values, system)?;
+        system.not_m_matrix = not_m_matrix;
+        Ok(())
+    }
+
+    /// Checks that `system` is one of this assembler's and that `bcs` is valid and has the
+    /// same condition kind on every boundary part as the conditions the pattern was made for.
+    fn check_compatible(
+        &self,
+        bcs: &BoundaryConditions,
+        system: &LinearSystem,
+    ) -> Result<(), FemError> {
         if !Arc::ptr_eq(&system.dofs, &self.dofs) {
             return Err(FemError::ForeignSystem);
         }
@@ -563,37 +734,20 @@ impl Assembler {
                 });
             }
         }
-        let mesh = &*self.mesh;
-        let vertices = mesh.vertices();
-        let unknown_of = &self.dofs.unknown_of;
-        let value_at = |bc: BoundaryCondition, e: &BoundaryEdge, v: u32| -> Result<f64, FemError> {
-            let constant = match bc {
-                BoundaryCondition::Dirichlet(v) => v,
-                BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
-            };
-            match data {
-                None => Ok(constant),
-                Some(f) => {
-                    let p = vertices[v as usize];
-                    let value = f(e, p);
-                    if value.is_finite() {
-                        Ok(value)
-                    } else {
-                        Err(FemError::NonFiniteData {
-                            part: e.tag.to_string(),
-                            x: p.x,
-                            y: p.y,
-                            value,
-                        })
-                    }
-                }
-            }
-        };
+        Ok(())
+    }
 
-        // Prescribed φ (lowest wins), the reference value c, and what drives the flow.
-        let psi_fixed = &mut system.psi_fixed;
+    /// Prescribed φ (lowest wins) into `psi_fixed` (∞ at prescribed vertices that no
+    /// Dirichlet part touches, 0 at unknowns), and what drives the flow.
+    fn prescribed_phi(
+        &self,
+        bcs: &BoundaryConditions,
+        values: &BoundaryValues<'_>,
+        psi_fixed: &mut [f64],
+    ) -> Result<Drive, FemError> {
+        let mesh = &*self.mesh;
         psi_fixed.fill(f64::INFINITY);
-        for (v, &u) in unknown_of.iter().enumerate() {
+        for (v, &u) in self.dofs.unknown_of.iter().enumerate() {
             if u != NONE {
                 psi_fixed[v] = 0.0;
             }
@@ -604,7 +758,7 @@ impl Assembler {
         for e in mesh.boundary_edges() {
             let bc = bcs.for_tag(e.tag);
             let [i, j] = e.vertices;
-            let (gi, gj) = (value_at(bc, e, i)?, value_at(bc, e, j)?);
+            let (gi, gj) = (values.at(bc, e, i)?, values.at(bc, e, j)?);
             match bc {
                 BoundaryCondition::Dirichlet(_) => {
                     for (v, phi) in [(i, gi), (j, gj)] {
@@ -630,10 +784,21 @@ impl Assembler {
                 }
             }
         }
+        Ok(Drive {
+            levels,
+            flux,
+            anchored_by_robin,
+        })
+    }
+
+    /// An error for the first component of free space with neither a prescribed vertex nor
+    /// a Robin part (`anchored_by_robin`, per component) to fix the potential's level.
+    fn check_anchored(&self, anchored_by_robin: &[bool]) -> Result<(), FemError> {
+        let vertices = self.mesh.vertices();
         for (c, (&fixed, &robin)) in self
             .component_fixed
             .iter()
-            .zip(&anchored_by_robin)
+            .zip(anchored_by_robin)
             .enumerate()
         {
             if !fixed && !robin {
@@ -645,18 +810,14 @@ impl Assembler {
                 });
             }
         }
-        let reference = levels.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let reference = if reference.is_finite() {
-            reference
-        } else {
-            0.0
-        };
-        let tol = 1e-12 * reference.abs().max(1.0);
-        if !flux && levels.iter().all(|&l| (l - reference).abs() <= tol) {
-            return Err(FemError::ConstantPotential { value: reference });
-        }
+        Ok(())
+    }
+
+    /// Turns the prescribed φ in `psi_fixed` into ψ = c − φ for the reference value `c`
+    /// (0 at a prescribed vertex no Dirichlet part touches: it is unused).
+    fn psi_of_prescribed(&self, reference: f64, psi_fixed: &mut [f64]) {
         for (v, slot) in psi_fixed.iter_mut().enumerate() {
-            if unknown_of[v] == NONE {
+            if self.dofs.unknown_of[v] == NONE {
                 // Prescribed vertex: c − φ, or 0 if no Dirichlet part touches it (unused).
                 *slot = if slot.is_finite() {
                     reference - *slot
@@ -665,20 +826,22 @@ impl Assembler {
                 };
             }
         }
-        system.reference = reference;
+    }
 
-        let psi_fixed = &system.psi_fixed;
+    /// Clears the matrix values, right-hand side and row excesses of `system` and scatters
+    /// the stiffness into the matrix: K_pq = −(cot θ_k)/2 for the edge opposite local vertex
+    /// k. Returns the summed weight of each lifting edge.
+    fn scatter_stiffness(&self, system: &mut LinearSystem) -> Vec<f64> {
+        let vertices = self.mesh.vertices();
+        let unknown_of = &self.dofs.unknown_of;
         let values = system.matrix.values_mut();
         values.fill(0.0);
-        let rhs = &mut system.rhs;
-        rhs.fill(0.0);
+        system.rhs.fill(0.0);
         let diag_pos = &self.diag_pos;
-        let excess = &mut system.excess;
-        excess.fill(0.0);
+        system.excess.fill(0.0);
         let mut lift_weight = vec![0.0; self.lift_edges.len()];
-
-        // Stiffness: K_pq = −(cot θ_k)/2 for the edge opposite local vertex k.
-        for ((tri, pos), lift) in mesh
+        for ((tri, pos), lift) in self
+            .mesh
             .triangles()
             .iter()
             .zip(&self.tri_pos)
@@ -710,13 +873,21 @@ impl Assembler {
                 }
             }
         }
+        lift_weight
+    }
 
-        // Lifting, per edge with both triangles' shares summed: rhs_u += w ψ_v, and the
-        // excess of row u gains w. A weight below zero beyond round-off means the edge is not
-        // Delaunay; within round-off (right angles) it is clamped to 0.
+    /// Lifting, per edge with both triangles' shares summed (`lift_weight`): rhs_u += w ψ_v,
+    /// and the excess of row u gains w. A weight below zero beyond round-off means the edge
+    /// is not Delaunay; within round-off (right angles) it is clamped to 0. Returns why the
+    /// matrix is not an M-matrix, if it is not (consistent Robin mass, a negative lifting
+    /// weight, or a positive off-diagonal entry).
+    fn lift(&self, lift_weight: &[f64], system: &mut LinearSystem) -> Option<NotMMatrix> {
+        let vertices = self.mesh.vertices();
+        let values = system.matrix.values_mut();
+        let diag_pos = &self.diag_pos;
         let mut not_m_matrix = (self.options.robin_mass == RobinMass::Consistent)
             .then_some(NotMMatrix::ConsistentRobinMass);
-        for (&(u, v), &w) in self.lift_edges.iter().zip(&lift_weight) {
+        for (&(u, v), &w) in self.lift_edges.iter().zip(lift_weight) {
             let diag = values[diag_pos[u as usize] as usize];
             if w < -1e-12 * diag && not_m_matrix.is_none() {
                 let (p, q) = (
@@ -730,15 +901,32 @@ impl Assembler {
                 });
             }
             let w = w.max(0.0);
-            rhs[u as usize] += w * psi_fixed[v as usize];
-            excess[u as usize] += w;
+            system.rhs[u as usize] += w * system.psi_fixed[v as usize];
+            system.excess[u as usize] += w;
         }
         if not_m_matrix.is_none() {
             not_m_matrix = self.positive_off_diagonal(values);
         }
+        not_m_matrix
+    }
 
-        // Neumann and Robin edges: ∫ f v with f linear along the edge is |e|(2f_i + f_j)/6.
-        for e in mesh.boundary_edges() {
+    /// Neumann and Robin edges: ∫ f v with f linear along the edge is |e|(2f_i + f_j)/6 on
+    /// the right-hand side, and the Robin mass (lumped or consistent) in the matrix.
+    fn boundary_terms(
+        &self,
+        bcs: &BoundaryConditions,
+        values: &BoundaryValues<'_>,
+        system: &mut LinearSystem,
+    ) -> Result<(), FemError> {
+        let vertices = self.mesh.vertices();
+        let unknown_of = &self.dofs.unknown_of;
+        let reference = system.reference;
+        let psi_fixed = &system.psi_fixed;
+        let rhs = &mut system.rhs;
+        let excess = &mut system.excess;
+        let matrix = system.matrix.values_mut();
+        let diag_pos = &self.diag_pos;
+        for e in self.mesh.boundary_edges() {
             let bc = bcs.for_tag(e.tag);
             let [i, j] = e.vertices;
             let (ui, uj) = (unknown_of[i as usize], unknown_of[j as usize]);
@@ -746,7 +934,7 @@ impl Assembler {
                 continue;
             }
             let length = (vertices[j as usize] - vertices[i as usize]).norm();
-            let (gi, gj) = (value_at(bc, e, i)?, value_at(bc, e, j)?);
+            let (gi, gj) = (values.at(bc, e, i)?, values.at(bc, e, j)?);
             // ψ flux data f (∂ψ/∂n = f − βψ) and Robin coefficient β = b/a.
             let (fi, fj, beta) = match bc {
                 BoundaryCondition::Dirichlet(_) => continue,
@@ -769,7 +957,7 @@ impl Assembler {
                 RobinMass::Lumped => {
                     for u in [ui, uj] {
                         if u != NONE {
-                            values[diag_pos[u as usize] as usize] += beta * length / 2.0;
+                            matrix[diag_pos[u as usize] as usize] += beta * length / 2.0;
                             excess[u as usize] += beta * length / 2.0;
                         }
                     }
@@ -780,7 +968,7 @@ impl Assembler {
                         if u == NONE {
                             continue;
                         }
-                        values[diag_pos[u as usize] as usize] += beta * length / 3.0;
+                        matrix[diag_pos[u as usize] as usize] += beta * length / 3.0;
                         if other_u == NONE {
                             rhs[u as usize] -= off * psi_fixed[other as usize];
                         }
@@ -788,13 +976,12 @@ impl Assembler {
                     if ui != NONE && uj != NONE {
                         let k = e.local_edge as usize;
                         let pos = self.tri_pos[e.triangle as usize];
-                        values[pos[2 * k] as usize] += off;
-                        values[pos[2 * k + 1] as usize] += off;
+                        matrix[pos[2 * k] as usize] += off;
+                        matrix[pos[2 * k + 1] as usize] += off;
                     }
                 }
             }
         }
-        system.not_m_matrix = not_m_matrix;
         Ok(())
     }
 

@@ -462,15 +462,33 @@ fn tag_rank(tag: BoundaryTag) -> (u8, u32) {
     }
 }
 
-impl Domain {
-    /// Validates the scene and builds its free space.
-    ///
-    /// Circles are discretised with edges no longer than the target edge length of `opts`
-    /// (from `max_area`, or the default area workspace/20000). Overlapping obstacles are merged,
-    /// obstacles crossing the workspace boundary are cut out of it, goals are removed from free
-    /// space, and every boundary edge is tagged with the input it lies on.
-    pub fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
-        opts.validate()?;
+/// One multipolygon per input obstacle or goal, in input order.
+type PerInput = Vec<MultiPolygon<f64>>;
+
+/// An input boundary segment `(from, to)` and the tag of free-space edges on it.
+type Source = (Point, Point, BoundaryTag);
+
+/// The validated workspace polygon and the sizes every later stage of [`Domain::new`] uses.
+struct Workspace {
+    /// The workspace ring, cleaned and counter-clockwise.
+    ring: Vec<Point>,
+    /// The same ring as a geo polygon.
+    geo: Polygon<f64>,
+    /// Its bounding box `(min, max)`.
+    bbox: (Point, Point),
+    /// The diagonal of the bounding box.
+    scale: f64,
+    /// The target edge length (of `max_area`, or of the workspace area / 20000).
+    h: f64,
+    /// The robot radius (finite, non-negative).
+    rr: f64,
+    /// The angle step (radians) of the round joins when offsetting by the robot radius.
+    join_angle: f64,
+}
+
+impl Workspace {
+    /// Checks the robot radius and the workspace polygon of `spec`, and derives the sizes.
+    fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Workspace, MeshError> {
         let rr = spec.robot_radius;
         if !(rr.is_finite() && rr >= 0.0) {
             return Err(MeshError::InvalidRobotRadius(rr));
@@ -481,233 +499,347 @@ impl Domain {
         let scale = (ws_hi - ws_lo).norm();
         let h = edge_for_area(opts.max_area.unwrap_or(ws_area / 20000.0));
         let ws_geo = to_geo(&ws);
-
-        // Obstacles: validated, discretised and inflated, one multipolygon per input.
         let join_angle = (h / rr.max(1e-300)).clamp(0.05, 0.3);
-        let mut sources: Vec<(Point, Point, BoundaryTag)> = Vec::new();
-        let mut snap_inputs: Vec<Point> = ws.clone();
-        let mut obstacle_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.obstacles.len());
-        // The obstacles before inflation (only kept with a robot radius, for error messages).
-        let mut raw_obstacles: Vec<MultiPolygon<f64>> = Vec::new();
-        for (i, shape) in spec.obstacles.iter().enumerate() {
-            let part = Part::Obstacle(i);
-            let mp = match shape {
-                Shape::Polygon(pts) => {
-                    let ring = clean_ring(part, pts)?;
-                    if rr > 0.0 {
-                        raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
-                        to_geo(&ring).buffer_with_style(
-                            BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
-                        )
-                    } else {
-                        MultiPolygon(vec![to_geo(&ring)])
-                    }
-                }
-                Shape::Circle { center, radius } => {
-                    if !(radius.is_finite() && *radius > 0.0) {
-                        return Err(MeshError::InvalidRadius {
-                            part,
-                            radius: *radius,
-                        });
-                    }
-                    if rr > 0.0 {
-                        raw_obstacles.push(MultiPolygon(vec![to_geo(&circle_polygon(
-                            part, *center, *radius, h,
-                        )?)]));
-                    }
-                    MultiPolygon(vec![to_geo(&circle_polygon(
-                        part,
-                        *center,
-                        radius + rr,
-                        h,
-                    )?)])
-                }
-            };
-            if mp.intersection(&ws_geo).unsigned_area() <= 0.0 {
-                return Err(MeshError::OutsideWorkspace { part });
-            }
-            obstacle_geo.push(mp);
-        }
-        let clearance_index = SegmentIndex::new(
-            obstacle_geo
-                .iter()
-                .flat_map(rings_of)
-                .flatten()
-                .flat_map(|pts| {
-                    let n = pts.len();
-                    (0..n).map(move |k| (pts[k], pts[(k + 1) % n], 0))
-                })
-                .chain((0..ws.len()).map(|k| (ws[k], ws[(k + 1) % ws.len()], 0))),
-        );
-        let mut goal_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.goals.len());
-        for (j, goal) in spec.goals.iter().enumerate() {
-            let part = Part::Goal(j);
-            let ring = match goal {
-                GoalShape::Polygon(pts) => clean_ring(part, pts)?,
-                GoalShape::Circle { center, radius } => circle_polygon(part, *center, *radius, h)?,
-                GoalShape::Point(p) => {
-                    // Twice the target edge length, but at most half the way to the nearest
-                    // wall or obstacle so the disc stays in free space.
-                    let d = clearance_index.distance(*p);
-                    let r = if d > 0.0 {
-                        (2.0 * h).min(0.5 * d)
-                    } else {
-                        2.0 * h
-                    };
-                    circle_polygon(part, *p, r, h)?
-                }
-            };
-            let poly = to_geo(&ring);
-            if poly.intersection(&ws_geo).unsigned_area() <= 0.0 {
-                return Err(MeshError::OutsideWorkspace { part });
-            }
-            goal_geo.push(MultiPolygon(vec![poly]));
-        }
+        Ok(Workspace {
+            ring: ws,
+            geo: ws_geo,
+            bbox: (ws_lo, ws_hi),
+            scale,
+            h,
+            rr,
+            join_angle,
+        })
+    }
+}
 
-        // The workspace, shrunk by the robot radius.
-        let ws_mp = if rr > 0.0 {
-            ws_geo.buffer_with_style(BufferStyle::new(-rr).line_join(LineJoin::Round(join_angle)))
-        } else {
-            MultiPolygon(vec![ws_geo.clone()])
-        };
-        if ws_mp.unsigned_area() <= 0.0 {
-            return Err(MeshError::NoFreeSpace { robot_radius: rr });
-        }
-
-        // Make near touches between inputs exact (see `touch`): a vertex a rounding error off
-        // another input's edge would leave a sliver no mesh can resolve.
-        let mut groups: Vec<Rings> = std::iter::once(rings_of(&ws_mp))
-            .chain(obstacle_geo.iter().map(rings_of))
-            .chain(goal_geo.iter().map(rings_of))
-            .collect();
-        let (ws_mp, obstacle_geo, goal_geo) = if snap_near_touches(&mut groups, 1e-9 * scale) {
-            groups.iter_mut().for_each(dedup_rings);
-            let n_obs = obstacle_geo.len();
-            let mut mps = groups.iter().map(multipolygon_of);
-            let ws_mp = mps.next().expect("the workspace group comes first");
-            let obstacle_geo: Vec<MultiPolygon<f64>> = mps.by_ref().take(n_obs).collect();
-            (ws_mp, obstacle_geo, mps.collect())
-        } else {
-            (ws_mp, obstacle_geo, goal_geo)
-        };
-        // Obstacles, goals, then walls (groups hold the walls first).
-        let tags = (0..spec.obstacles.len())
-            .map(|i| BoundaryTag::Obstacle(i as u32))
-            .chain((0..spec.goals.len()).map(|j| BoundaryTag::Goal(j as u32)))
-            .chain(std::iter::once(BoundaryTag::Wall));
-        for (group, tag) in groups[1..].iter().chain(&groups[..1]).zip(tags) {
-            for pts in group.iter().flatten() {
-                snap_inputs.extend_from_slice(pts);
-                let n = pts.len();
-                for k in 0..n {
-                    sources.push((pts[k], pts[(k + 1) % n], tag));
-                }
-            }
-        }
-
-        let obstacle_union = unary_union(obstacle_geo.iter());
-        let goal_union = unary_union(goal_geo.iter());
-        let free0 = if obstacle_geo.is_empty() {
-            ws_mp.clone()
-        } else {
-            ws_mp.difference(&obstacle_union)
-        };
-        if free0.unsigned_area() <= 0.0 {
-            return Err(MeshError::NoFreeSpace { robot_radius: rr });
-        }
-        for (j, g) in goal_geo.iter().enumerate() {
-            if g.intersection(&free0).unsigned_area() <= 0.0 {
-                let raw = if rr > 0.0 {
-                    &raw_obstacles
+/// Obstacles: validated, discretised and inflated by the robot radius, one multipolygon per
+/// input; with a robot radius also the obstacles before inflation (for error messages).
+fn inflated_obstacles(
+    spec: &DomainSpec,
+    ws: &Workspace,
+) -> Result<(PerInput, PerInput), MeshError> {
+    let (rr, h, join_angle) = (ws.rr, ws.h, ws.join_angle);
+    let mut obstacle_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.obstacles.len());
+    // The obstacles before inflation (only kept with a robot radius, for error messages).
+    let mut raw_obstacles: Vec<MultiPolygon<f64>> = Vec::new();
+    for (i, shape) in spec.obstacles.iter().enumerate() {
+        let part = Part::Obstacle(i);
+        let mp = match shape {
+            Shape::Polygon(pts) => {
+                let ring = clean_ring(part, pts)?;
+                if rr > 0.0 {
+                    raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
+                    to_geo(&ring).buffer_with_style(
+                        BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
+                    )
                 } else {
-                    &obstacle_geo
-                };
-                let uncovered = g.intersection(&ws_geo).difference(&unary_union(raw.iter()));
-                if uncovered.unsigned_area() <= 0.0 {
-                    let obstacle = raw.iter().position(|o| o.intersects(g)).unwrap_or(0);
-                    return Err(MeshError::GoalInObstacle { goal: j, obstacle });
+                    MultiPolygon(vec![to_geo(&ring)])
                 }
-                return Err(MeshError::GoalNotInFreeSpace {
-                    goal: j,
-                    robot_radius: rr,
-                });
             }
-        }
-        let free_mp = if goal_geo.is_empty() {
-            free0
-        } else {
-            free0.difference(&goal_union)
+            Shape::Circle { center, radius } => {
+                if !(radius.is_finite() && *radius > 0.0) {
+                    return Err(MeshError::InvalidRadius {
+                        part,
+                        radius: *radius,
+                    });
+                }
+                if rr > 0.0 {
+                    raw_obstacles.push(MultiPolygon(vec![to_geo(&circle_polygon(
+                        part, *center, *radius, h,
+                    )?)]));
+                }
+                MultiPolygon(vec![to_geo(&circle_polygon(
+                    part,
+                    *center,
+                    radius + rr,
+                    h,
+                )?)])
+            }
         };
-        if free_mp.unsigned_area() <= 0.0 {
-            return Err(MeshError::NoFreeSpace { robot_radius: rr });
+        if mp.intersection(&ws.geo).unsigned_area() <= 0.0 {
+            return Err(MeshError::OutsideWorkspace { part });
         }
+        obstacle_geo.push(mp);
+    }
+    Ok((obstacle_geo, raw_obstacles))
+}
 
-        // Snap, orient and tag the free-space rings.
-        let snapper = Snapper::new(scale, snap_inputs.into_iter());
-        let source_index = SegmentIndex::new(
-            sources
-                .iter()
-                .enumerate()
-                .map(|(k, &(a, b, _))| (a, b, k as u32)),
-        );
-        let tol = 1e-7 * scale;
-        let mut free = Vec::new();
-        for poly in &free_mp.0 {
-            let mut rings = Vec::new();
-            for (r, ls) in std::iter::once(poly.exterior())
-                .chain(poly.interiors())
-                .enumerate()
-            {
-                let mut pts: Vec<Point> = from_ls(ls)
-                    .into_iter()
-                    .map(|p| snapper.snap(p, &sources, &source_index))
-                    .collect();
-                pts.dedup();
-                while pts.len() > 1 && pts[0] == pts[pts.len() - 1] {
-                    pts.pop();
-                }
-                if pts.len() < 3 || ring_area(&pts) == 0.0 {
-                    continue;
-                }
-                let ccw = ring_area(&pts) > 0.0;
-                if (r == 0) != ccw {
-                    pts.reverse();
-                }
-                rings.push(tag_ring(&pts, &sources, &source_index, tol));
+/// Goals: validated and discretised, one multipolygon per input; a point goal becomes a
+/// disc that stays clear of the walls and the (inflated) obstacles.
+fn goal_shapes(
+    spec: &DomainSpec,
+    ws: &Workspace,
+    obstacle_geo: &[MultiPolygon<f64>],
+) -> Result<Vec<MultiPolygon<f64>>, MeshError> {
+    let (h, ring) = (ws.h, &ws.ring);
+    let clearance_index = SegmentIndex::new(
+        obstacle_geo
+            .iter()
+            .flat_map(rings_of)
+            .flatten()
+            .flat_map(|pts| {
+                let n = pts.len();
+                (0..n).map(move |k| (pts[k], pts[(k + 1) % n], 0))
+            })
+            .chain((0..ring.len()).map(|k| (ring[k], ring[(k + 1) % ring.len()], 0))),
+    );
+    let mut goal_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.goals.len());
+    for (j, goal) in spec.goals.iter().enumerate() {
+        let part = Part::Goal(j);
+        let ring = match goal {
+            GoalShape::Polygon(pts) => clean_ring(part, pts)?,
+            GoalShape::Circle { center, radius } => circle_polygon(part, *center, *radius, h)?,
+            GoalShape::Point(p) => {
+                // Twice the target edge length, but at most half the way to the nearest
+                // wall or obstacle so the disc stays in free space.
+                let d = clearance_index.distance(*p);
+                let r = if d > 0.0 {
+                    (2.0 * h).min(0.5 * d)
+                } else {
+                    2.0 * h
+                };
+                circle_polygon(part, *p, r, h)?
             }
-            free.extend(cancel_shared_edges(rings));
+        };
+        let poly = to_geo(&ring);
+        if poly.intersection(&ws.geo).unsigned_area() <= 0.0 {
+            return Err(MeshError::OutsideWorkspace { part });
         }
-        let free_area: f64 = free.iter().map(|r| ring_area(&r.points)).sum();
-        let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {
-            let n = r.points.len();
-            (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
-        }));
-        let wall_index = SegmentIndex::new(free.iter().flat_map(|r| {
-            let n = r.points.len();
-            (0..n)
-                .filter(|&k| !matches!(r.tags[k], BoundaryTag::Goal(_)))
-                .map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
-        }));
+        goal_geo.push(MultiPolygon(vec![poly]));
+    }
+    Ok(goal_geo)
+}
+
+/// The workspace, shrunk by the robot radius; an error if nothing is left.
+fn shrunk_workspace(ws: &Workspace) -> Result<MultiPolygon<f64>, MeshError> {
+    let rr = ws.rr;
+    let ws_mp = if rr > 0.0 {
+        ws.geo
+            .buffer_with_style(BufferStyle::new(-rr).line_join(LineJoin::Round(ws.join_angle)))
+    } else {
+        MultiPolygon(vec![ws.geo.clone()])
+    };
+    if ws_mp.unsigned_area() <= 0.0 {
+        return Err(MeshError::NoFreeSpace { robot_radius: rr });
+    }
+    Ok(ws_mp)
+}
+
+/// Makes near touches between inputs exact (see `touch`): a vertex a rounding error off
+/// another input's edge would leave a sliver no mesh can resolve. Returns the rings of every
+/// input (the workspace's first, then the obstacles', then the goals') and the workspace,
+/// obstacles and goals made from them.
+fn snap_touches(
+    ws_mp: MultiPolygon<f64>,
+    obstacle_geo: PerInput,
+    goal_geo: PerInput,
+    scale: f64,
+) -> (Vec<Rings>, MultiPolygon<f64>, PerInput, PerInput) {
+    let mut groups: Vec<Rings> = std::iter::once(rings_of(&ws_mp))
+        .chain(obstacle_geo.iter().map(rings_of))
+        .chain(goal_geo.iter().map(rings_of))
+        .collect();
+    if snap_near_touches(&mut groups, 1e-9 * scale) {
+        groups.iter_mut().for_each(dedup_rings);
+        let n_obs = obstacle_geo.len();
+        let mut mps = groups.iter().map(multipolygon_of);
+        let ws_mp = mps.next().expect("the workspace group comes first");
+        let obstacle_geo: Vec<MultiPolygon<f64>> = mps.by_ref().take(n_obs).collect();
+        let goal_geo = mps.collect();
+        (groups, ws_mp, obstacle_geo, goal_geo)
+    } else {
+        (groups, ws_mp, obstacle_geo, goal_geo)
+    }
+}
+
+/// Every input boundary segment with the tag it gives (obstacles, goals, then walls), and
+/// the points free-space vertices may snap to (the workspace ring `ws`, then the vertices of
+/// every segment).
+fn boundary_sources(
+    ws: &[Point],
+    groups: &[Rings],
+    spec: &DomainSpec,
+) -> (Vec<Source>, Vec<Point>) {
+    let mut sources: Vec<Source> = Vec::new();
+    let mut snap_inputs: Vec<Point> = ws.to_vec();
+    // Obstacles, goals, then walls (groups hold the walls first).
+    let tags = (0..spec.obstacles.len())
+        .map(|i| BoundaryTag::Obstacle(i as u32))
+        .chain((0..spec.goals.len()).map(|j| BoundaryTag::Goal(j as u32)))
+        .chain(std::iter::once(BoundaryTag::Wall));
+    for (group, tag) in groups[1..].iter().chain(&groups[..1]).zip(tags) {
+        for pts in group.iter().flatten() {
+            snap_inputs.extend_from_slice(pts);
+            let n = pts.len();
+            for k in 0..n {
+                sources.push((pts[k], pts[(k + 1) % n], tag));
+            }
+        }
+    }
+    (sources, snap_inputs)
+}
+
+/// Free space as polygons, with the unions of obstacles and of goals it was cut from.
+struct FreeSpace {
+    free: MultiPolygon<f64>,
+    obstacles: MultiPolygon<f64>,
+    goals: MultiPolygon<f64>,
+}
+
+/// The shrunk workspace less the obstacles and goals; an error if nothing is left or a goal
+/// touches no free space (saying whether an obstacle covers it).
+fn free_space(
+    ws: &Workspace,
+    ws_mp: &MultiPolygon<f64>,
+    obstacle_geo: &[MultiPolygon<f64>],
+    goal_geo: &[MultiPolygon<f64>],
+    raw_obstacles: &[MultiPolygon<f64>],
+) -> Result<FreeSpace, MeshError> {
+    let rr = ws.rr;
+    let obstacle_union = unary_union(obstacle_geo.iter());
+    let goal_union = unary_union(goal_geo.iter());
+    let free0 = if obstacle_geo.is_empty() {
+        ws_mp.clone()
+    } else {
+        ws_mp.difference(&obstacle_union)
+    };
+    if free0.unsigned_area() <= 0.0 {
+        return Err(MeshError::NoFreeSpace { robot_radius: rr });
+    }
+    for (j, g) in goal_geo.iter().enumerate() {
+        if g.intersection(&free0).unsigned_area() <= 0.0 {
+            let raw = if rr > 0.0 {
+                raw_obstacles
+            } else {
+                obstacle_geo
+            };
+            let uncovered = g.intersection(&ws.geo).difference(&unary_union(raw.iter()));
+            if uncovered.unsigned_area() <= 0.0 {
+                let obstacle = raw.iter().position(|o| o.intersects(g)).unwrap_or(0);
+                return Err(MeshError::GoalInObstacle { goal: j, obstacle });
+            }
+            return Err(MeshError::GoalNotInFreeSpace {
+                goal: j,
+                robot_radius: rr,
+            });
+        }
+    }
+    let free_mp = if goal_geo.is_empty() {
+        free0
+    } else {
+        free0.difference(&goal_union)
+    };
+    if free_mp.unsigned_area() <= 0.0 {
+        return Err(MeshError::NoFreeSpace { robot_radius: rr });
+    }
+    Ok(FreeSpace {
+        free: free_mp,
+        obstacles: obstacle_union,
+        goals: goal_union,
+    })
+}
+
+/// Snaps, orients and tags the rings of `free_mp`: vertices onto the input points and
+/// segments (`snap_inputs`, `sources`), outer rings counter-clockwise and holes clockwise,
+/// every edge tagged with the input it lies on.
+fn tagged_free_rings(
+    free_mp: &MultiPolygon<f64>,
+    sources: &[(Point, Point, BoundaryTag)],
+    snap_inputs: Vec<Point>,
+    scale: f64,
+) -> Vec<TaggedRing> {
+    let snapper = Snapper::new(scale, snap_inputs.into_iter());
+    let source_index = SegmentIndex::new(
+        sources
+            .iter()
+            .enumerate()
+            .map(|(k, &(a, b, _))| (a, b, k as u32)),
+    );
+    let tol = 1e-7 * scale;
+    let mut free = Vec::new();
+    for poly in &free_mp.0 {
+        let mut rings = Vec::new();
+        for (r, ls) in std::iter::once(poly.exterior())
+            .chain(poly.interiors())
+            .enumerate()
+        {
+            let mut pts: Vec<Point> = from_ls(ls)
+                .into_iter()
+                .map(|p| snapper.snap(p, sources, &source_index))
+                .collect();
+            pts.dedup();
+            while pts.len() > 1 && pts[0] == pts[pts.len() - 1] {
+                pts.pop();
+            }
+            if pts.len() < 3 || ring_area(&pts) == 0.0 {
+                continue;
+            }
+            let ccw = ring_area(&pts) > 0.0;
+            if (r == 0) != ccw {
+                pts.reverse();
+            }
+            rings.push(tag_ring(&pts, sources, &source_index, tol));
+        }
+        free.extend(cancel_shared_edges(rings));
+    }
+    free
+}
+
+/// The segment indices of free space's boundary: every edge (for the inside test), and the
+/// edges on walls and obstacles (for clearance).
+fn boundary_indices(free: &[TaggedRing]) -> (SegmentIndex, SegmentIndex) {
+    let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {
+        let n = r.points.len();
+        (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
+    }));
+    let wall_index = SegmentIndex::new(free.iter().flat_map(|r| {
+        let n = r.points.len();
+        (0..n)
+            .filter(|&k| !matches!(r.tags[k], BoundaryTag::Goal(_)))
+            .map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
+    }));
+    (boundary_index, wall_index)
+}
+
+impl Domain {
+    /// Validates the scene and builds its free space.
+    ///
+    /// Circles are discretised with edges no longer than the target edge length of `opts`
+    /// (from `max_area`, or the default area workspace/20000). Overlapping obstacles are merged,
+    /// obstacles crossing the workspace boundary are cut out of it, goals are removed from free
+    /// space, and every boundary edge is tagged with the input it lies on.
+    pub fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
+        opts.validate()?;
+        let ws = Workspace::new(spec, opts)?;
+        let (obstacle_geo, raw_obstacles) = inflated_obstacles(spec, &ws)?;
+        let goal_geo = goal_shapes(spec, &ws, &obstacle_geo)?;
+        let ws_mp = shrunk_workspace(&ws)?;
+        let (groups, ws_mp, obstacle_geo, goal_geo) =
+            snap_touches(ws_mp, obstacle_geo, goal_geo, ws.scale);
+        let (sources, snap_inputs) = boundary_sources(&ws.ring, &groups, spec);
+        let space = free_space(&ws, &ws_mp, &obstacle_geo, &goal_geo, &raw_obstacles)?;
+        let free = tagged_free_rings(&space.free, &sources, snap_inputs, ws.scale);
+        let (boundary_index, wall_index) = boundary_indices(&free);
         let obstacle_regions = if obstacle_geo.is_empty() {
             Vec::new()
         } else {
-            regions_of(&obstacle_union.intersection(&ws_geo), &obstacle_geo)
+            regions_of(&space.obstacles.intersection(&ws.geo), &obstacle_geo)
         };
         let goal_regions = if goal_geo.is_empty() {
             Vec::new()
         } else {
-            regions_of(&goal_union, &goal_geo)
+            regions_of(&space.goals, &goal_geo)
         };
         Ok(Domain {
+            free_area: free.iter().map(|r| ring_area(&r.points)).sum(),
             free,
             workspace: regions_of(&ws_mp, &[]),
             obstacles: obstacle_regions,
             goals: goal_regions,
-            free_area,
-            scale,
-            bbox: (ws_lo, ws_hi),
-            target_edge: h,
-            robot_radius: rr,
+            scale: ws.scale,
+            bbox: ws.bbox,
+            target_edge: ws.h,
+            robot_radius: ws.rr,
             boundary_index,
             wall_index,
         })

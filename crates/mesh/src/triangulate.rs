@@ -11,7 +11,7 @@ use spade::{
 use crate::geom::SegmentIndex;
 use crate::grading::SizeField;
 use crate::halves::{HalfInput, Seam, choose_cuts, split_inputs};
-use crate::{BoundaryTag, Domain, Mesh, MeshError, Point};
+use crate::{BoundaryTag, Domain, Mesh, MeshError, Point, TaggedRing};
 
 /// The largest minimum angle accepted: Delaunay refinement does not terminate reliably above it.
 pub const MAX_MIN_ANGLE_DEG: f64 = 33.0;
@@ -451,6 +451,25 @@ struct Refiner<'a> {
     seam: Option<&'a Seam>,
 }
 
+impl<'a> Refiner<'a> {
+    /// The refiner of one piece under `opts` and `budget` (no vertex cap for the grading
+    /// pass, no seam).
+    fn new(opts: &'a MeshOptions, budget: &'a Budget) -> Self {
+        Refiner {
+            params: RefinementParameters::<f64>::new()
+                .exclude_outer_faces(true)
+                .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
+                .with_max_allowed_area(budget.max_area)
+                .with_max_additional_vertices(budget.cap),
+            opts,
+            max_area: budget.max_area,
+            size_field: budget.size_field.as_ref(),
+            vertex_cap: usize::MAX,
+            seam: None,
+        }
+    }
+}
+
 impl Refiner<'_> {
     fn spade_refine(&self, cdt: &mut Cdt) -> Result<(Vec<bool>, bool), MeshError> {
         let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(self.params.clone())))
@@ -700,229 +719,27 @@ impl Domain {
     /// the result does not depend on the number of cores.
     pub fn mesh(&self, opts: &MeshOptions) -> Result<(Mesh, MeshReport), MeshError> {
         opts.validate()?;
-        let max_area = opts.max_area.unwrap_or(self.free_area() / 20000.0);
-        let rings = self.free_rings();
-        let n_ring: usize = rings.iter().map(|r| r.points.len()).sum();
-        // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
-        let size_field = opts
-            .grading
-            .as_ref()
-            .map(|g| SizeField::new(self, max_area, g));
-        let est = 1.6 * self.free_area() / max_area
-            + 2.0 * n_ring as f64
-            + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
-        let estimated = if est.is_finite() && est < 1e18 {
-            est.ceil() as usize
-        } else {
-            usize::MAX
-        };
-        if estimated > opts.max_triangles {
-            return Err(MeshError::TooManyTriangles {
-                estimated,
-                limit: opts.max_triangles,
-            });
-        }
-
-        let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * max_area);
-        let seg_tags: Vec<(Point, Point, BoundaryTag)> = rings
-            .iter()
-            .flat_map(|ring| {
-                let n = ring.points.len();
-                (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
-            })
-            .collect();
-        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
-        let mut refiner = Refiner {
-            params: RefinementParameters::<f64>::new()
-                .exclude_outer_faces(true)
-                .with_angle_limit(AngleLimit::from_deg(opts.min_angle_deg))
-                .with_max_allowed_area(max_area)
-                .with_max_additional_vertices(cap),
-            opts,
-            max_area,
-            size_field: size_field.as_ref(),
-            vertex_cap: usize::MAX,
-            seam: None,
-        };
-
-        let seg_index = SegmentIndex::new(
-            seg_tags
-                .iter()
-                .enumerate()
-                .map(|(k, &(a, b, _))| (a, b, k as u32)),
-        );
-        let (lo, hi) = self.bounding_box();
-        let cuts = if estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill {
-            choose_cuts(self, spacing)
-        } else {
-            Vec::new()
-        };
-        // The most even cut; if refinement moved points of a cut that cannot exchange them,
-        // the best one that can; else one piece.
-        let attempts = cuts
-            .first()
-            .into_iter()
-            .chain(cuts.iter().find(|c| c.exact).filter(|_| !cuts[0].exact));
-        let mut halves = None;
-        let mut seam = None;
-        for &cut in attempts {
-            let Some((inputs, s)) = split_inputs(rings, cut, spacing, &seg_index, hi.x) else {
-                continue;
-            };
-            let input_vertices = inputs.iter().map(|h| h.vertices.len()).sum::<usize>();
-            let with_seam = Refiner {
-                seam: Some(&s),
-                ..refiner.clone()
-            };
-            halves = mesh_halves(inputs, &with_seam, &s)?.map(|parts| (parts, input_vertices));
-            if halves.is_some() {
-                seam = Some(s);
-                break;
-            }
-        }
-        let (parts, input_vertices): (Vec<(Part, FreeFaces)>, usize) = match halves {
-            Some((parts, n)) => (parts.into(), n),
-            None => {
-                // Constraint vertices (deduplicated: rings may touch) and edges.
-                let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
-                let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
-                let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n_ring);
-                for ring in rings {
-                    let n = ring.points.len();
-                    let idx: Vec<usize> = ring
-                        .points
-                        .iter()
-                        .map(|p| {
-                            *ids.entry((p.x.to_bits(), p.y.to_bits()))
-                                .or_insert_with(|| {
-                                    verts.push(Point2::new(p.x, p.y));
-                                    verts.len() - 1
-                                })
-                        })
-                        .collect();
-                    for k in 0..n {
-                        let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
-                        // With a lattice inside, split long boundary segments to the lattice
-                        // spacing up front: refinement would otherwise split them one
-                        // encroachment at a time.
-                        let pieces = if opts.prefill {
-                            ((b - a).norm() / spacing).ceil().clamp(1.0, 1e6) as usize
-                        } else {
-                            1
-                        };
-                        let mut prev = idx[k];
-                        for i in 1..pieces {
-                            let p = a + (b - a) * (i as f64 / pieces as f64);
-                            verts.push(Point2::new(p.x, p.y));
-                            edges.push([prev, verts.len() - 1]);
-                            prev = verts.len() - 1;
-                        }
-                        edges.push([prev, idx[(k + 1) % n]]);
-                    }
+        let budget = Budget::of(self, opts)?;
+        let segments = BoundarySegments::of(self.free_rings());
+        let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * budget.max_area);
+        let mut refiner = Refiner::new(opts, &budget);
+        let (parts, input_vertices, seam) =
+            match self.mesh_in_halves(opts, &budget, spacing, &segments, &refiner)? {
+                Some((parts, n, seam)) => (parts.into(), n, Some(seam)),
+                None => {
+                    let (part, n) = self.mesh_whole(opts, &budget, spacing, &mut refiner)?;
+                    (vec![part], n, None)
                 }
-                let input_vertices = verts.len();
-                if opts.prefill {
-                    verts.extend(
-                        lattice_points(self, LATTICE_AREA_RATIO * max_area, n_ring)
-                            .into_iter()
-                            .map(|p| Point2::new(p.x, p.y)),
-                    );
-                }
-                refiner.vertex_cap = input_vertices.saturating_add(cap);
-                let part = refiner.run(load(verts, edges)?)?;
-                let faces = free_faces(&part, None);
-                (vec![(part, faces)], input_vertices)
-            }
-        };
+            };
         let seam = seam.as_ref();
-
-        // One numbering of the parts' vertices: the first part's as they are, then the
-        // others', a vertex on the seam being the first part's.
-        let mut positions: Vec<Point> = Vec::new();
-        let mut on_seam: HashMap<u64, usize> = HashMap::new();
-        let mut tri_raw: Vec<[usize; 3]> = Vec::new();
-        let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
         let complete = parts.iter().all(|(p, _)| p.complete);
         let bridges_split = parts.iter().map(|(p, _)| p.bridges_split).sum();
         let bridges_remaining = parts.iter().map(|(p, _)| p.bridges_remaining).sum();
-        for (k, (part, (tris, bnd))) in parts.into_iter().enumerate() {
-            let mut ids = Vec::with_capacity(part.cdt.num_vertices());
-            for v in part.cdt.vertices() {
-                let p = v.position();
-                let key = seam
-                    .filter(|s| s.holds(p))
-                    .map(|s| s.cut.along(p).to_bits());
-                let id = match (key, k) {
-                    (Some(key), 0) => {
-                        on_seam.insert(key, positions.len());
-                        positions.len()
-                    }
-                    (Some(key), _) => *on_seam.get(&key).ok_or_else(|| {
-                        MeshError::Triangulation("the two halves disagree on the seam".to_string())
-                    })?,
-                    (None, _) => positions.len(),
-                };
-                if id == positions.len() {
-                    positions.push(Point::new(p.x, p.y));
-                }
-                ids.push(id);
-            }
-            if k == 0 {
-                // Numbered as they are.
-                tri_raw = tris;
-                bnd_raw = bnd;
-            } else {
-                tri_raw.extend(tris.iter().map(|t| t.map(|v| ids[v])));
-                bnd_raw.extend(bnd.iter().map(|&(a, b)| (ids[a], ids[b])));
-            }
-        }
-        // Renumber used vertices along a Hilbert curve.
-        let mut used = vec![false; positions.len()];
-        for t in &tri_raw {
-            for &v in t {
-                used[v] = true;
-            }
-        }
-        let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
-        let order = radix_sort_by_key(
-            (0..positions.len())
-                .filter(|&v| used[v])
-                .map(|v| {
-                    let p = positions[v];
-                    let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
-                    (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v as u32)
-                })
-                .collect(),
-        );
-        let mut new_id = vec![u32::MAX; positions.len()];
-        let mut vertices = Vec::with_capacity(order.len());
-        for (i, &(_, v)) in order.iter().enumerate() {
-            new_id[v as usize] = i as u32;
-            vertices.push(positions[v as usize]);
-        }
-        // New numbers, rotated so the smallest comes first (keeps orientation); large meshes
-        // on two threads.
-        let renumber = |tris: &[[usize; 3]], out: &mut [[u32; 3]]| {
-            for (t, o) in tris.iter().zip(out.iter_mut()) {
-                let t = t.map(|v| new_id[v]);
-                let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
-                *o = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
-            }
-        };
-        let mut rotated = vec![[0u32; 3]; tri_raw.len()];
-        crate::mesh::map_in_two(&tri_raw, &mut rotated, renumber);
-        let triangles = sorted_triangles(&rotated, vertices.len());
-        let mut boundary = Vec::with_capacity(bnd_raw.len());
-        for &(a, b) in &bnd_raw {
-            let pa = positions[a];
-            let pb = positions[b];
-            let m = Point::new(0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
-            let (_, s) = seg_index.nearest(m).ok_or_else(|| {
-                MeshError::Triangulation("free space has no boundary segments".to_string())
-            })?;
-            boundary.push((new_id[a], new_id[b], seg_tags[s as usize].2));
-        }
-        let added_vertices = positions.len().saturating_sub(input_vertices);
+        let glued = glue(parts, seam)?;
+        let (new_id, vertices) = hilbert_numbering(&glued, self.bounding_box());
+        let triangles = renumbered_triangles(&glued.triangles, &new_id, vertices.len());
+        let boundary = tagged_boundary(&glued, &new_id, &segments)?;
+        let added_vertices = glued.positions.len().saturating_sub(input_vertices);
         if triangles.is_empty() {
             // Free space has positive area (checked by `Domain::new`), so no triangle at all
             // means the boundary rings were inconsistent: say so rather than return nothing.
@@ -940,12 +757,316 @@ impl Domain {
                 bridges_remaining,
                 input_vertices,
                 added_vertices,
-                max_area,
+                max_area: budget.max_area,
                 min_angle_deg: opts.min_angle_deg,
-                estimated_triangles: estimated,
+                estimated_triangles: budget.estimated,
             },
         ))
     }
+
+    /// Meshes free space as two halves on two threads (see [`mesh_halves`]) if it is large
+    /// enough and neither graded nor prefilled: the most even cut; if refinement moved
+    /// points of a cut that cannot exchange them, the best one that can. Returns the two
+    /// parts, the number of input vertices and the seam; `None` for one piece.
+    fn mesh_in_halves(
+        &self,
+        opts: &MeshOptions,
+        budget: &Budget,
+        spacing: f64,
+        segments: &BoundarySegments,
+        refiner: &Refiner<'_>,
+    ) -> Result<Option<Halves>, MeshError> {
+        let (_, hi) = self.bounding_box();
+        let cuts =
+            if budget.estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill {
+                choose_cuts(self, spacing)
+            } else {
+                Vec::new()
+            };
+        let attempts = cuts
+            .first()
+            .into_iter()
+            .chain(cuts.iter().find(|c| c.exact).filter(|_| !cuts[0].exact));
+        for &cut in attempts {
+            let Some((inputs, s)) =
+                split_inputs(self.free_rings(), cut, spacing, &segments.index, hi.x)
+            else {
+                continue;
+            };
+            let input_vertices = inputs.iter().map(|h| h.vertices.len()).sum::<usize>();
+            let with_seam = Refiner {
+                seam: Some(&s),
+                ..refiner.clone()
+            };
+            if let Some(parts) = mesh_halves(inputs, &with_seam, &s)? {
+                return Ok(Some((parts, input_vertices, s)));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Meshes free space in one piece: the rings' constraint vertices (deduplicated: rings
+    /// may touch) and edges, with prefill the boundary pre-split to the lattice `spacing` and
+    /// the lattice inside. Returns the part and the number of input vertices.
+    fn mesh_whole(
+        &self,
+        opts: &MeshOptions,
+        budget: &Budget,
+        spacing: f64,
+        refiner: &mut Refiner<'_>,
+    ) -> Result<((Part, FreeFaces), usize), MeshError> {
+        let rings = self.free_rings();
+        let n_ring = budget.ring_vertices;
+        let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
+        let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
+        let mut edges: Vec<[usize; 2]> = Vec::with_capacity(n_ring);
+        for ring in rings {
+            let n = ring.points.len();
+            let idx: Vec<usize> = ring
+                .points
+                .iter()
+                .map(|p| {
+                    *ids.entry((p.x.to_bits(), p.y.to_bits()))
+                        .or_insert_with(|| {
+                            verts.push(Point2::new(p.x, p.y));
+                            verts.len() - 1
+                        })
+                })
+                .collect();
+            for k in 0..n {
+                let (a, b) = (ring.points[k], ring.points[(k + 1) % n]);
+                // With a lattice inside, split long boundary segments to the lattice
+                // spacing up front: refinement would otherwise split them one
+                // encroachment at a time.
+                let pieces = if opts.prefill {
+                    ((b - a).norm() / spacing).ceil().clamp(1.0, 1e6) as usize
+                } else {
+                    1
+                };
+                let mut prev = idx[k];
+                for i in 1..pieces {
+                    let p = a + (b - a) * (i as f64 / pieces as f64);
+                    verts.push(Point2::new(p.x, p.y));
+                    edges.push([prev, verts.len() - 1]);
+                    prev = verts.len() - 1;
+                }
+                edges.push([prev, idx[(k + 1) % n]]);
+            }
+        }
+        let input_vertices = verts.len();
+        if opts.prefill {
+            verts.extend(
+                lattice_points(self, LATTICE_AREA_RATIO * budget.max_area, n_ring)
+                    .into_iter()
+                    .map(|p| Point2::new(p.x, p.y)),
+            );
+        }
+        refiner.vertex_cap = input_vertices.saturating_add(budget.cap);
+        let part = refiner.run(load(verts, edges)?)?;
+        let faces = free_faces(&part, None);
+        Ok(((part, faces), input_vertices))
+    }
+}
+
+/// Free space meshed in two halves: the parts, the number of their input vertices and the
+/// seam they are glued along.
+type Halves = ([(Part, FreeFaces); 2], usize, Seam);
+
+/// The size of a mesh before it is made: the area bound, the grading's size field, the
+/// triangle estimate checked against the budget, and the refinement's vertex cap.
+struct Budget {
+    /// The area bound used (`max_area`, or free area / 20000).
+    max_area: f64,
+    size_field: Option<SizeField>,
+    /// The estimated triangle count.
+    estimated: usize,
+    /// The number of vertices of the free-space rings.
+    ring_vertices: usize,
+    /// Largest number of vertices refinement may add.
+    cap: usize,
+}
+
+impl Budget {
+    /// The budget of meshing `domain` with `opts`; an error if the estimate exceeds
+    /// `opts.max_triangles`.
+    fn of(domain: &Domain, opts: &MeshOptions) -> Result<Budget, MeshError> {
+        let max_area = opts.max_area.unwrap_or(domain.free_area() / 20000.0);
+        let n_ring: usize = domain.free_rings().iter().map(|r| r.points.len()).sum();
+        // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
+        let size_field = opts
+            .grading
+            .as_ref()
+            .map(|g| SizeField::new(domain, max_area, g));
+        let est = 1.6 * domain.free_area() / max_area
+            + 2.0 * n_ring as f64
+            + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
+        let estimated = if est.is_finite() && est < 1e18 {
+            est.ceil() as usize
+        } else {
+            usize::MAX
+        };
+        if estimated > opts.max_triangles {
+            return Err(MeshError::TooManyTriangles {
+                estimated,
+                limit: opts.max_triangles,
+            });
+        }
+        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
+        Ok(Budget {
+            max_area,
+            size_field,
+            estimated,
+            ring_vertices: n_ring,
+            cap,
+        })
+    }
+}
+
+/// Every boundary segment of free space with its tag, and an index of them (by position in
+/// `tags`) to tag the mesh's boundary edges.
+struct BoundarySegments {
+    tags: Vec<(Point, Point, BoundaryTag)>,
+    index: SegmentIndex,
+}
+
+impl BoundarySegments {
+    /// The segments of `rings`.
+    fn of(rings: &[TaggedRing]) -> BoundarySegments {
+        let tags: Vec<(Point, Point, BoundaryTag)> = rings
+            .iter()
+            .flat_map(|ring| {
+                let n = ring.points.len();
+                (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
+            })
+            .collect();
+        let index = SegmentIndex::new(
+            tags.iter()
+                .enumerate()
+                .map(|(k, &(a, b, _))| (a, b, k as u32)),
+        );
+        BoundarySegments { tags, index }
+    }
+}
+
+/// The parts of a mesh under one numbering of their vertices.
+struct Glued {
+    /// Every vertex of every part (a vertex on the seam once).
+    positions: Vec<Point>,
+    /// The free triangles, counter-clockwise.
+    triangles: Vec<[usize; 3]>,
+    /// The boundary edges `(from, to)`, free space on their left.
+    boundary: Vec<(usize, usize)>,
+}
+
+/// One numbering of the parts' vertices: the first part's as they are, then the others', a
+/// vertex on the seam being the first part's.
+fn glue(parts: Vec<(Part, FreeFaces)>, seam: Option<&Seam>) -> Result<Glued, MeshError> {
+    let mut positions: Vec<Point> = Vec::new();
+    let mut on_seam: HashMap<u64, usize> = HashMap::new();
+    let mut tri_raw: Vec<[usize; 3]> = Vec::new();
+    let mut bnd_raw: Vec<(usize, usize)> = Vec::new();
+    for (k, (part, (tris, bnd))) in parts.into_iter().enumerate() {
+        let mut ids = Vec::with_capacity(part.cdt.num_vertices());
+        for v in part.cdt.vertices() {
+            let p = v.position();
+            let key = seam
+                .filter(|s| s.holds(p))
+                .map(|s| s.cut.along(p).to_bits());
+            let id = match (key, k) {
+                (Some(key), 0) => {
+                    on_seam.insert(key, positions.len());
+                    positions.len()
+                }
+                (Some(key), _) => *on_seam.get(&key).ok_or_else(|| {
+                    MeshError::Triangulation("the two halves disagree on the seam".to_string())
+                })?,
+                (None, _) => positions.len(),
+            };
+            if id == positions.len() {
+                positions.push(Point::new(p.x, p.y));
+            }
+            ids.push(id);
+        }
+        if k == 0 {
+            // Numbered as they are.
+            tri_raw = tris;
+            bnd_raw = bnd;
+        } else {
+            tri_raw.extend(tris.iter().map(|t| t.map(|v| ids[v])));
+            bnd_raw.extend(bnd.iter().map(|&(a, b)| (ids[a], ids[b])));
+        }
+    }
+    Ok(Glued {
+        positions,
+        triangles: tri_raw,
+        boundary: bnd_raw,
+    })
+}
+
+/// The used vertices renumbered along a Hilbert curve over the bounding box `(lo, hi)`:
+/// per glued vertex its new number (`u32::MAX` if unused), and the vertices in new order.
+fn hilbert_numbering(glued: &Glued, (lo, hi): (Point, Point)) -> (Vec<u32>, Vec<Point>) {
+    let positions = &glued.positions;
+    let mut used = vec![false; positions.len()];
+    for t in &glued.triangles {
+        for &v in t {
+            used[v] = true;
+        }
+    }
+    let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
+    let order = radix_sort_by_key(
+        (0..positions.len())
+            .filter(|&v| used[v])
+            .map(|v| {
+                let p = positions[v];
+                let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
+                (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v as u32)
+            })
+            .collect(),
+    );
+    let mut new_id = vec![u32::MAX; positions.len()];
+    let mut vertices = Vec::with_capacity(order.len());
+    for (i, &(_, v)) in order.iter().enumerate() {
+        new_id[v as usize] = i as u32;
+        vertices.push(positions[v as usize]);
+    }
+    (new_id, vertices)
+}
+
+/// The triangles in the new numbers, rotated so the smallest comes first (keeps
+/// orientation; large meshes on two threads) and sorted.
+fn renumbered_triangles(tri_raw: &[[usize; 3]], new_id: &[u32], nv: usize) -> Vec<[u32; 3]> {
+    let renumber = |tris: &[[usize; 3]], out: &mut [[u32; 3]]| {
+        for (t, o) in tris.iter().zip(out.iter_mut()) {
+            let t = t.map(|v| new_id[v]);
+            let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+            *o = [t[k], t[(k + 1) % 3], t[(k + 2) % 3]];
+        }
+    };
+    let mut rotated = vec![[0u32; 3]; tri_raw.len()];
+    crate::mesh::map_in_two(tri_raw, &mut rotated, renumber);
+    sorted_triangles(&rotated, nv)
+}
+
+/// The boundary edges in the new numbers, each with the tag of the boundary segment nearest
+/// its midpoint.
+fn tagged_boundary(
+    glued: &Glued,
+    new_id: &[u32],
+    segments: &BoundarySegments,
+) -> Result<Vec<(u32, u32, BoundaryTag)>, MeshError> {
+    let positions = &glued.positions;
+    let mut boundary = Vec::with_capacity(glued.boundary.len());
+    for &(a, b) in &glued.boundary {
+        let pa = positions[a];
+        let pb = positions[b];
+        let m = Point::new(0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
+        let (_, s) = segments.index.nearest(m).ok_or_else(|| {
+            MeshError::Triangulation("free space has no boundary segments".to_string())
+        })?;
+        boundary.push((new_id[a], new_id[b], segments.tags[s as usize].2));
+    }
+    Ok(boundary)
 }
 
 /// Triangles (vertex numbers) and boundary edges `(from, to)` of a part.
