@@ -1,0 +1,176 @@
+//! Everything that can go wrong while validating solids, meshing a volume or writing files.
+
+/// Which solid of a scene an error is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SolidRole {
+    /// The workspace.
+    Workspace,
+    /// Obstacle `i` (its position in the input).
+    Obstacle(usize),
+    /// Goal region `j`.
+    Goal(usize),
+}
+
+impl std::fmt::Display for SolidRole {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolidRole::Workspace => write!(f, "workspace"),
+            SolidRole::Obstacle(i) => write!(f, "obstacle {i}"),
+            SolidRole::Goal(j) => write!(f, "goal {j}"),
+        }
+    }
+}
+
+/// Errors of this crate. Each names what is wrong and where.
+#[derive(Debug, thiserror::Error)]
+pub enum VolumeError {
+    /// A number of the input is NaN or infinite.
+    #[error("{solid}: {what} is not a finite number")]
+    NonFinite {
+        /// The solid.
+        solid: SolidRole,
+        /// Which number ("box min", "vertex 3", ...).
+        what: String,
+    },
+    /// A box with `min > max` on some axis (or of zero extent).
+    #[error("{solid}: box min {min} is not below max {max} on axis {axis}")]
+    InvertedBox {
+        /// The solid.
+        solid: SolidRole,
+        /// 0, 1 or 2 for x, y, z.
+        axis: usize,
+        /// The box's min on that axis.
+        min: f64,
+        /// The box's max on that axis.
+        max: f64,
+    },
+    /// A sphere radius ≤ 0.
+    #[error("{solid}: sphere radius {radius} must be positive")]
+    BadRadius {
+        /// The solid.
+        solid: SolidRole,
+        /// The radius given.
+        radius: f64,
+    },
+    /// A triangle surface with no triangles.
+    #[error("{solid}: the triangle surface has no triangles")]
+    EmptySurface {
+        /// The solid.
+        solid: SolidRole,
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error(
+        "{solid}: triangle {triangle} refers to vertex {vertex}, but there are {count} vertices"
+    )]
+    BadVertexIndex {
+        /// The solid.
+        solid: SolidRole,
+        /// The triangle.
+        triangle: usize,
+        /// The bad index.
+        vertex: u32,
+        /// The number of vertices.
+        count: usize,
+    },
+    /// A triangle with a repeated vertex or zero area.
+    #[error("{solid}: triangle {triangle} is degenerate (repeated vertex or zero area)")]
+    DegenerateTriangle {
+        /// The solid.
+        solid: SolidRole,
+        /// The triangle.
+        triangle: usize,
+    },
+    /// An edge used by one triangle only: the surface is not closed.
+    #[error("{solid}: edge ({}, {}) belongs to one triangle only (triangle {triangle}): the surface is not closed", edge[0], edge[1])]
+    OpenEdge {
+        /// The solid.
+        solid: SolidRole,
+        /// The edge's vertices.
+        edge: [u32; 2],
+        /// The one triangle using it.
+        triangle: usize,
+    },
+    /// An edge used by more than two triangles.
+    #[error("{solid}: edge ({}, {}) belongs to {count} triangles: the surface is not manifold", edge[0], edge[1])]
+    NonManifoldEdge {
+        /// The solid.
+        solid: SolidRole,
+        /// The edge's vertices.
+        edge: [u32; 2],
+        /// How many triangles use it.
+        count: usize,
+    },
+    /// Two triangles traverse a shared edge in the same direction.
+    #[error("{solid}: triangles {first} and {second} traverse edge ({}, {}) in the same direction: the surface is not consistently oriented", edge[0], edge[1])]
+    InconsistentOrientation {
+        /// The solid.
+        solid: SolidRole,
+        /// The directed edge.
+        edge: [u32; 2],
+        /// One triangle.
+        first: usize,
+        /// The other.
+        second: usize,
+    },
+    /// parry3d refused the surface.
+    #[error("{solid}: the triangle surface was refused: {message}")]
+    Surface {
+        /// The solid.
+        solid: SolidRole,
+        /// parry3d's message.
+        message: String,
+    },
+    /// A robot radius that is negative or not finite.
+    #[error("robot radius {radius} must be a finite number ≥ 0")]
+    BadRobotRadius {
+        /// The radius.
+        radius: f64,
+    },
+    /// The robot does not fit: shrinking the workspace by its radius leaves nothing.
+    #[error("the workspace shrunk by the robot radius {radius} is empty")]
+    EmptyWorkspace {
+        /// The robot radius.
+        radius: f64,
+    },
+    /// No goal was given.
+    #[error("the scene has no goal region")]
+    NoGoal,
+    /// `mesh.max_volume` not a positive finite number.
+    #[error("mesh.max_volume = {value} must be a positive finite number")]
+    BadMaxVolume {
+        /// The value.
+        value: f64,
+    },
+    /// The mesh would exceed the tetrahedron budget.
+    #[error(
+        "the mesh would have about {estimated} tetrahedra, more than the budget of {budget}; raise mesh.max_volume"
+    )]
+    TooManyTetrahedra {
+        /// The estimate (from the lattice size).
+        estimated: u64,
+        /// The budget.
+        budget: u64,
+    },
+    /// Meshing produced no tetrahedra: free space is empty at this resolution.
+    #[error(
+        "free space is empty at lattice spacing {spacing} (obstacles cover the workspace, or it is thinner than the mesh)"
+    )]
+    NoFreeSpace {
+        /// The lattice spacing used.
+        spacing: f64,
+    },
+    /// A tetrahedral mesh given by parts is invalid.
+    #[error("invalid tetrahedral mesh: {0}")]
+    InvalidMesh(String),
+    /// The scene description is invalid.
+    #[error("invalid volume scene: {0}")]
+    Spec(String),
+    /// Writing a file failed.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}

@@ -1,0 +1,68 @@
+//! # harmonic-volume
+//!
+//! Tetrahedral meshing of 3D free space (and of implicit configuration spaces) with tagged
+//! boundary faces, for the harmonic planner's volume scenes.
+//!
+//! * [`Solid`]: boxes, spheres and closed triangle surfaces, validated (closed, manifold,
+//!   consistently oriented; errors name the solid and the bad edge or triangle), with exact
+//!   signed distances (surfaces through parry3d).
+//! * [`VolumeDomain`]: the workspace shrunk and the obstacles inflated by the robot radius,
+//!   minus the goal regions; as an [`ImplicitDomain`] (a function negative in free space, cut
+//!   points, the tag of the nearest boundary part), which is all the mesher asks of a domain —
+//!   so implicit configuration-space obstacles are meshed by the same code.
+//! * [`stuff`]: isosurface stuffing on a body-centred cubic lattice (Labelle & Shewchuk 2007):
+//!   boundary faces lie on the surfaces (no staircase); [`VolumeDomain::mesh`] adds an exact
+//!   check that no wall or obstacle face comes closer to an obstacle than the robot radius.
+//! * [`TetMesh`]: positively oriented tetrahedra, face adjacency, tagged boundary faces,
+//!   point location; [`quality`] measures dihedral angles and negative stiffness weights.
+//! * [`io`]: `.vtu` output and an SVG of the three orthographic projections.
+//! * [`VolumeSceneSpec`]: the serde form of a `"dimension": 3` scene.
+//!
+//! ```
+//! use harmonic_volume::{MeshOptions, VolumeSceneSpec, quality};
+//! let spec: VolumeSceneSpec = serde_json::from_str(r#"{
+//!     "dimension": 3,
+//!     "workspace": {"box": {"min": [0, 0, 0], "max": [4, 4, 4]}},
+//!     "obstacles": [{"sphere": {"center": [2, 2, 2], "radius": 1.0}}],
+//!     "goal": {"point": [0.5, 0.5, 0.5]}
+//! }"#)?;
+//! let domain = spec.build()?;
+//! let (mesh, report) = domain.mesh(&MeshOptions::with_max_volume(0.01))?;
+//! let q = quality(&mesh);
+//! assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 175.0);
+//! assert!(report.clearance_deficit <= 1e-10);
+//! // The free volume: the box minus the ball, less what the margin and the goal ball take.
+//! let exact = 64.0 - 4.0 / 3.0 * std::f64::consts::PI;
+//! assert!((mesh.volume() - exact).abs() < 0.05 * exact);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+#![warn(missing_docs)]
+
+mod domain;
+mod error;
+mod implicit;
+pub mod io;
+mod locate;
+mod mesh;
+mod mesher;
+mod quality;
+mod solid;
+mod spec;
+mod stuffing;
+
+pub use domain::{DomainImplicit, GoalRegion, VolumeDomain};
+pub use error::{SolidRole, VolumeError};
+pub use implicit::ImplicitDomain;
+pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};
+pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
+pub use quality::{EDGES, QualityReport, quality, tet_angles_and_weights};
+pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
+pub use spec::{
+    BoundarySpec, BoxSpec, ConditionSpec, GoalSpec, GoalsSpec, ObstacleSpec, RobotSpec, SphereSpec,
+    SurfaceSpec, VolumeMeshSpec, VolumeSceneSpec, WorkspaceSpec,
+};
+pub use stuffing::{ALPHA_LONG, ALPHA_SHORT, Stuffed, StuffingOptions, lattice_tetrahedra, stuff};
+
+/// Re-exported: the boundary tags shared with the 2D mesh.
+pub use harmonic_mesh::BoundaryTag;

@@ -1,0 +1,99 @@
+//! Point location's fallback: a uniform bucket grid over the mesh, each cell listing the
+//! tetrahedra whose bounding boxes overlap it (built on first use).
+
+use crate::mesh::TetMesh;
+use crate::solid::{Point, Vector};
+
+/// The bucket grid.
+#[derive(Debug)]
+pub(crate) struct Locator {
+    lo: Point,
+    cell: f64,
+    n: [usize; 3],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Locator {
+    pub(crate) fn new(mesh: &TetMesh) -> Self {
+        let (lo, hi) = mesh.bounds();
+        let tets = mesh.tetrahedra().len().max(1);
+        let extent = (hi - lo).sup(&Vector::repeat(1e-300));
+        // About two tetrahedra per cell.
+        let cell = (extent.product() * 2.0 / tets as f64)
+            .cbrt()
+            .max(extent.max() / 1024.0);
+        let n = [0, 1, 2].map(|a| ((extent[a] / cell).ceil() as usize).clamp(1, 1024));
+        let cells = n[0] * n[1] * n[2];
+        let range = |t: u32| {
+            let p = mesh.tet_points(t);
+            let (mut a, mut b) = (p[0], p[0]);
+            for q in &p[1..] {
+                a = a.inf(q);
+                b = b.sup(q);
+            }
+            let idx = |x: f64, axis: usize| {
+                (((x - lo[axis]) / cell).floor().max(0.0) as usize).min(n[axis] - 1)
+            };
+            [0, 1, 2].map(|axis| (idx(a[axis], axis), idx(b[axis], axis)))
+        };
+        let mut count = vec![0u32; cells + 1];
+        let visit = |t: u32, f: &mut dyn FnMut(usize)| {
+            let r = range(t);
+            for k in r[2].0..=r[2].1 {
+                for j in r[1].0..=r[1].1 {
+                    for i in r[0].0..=r[0].1 {
+                        f(i + n[0] * (j + n[1] * k));
+                    }
+                }
+            }
+        };
+        for t in 0..mesh.tetrahedra().len() as u32 {
+            visit(t, &mut |c| count[c + 1] += 1);
+        }
+        for c in 0..cells {
+            count[c + 1] += count[c];
+        }
+        let mut next = count.clone();
+        let mut items = vec![0u32; count[cells] as usize];
+        for t in 0..mesh.tetrahedra().len() as u32 {
+            visit(t, &mut |c| {
+                items[next[c] as usize] = t;
+                next[c] += 1;
+            });
+        }
+        Locator {
+            lo,
+            cell,
+            n,
+            start: count,
+            items,
+        }
+    }
+
+    pub(crate) fn locate(&self, mesh: &TetMesh, p: &Point) -> Option<u32> {
+        let mut idx = [0usize; 3];
+        for a in 0..3 {
+            let x = ((p[a] - self.lo[a]) / self.cell).floor();
+            if x < -1.0 || x > self.n[a] as f64 {
+                return None;
+            }
+            idx[a] = (x.max(0.0) as usize).min(self.n[a] - 1);
+        }
+        let c = idx[0] + self.n[0] * (idx[1] + self.n[1] * idx[2]);
+        let items = &self.items[self.start[c] as usize..self.start[c + 1] as usize];
+        // The tetrahedron whose smallest barycentric coordinate is largest (robust on faces).
+        let mut best: Option<(f64, u32)> = None;
+        for &t in items {
+            let m = mesh
+                .barycentric(t, p)
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
+            if best.is_none_or(|(b, _)| m > b) {
+                best = Some((m, t));
+            }
+        }
+        best.filter(|&(m, _)| m >= -1e-12).map(|(_, t)| t)
+    }
+}

@@ -1,0 +1,350 @@
+//! The tetrahedral mesh: vertices, positively oriented tetrahedra, face adjacency and tagged
+//! boundary faces.
+
+use std::sync::OnceLock;
+
+use harmonic_mesh::BoundaryTag;
+
+use crate::error::VolumeError;
+use crate::locate::Locator;
+use crate::solid::{Point, Vector};
+
+/// Marks "no tetrahedron across this face".
+pub const NO_NEIGHBOR: u32 = u32::MAX;
+
+/// The faces of a tetrahedron `[v0, v1, v2, v3]`: face `k` is opposite vertex `k`, its local
+/// vertices ordered so that its normal (right-hand rule) points out of the tetrahedron.
+pub const FACES: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+/// Signed volume of the tetrahedron `abcd`: positive when `d` lies on the side of the
+/// triangle `abc` its right-hand normal points to (1/6 for `0, e₁, e₂, e₃`).
+pub fn signed_volume(a: &Point, b: &Point, c: &Point, d: &Point) -> f64 {
+    (b - a).dot(&(c - a).cross(&(d - a))) / 6.0
+}
+
+/// One boundary face of the mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryFace {
+    /// The face's vertices, ordered so that the normal points out of free space (into the
+    /// wall, obstacle or goal).
+    pub vertices: [u32; 3],
+    /// The tetrahedron it bounds.
+    pub tet: u32,
+    /// The local face index `k` in `tet` (the face opposite local vertex `k`).
+    pub local_face: u8,
+    /// Which part of the boundary it lies on.
+    pub tag: BoundaryTag,
+}
+
+/// A tetrahedral mesh of free space.
+#[derive(Debug)]
+pub struct TetMesh {
+    vertices: Vec<Point>,
+    tets: Vec<[u32; 4]>,
+    neighbors: Vec<[u32; 4]>,
+    boundary: Vec<BoundaryFace>,
+    /// Per tetrahedron face: index into `boundary`, or `NO_NEIGHBOR`.
+    face_boundary: Vec<[u32; 4]>,
+    on_boundary: Vec<bool>,
+    locator: OnceLock<Locator>,
+}
+
+impl TetMesh {
+    /// A mesh from its vertices and tetrahedra; boundary faces (faces of one tetrahedron only)
+    /// are tagged by `tag(centroid of the face)`. Checks indices, finiteness, that every
+    /// tetrahedron has positive volume and that no face is shared by more than two.
+    pub fn new(
+        vertices: Vec<Point>,
+        tets: Vec<[u32; 4]>,
+        tag: &dyn Fn(&Point) -> BoundaryTag,
+    ) -> Result<Self, VolumeError> {
+        let nv = vertices.len();
+        if nv >= NO_NEIGHBOR as usize || tets.len() >= NO_NEIGHBOR as usize {
+            return Err(VolumeError::InvalidMesh(format!(
+                "{nv} vertices and {} tetrahedra: more than 32-bit indices hold",
+                tets.len()
+            )));
+        }
+        if let Some(i) = vertices
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(VolumeError::InvalidMesh(format!(
+                "vertex {i} is not finite"
+            )));
+        }
+        for (t, tet) in tets.iter().enumerate() {
+            if let Some(&v) = tet.iter().find(|&&v| v as usize >= nv) {
+                return Err(VolumeError::InvalidMesh(format!(
+                    "tetrahedron {t} refers to vertex {v}, but there are {nv} vertices"
+                )));
+            }
+            let [a, b, c, d] = tet.map(|v| vertices[v as usize]);
+            if signed_volume(&a, &b, &c, &d) <= 0.0 {
+                return Err(VolumeError::InvalidMesh(format!(
+                    "tetrahedron {t} {tet:?} is not positively oriented"
+                )));
+            }
+        }
+        // Faces by sorted vertex triple; equal triples are the two sides of a face.
+        let mut faces: Vec<([u32; 3], u32)> = Vec::with_capacity(4 * tets.len());
+        for (t, tet) in tets.iter().enumerate() {
+            for (k, f) in FACES.iter().enumerate() {
+                let mut key = [tet[f[0]], tet[f[1]], tet[f[2]]];
+                key.sort_unstable();
+                faces.push((key, (t as u32) << 2 | k as u32));
+            }
+        }
+        faces.sort_unstable();
+        let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
+        let mut face_boundary = vec![[NO_NEIGHBOR; 4]; tets.len()];
+        let mut boundary = Vec::new();
+        let mut on_boundary = vec![false; nv];
+        let mut i = 0;
+        while i < faces.len() {
+            let mut j = i + 1;
+            while j < faces.len() && faces[j].0 == faces[i].0 {
+                j += 1;
+            }
+            match j - i {
+                1 => {
+                    let (t, k) = ((faces[i].1 >> 2) as usize, (faces[i].1 & 3) as usize);
+                    let f = FACES[k].map(|l| tets[t][l]);
+                    let c = Point::from(
+                        (vertices[f[0] as usize].coords
+                            + vertices[f[1] as usize].coords
+                            + vertices[f[2] as usize].coords)
+                            / 3.0,
+                    );
+                    face_boundary[t][k] = boundary.len() as u32;
+                    for &v in &f {
+                        on_boundary[v as usize] = true;
+                    }
+                    boundary.push(BoundaryFace {
+                        vertices: f,
+                        tet: t as u32,
+                        local_face: k as u8,
+                        tag: tag(&c),
+                    });
+                }
+                2 => {
+                    let (t0, k0) = ((faces[i].1 >> 2) as usize, (faces[i].1 & 3) as usize);
+                    let (t1, k1) = (
+                        (faces[i + 1].1 >> 2) as usize,
+                        (faces[i + 1].1 & 3) as usize,
+                    );
+                    neighbors[t0][k0] = t1 as u32;
+                    neighbors[t1][k1] = t0 as u32;
+                }
+                n => {
+                    return Err(VolumeError::InvalidMesh(format!(
+                        "face {:?} is shared by {n} tetrahedra",
+                        faces[i].0
+                    )));
+                }
+            }
+            i = j;
+        }
+        Ok(TetMesh {
+            vertices,
+            tets,
+            neighbors,
+            boundary,
+            face_boundary,
+            on_boundary,
+            locator: OnceLock::new(),
+        })
+    }
+
+    /// The vertices.
+    pub fn vertices(&self) -> &[Point] {
+        &self.vertices
+    }
+    /// The tetrahedra, positively oriented.
+    pub fn tetrahedra(&self) -> &[[u32; 4]] {
+        &self.tets
+    }
+    /// Per tetrahedron, the tetrahedron across face `k` (opposite local vertex `k`), or
+    /// [`NO_NEIGHBOR`].
+    pub fn neighbors(&self) -> &[[u32; 4]] {
+        &self.neighbors
+    }
+    /// The boundary faces.
+    pub fn boundary_faces(&self) -> &[BoundaryFace] {
+        &self.boundary
+    }
+    /// The boundary face on local face `k` of tetrahedron `t`, if that face is on the boundary.
+    pub fn boundary_face(&self, t: u32, k: usize) -> Option<&BoundaryFace> {
+        let i = self.face_boundary[t as usize][k];
+        (i != NO_NEIGHBOR).then(|| &self.boundary[i as usize])
+    }
+    /// Whether vertex `v` lies on a boundary face.
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        self.on_boundary[v as usize]
+    }
+    /// The four corners of tetrahedron `t`.
+    pub fn tet_points(&self, t: u32) -> [Point; 4] {
+        self.tets[t as usize].map(|v| self.vertices[v as usize])
+    }
+    /// The volume of tetrahedron `t`.
+    pub fn tet_volume(&self, t: u32) -> f64 {
+        let [a, b, c, d] = self.tet_points(t);
+        signed_volume(&a, &b, &c, &d)
+    }
+    /// The total volume.
+    pub fn volume(&self) -> f64 {
+        (0..self.tets.len() as u32)
+            .map(|t| self.tet_volume(t))
+            .sum()
+    }
+
+    /// The gradients of the four barycentric coordinates of tetrahedron `t` (constant on it)
+    /// and its volume: `∇λ_k = −A_k / (3V)` with `A_k` the outward area vector of face `k`.
+    pub fn barycentric_gradients(&self, t: u32) -> ([Vector; 4], f64) {
+        let p = self.tet_points(t);
+        let vol = signed_volume(&p[0], &p[1], &p[2], &p[3]);
+        let g = FACES.map(|f| {
+            let area = (p[f[1]] - p[f[0]]).cross(&(p[f[2]] - p[f[0]])) * 0.5;
+            -area / (3.0 * vol)
+        });
+        (g, vol)
+    }
+
+    /// The barycentric coordinates of `p` in tetrahedron `t`.
+    pub fn barycentric(&self, t: u32, p: &Point) -> [f64; 4] {
+        let q = self.tet_points(t);
+        let vol = signed_volume(&q[0], &q[1], &q[2], &q[3]);
+        let mut l = [0.0; 4];
+        for (k, lk) in l.iter_mut().enumerate() {
+            let mut r = q;
+            r[k] = *p;
+            *lk = signed_volume(&r[0], &r[1], &r[2], &r[3]) / vol;
+        }
+        l
+    }
+
+    /// The tetrahedron holding `p` (on its boundary counts), walking from `hint` when given
+    /// and falling back on a bucket grid; `None` if `p` is outside the mesh.
+    pub fn locate(&self, p: &Point, hint: Option<u32>) -> Option<u32> {
+        if !p.iter().all(|c| c.is_finite()) || self.tets.is_empty() {
+            return None;
+        }
+        if let Some(t) = hint.filter(|&t| (t as usize) < self.tets.len())
+            && let Some(t) = self.walk(p, t)
+        {
+            return Some(t);
+        }
+        self.locator
+            .get_or_init(|| Locator::new(self))
+            .locate(self, p)
+    }
+
+    /// Walks from `start` toward `p` across faces; `None` if the walk leaves the mesh or
+    /// takes too long.
+    pub fn walk(&self, p: &Point, start: u32) -> Option<u32> {
+        let mut t = start;
+        let limit = 64 + 4 * (self.tets.len() as f64).cbrt() as usize;
+        for _ in 0..limit {
+            let l = self.barycentric(t, p);
+            let (k, &m) = l.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1))?;
+            if m >= -1e-12 {
+                return Some(t);
+            }
+            let n = self.neighbors[t as usize][k];
+            if n == NO_NEIGHBOR {
+                return None;
+            }
+            t = n;
+        }
+        None
+    }
+
+    /// The axis-aligned bounding box of the vertices.
+    pub fn bounds(&self) -> (Point, Point) {
+        let mut lo = Point::from(Vector::repeat(f64::INFINITY));
+        let mut hi = Point::from(Vector::repeat(f64::NEG_INFINITY));
+        for p in &self.vertices {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        (lo, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube cut into 6 tetrahedra around the diagonal 0–6 (Kuhn).
+    pub(crate) fn kuhn_cube() -> TetMesh {
+        let v: Vec<Point> = (0..8)
+            .map(|i| Point::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
+            .collect();
+        let paths = [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]];
+        let tets = paths
+            .iter()
+            .map(|&[a, b]| {
+                let mut t = [0u32, a, b, 7];
+                let p = t.map(|i| v[i as usize]);
+                if signed_volume(&p[0], &p[1], &p[2], &p[3]) < 0.0 {
+                    t.swap(1, 2);
+                }
+                t
+            })
+            .collect();
+        TetMesh::new(v, tets, &|p: &Point| {
+            if p.z < 1e-9 {
+                BoundaryTag::Goal(0)
+            } else {
+                BoundaryTag::Wall
+            }
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn cube_adjacency_and_location() {
+        let m = kuhn_cube();
+        assert_eq!(m.tetrahedra().len(), 6);
+        assert_eq!(m.boundary_faces().len(), 12);
+        assert_eq!(
+            m.boundary_faces()
+                .iter()
+                .filter(|f| f.tag == BoundaryTag::Goal(0))
+                .count(),
+            2
+        );
+        assert!((m.volume() - 1.0).abs() < 1e-15);
+        // Outward boundary normals.
+        for f in m.boundary_faces() {
+            let [a, b, c] = f.vertices.map(|v| m.vertices()[v as usize]);
+            let n = (b - a).cross(&(c - a));
+            let centroid = (a.coords + b.coords + c.coords) / 3.0;
+            assert!(n.dot(&(centroid - Vector::repeat(0.5))) > 0.0);
+        }
+        let p = Point::new(0.2, 0.7, 0.4);
+        let t = m.locate(&p, Some(0)).unwrap();
+        assert!(m.barycentric(t, &p).iter().all(|&l| l >= -1e-12));
+        assert_eq!(m.locate(&Point::new(1.5, 0.5, 0.5), None), None);
+        // Gradients of the barycentric coordinates sum to zero and reproduce x.
+        let (g, _) = m.barycentric_gradients(t);
+        let sum: Vector = g.iter().sum();
+        assert!(sum.norm() < 1e-14);
+        let gx: Vector = (0..4)
+            .map(|k| g[k] * m.vertices()[m.tetrahedra()[t as usize][k] as usize].x)
+            .sum();
+        assert!((gx - Vector::x()).norm() < 1e-14);
+    }
+
+    #[test]
+    fn inverted_tetrahedra_are_refused() {
+        let v = vec![
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+            Point::new(0.0, 0.0, 1.0),
+        ];
+        let e = TetMesh::new(v, vec![[0, 2, 1, 3]], &|_: &Point| BoundaryTag::Wall).unwrap_err();
+        assert!(e.to_string().contains("not positively oriented"), "{e}");
+    }
+}

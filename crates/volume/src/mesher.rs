@@ -1,0 +1,175 @@
+//! Meshing a [`VolumeDomain`]: isosurface stuffing at the spacing implied by the largest
+//! tetrahedron volume, then an exact check that the mesh stays inside the true free space.
+//!
+//! Stuffing puts its boundary vertices *on* the (inflated) obstacle surfaces, so a boundary
+//! face is a chord: across a curved or a sharp convex obstacle it dips into it (by about
+//! h²/8R on a ball of radius R, and by up to a fraction of h across a box edge that is not
+//! on a lattice plane). A path sliding along such a face would graze the real obstacle. So
+//! every wall or obstacle face is measured against the exact solids (parry3d distances) and,
+//! where one comes closer than the robot radius, the obstacles are inflated (and the workspace
+//! shrunk) by a margin and the domain meshed again, until no face falls short.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use harmonic_mesh::BoundaryTag;
+
+use crate::domain::VolumeDomain;
+use crate::error::VolumeError;
+use crate::implicit::ImplicitDomain;
+use crate::mesh::TetMesh;
+use crate::stuffing::{StuffingOptions, lattice_tetrahedra, stuff};
+
+/// The default tetrahedron budget: meshes whose lattice would hold more are refused.
+pub const DEFAULT_MAX_TETRAHEDRA: u64 = 20_000_000;
+
+/// Options of [`VolumeDomain::mesh`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshOptions {
+    /// The largest tetrahedron volume: the lattice spacing is `h = (12·max_volume)^{1/3}`
+    /// (lattice tetrahedra have volume h³/12; clipped ones are smaller).
+    pub max_volume: f64,
+    /// Refuse lattices with more tetrahedra than this (before allocating them).
+    pub max_tetrahedra: u64,
+    /// Check the boundary faces against the exact solids and remesh with a safety margin
+    /// until none comes closer to an obstacle or a wall than the robot radius.
+    pub conservative: bool,
+    /// Tolerance of that check (absolute length).
+    pub clearance_tolerance: f64,
+}
+
+impl MeshOptions {
+    /// Options with the given largest tetrahedron volume and the defaults otherwise
+    /// (20 M tetrahedra budget, conservative, tolerance 1e-10).
+    pub fn with_max_volume(max_volume: f64) -> Self {
+        MeshOptions {
+            max_volume,
+            max_tetrahedra: DEFAULT_MAX_TETRAHEDRA,
+            conservative: true,
+            clearance_tolerance: 1e-10,
+        }
+    }
+}
+
+/// What meshing did.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MeshReport {
+    /// The lattice spacing h.
+    pub spacing: f64,
+    /// The radius given to point goals.
+    pub point_goal_radius: f64,
+    /// The largest safety margin finally added to the robot radius (per obstacle, walls).
+    pub margin: f64,
+    /// How many times the domain was stuffed.
+    pub passes: usize,
+    /// Lattice vertices evaluated in the last pass.
+    pub lattice_vertices: usize,
+    /// Lattice vertices warped onto the boundary in the last pass.
+    pub warped: usize,
+    /// Flat tetrahedra dropped in the last pass.
+    pub dropped_flat: usize,
+    /// The largest clearance deficit of a wall or obstacle face in the final mesh
+    /// (≤ `clearance_tolerance` when conservative; `-inf` when there are no such faces;
+    /// NaN when not checked).
+    pub clearance_deficit: f64,
+    /// Wall-clock seconds spent.
+    pub seconds: f64,
+}
+
+impl VolumeDomain {
+    /// The lattice spacing for a largest tetrahedron volume.
+    pub fn spacing_for(max_volume: f64) -> f64 {
+        (12.0 * max_volume).cbrt()
+    }
+
+    /// Meshes free space (see the module docs).
+    pub fn mesh(&self, opts: &MeshOptions) -> Result<(TetMesh, MeshReport), VolumeError> {
+        let start = Instant::now();
+        if !(opts.max_volume.is_finite() && opts.max_volume > 0.0) {
+            return Err(VolumeError::BadMaxVolume {
+                value: opts.max_volume,
+            });
+        }
+        let h = Self::spacing_for(opts.max_volume);
+        let estimated = lattice_tetrahedra(self.workspace().bounds(), h);
+        if estimated > opts.max_tetrahedra {
+            return Err(VolumeError::TooManyTetrahedra {
+                estimated,
+                budget: opts.max_tetrahedra,
+            });
+        }
+        let goal_radius = h;
+        let mut margins = vec![0.0; self.obstacles().len()];
+        let mut wall_margin = 0.0;
+        let mut passes = 0;
+        loop {
+            passes += 1;
+            let implicit = self.implicit(goal_radius, &margins, wall_margin);
+            let stuffed = stuff(
+                &implicit,
+                &StuffingOptions {
+                    spacing: h,
+                    max_tetrahedra: opts.max_tetrahedra,
+                },
+            )?;
+            if stuffed.tetrahedra.is_empty() {
+                return Err(VolumeError::NoFreeSpace { spacing: h });
+            }
+            let (lattice_vertices, warped, dropped_flat) = (
+                stuffed.lattice_vertices,
+                stuffed.warped,
+                stuffed.dropped_flat,
+            );
+            let mesh = TetMesh::new(stuffed.vertices, stuffed.tetrahedra, &|p| implicit.tag(p))?;
+            let (obstacle_deficits, wall_deficit) = if opts.conservative {
+                self.mesh_clearance_deficits(&mesh)
+            } else {
+                (Vec::new(), f64::NAN)
+            };
+            let deficit = obstacle_deficits
+                .iter()
+                .copied()
+                .fold(wall_deficit, f64::max);
+            let done = !opts.conservative || deficit <= opts.clearance_tolerance || passes >= 6;
+            if done {
+                let report = MeshReport {
+                    spacing: h,
+                    point_goal_radius: goal_radius,
+                    margin: margins.iter().copied().fold(wall_margin, f64::max),
+                    passes,
+                    lattice_vertices,
+                    warped,
+                    dropped_flat,
+                    clearance_deficit: deficit,
+                    seconds: start.elapsed().as_secs_f64(),
+                };
+                return Ok((mesh, report));
+            }
+            let tol = opts.clearance_tolerance;
+            for (m, &d) in margins.iter_mut().zip(&obstacle_deficits) {
+                if d > tol {
+                    *m += 1.5 * d + 1e-9 * h;
+                }
+            }
+            if wall_deficit > tol {
+                wall_margin += 1.5 * wall_deficit + 1e-9 * h;
+            }
+        }
+    }
+
+    /// The largest clearance deficits (see [`VolumeDomain::raise_clearance_deficits`]) over
+    /// the mesh's wall and obstacle faces: per obstacle, and of the walls (`-inf` where no
+    /// face comes near).
+    pub fn mesh_clearance_deficits(&self, mesh: &TetMesh) -> (Vec<f64>, f64) {
+        let mut obstacles = vec![f64::NEG_INFINITY; self.obstacles().len()];
+        let mut wall = f64::NEG_INFINITY;
+        for f in mesh.boundary_faces() {
+            if !matches!(f.tag, BoundaryTag::Goal(_)) {
+                let tri = f.vertices.map(|v| mesh.vertices()[v as usize]);
+                self.raise_clearance_deficits(tri, &mut obstacles, &mut wall);
+            }
+        }
+        (obstacles, wall)
+    }
+}

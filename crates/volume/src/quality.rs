@@ -1,0 +1,113 @@
+//! Mesh quality: dihedral angles, volumes, and the sign of the P1 stiffness edge weights
+//! (the cotangent weights whose negativity breaks the discrete maximum principle).
+
+use serde::Serialize;
+
+use crate::mesh::TetMesh;
+
+/// The six edges of a tetrahedron as local vertex pairs.
+pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
+/// A summary of a mesh's shape quality.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct QualityReport {
+    /// Number of vertices.
+    pub vertices: usize,
+    /// Number of tetrahedra.
+    pub tetrahedra: usize,
+    /// Number of boundary faces.
+    pub boundary_faces: usize,
+    /// Smallest dihedral angle, degrees.
+    pub min_dihedral_deg: f64,
+    /// Largest dihedral angle, degrees.
+    pub max_dihedral_deg: f64,
+    /// Smallest tetrahedron volume.
+    pub min_volume: f64,
+    /// Largest tetrahedron volume.
+    pub max_volume: f64,
+    /// Number of distinct mesh edges.
+    pub edges: usize,
+    /// Edges whose summed stiffness weight `−K_ij = −Σ_T V_T ∇λ_i·∇λ_j` is negative beyond
+    /// round-off (`1e-12` of the largest weight at either end): each is a positive
+    /// off-diagonal entry of the stiffness matrix if both ends are unknowns.
+    pub negative_weight_edges: usize,
+    /// Tetrahedra with an obtuse dihedral angle (> 90° + 1e-9).
+    pub obtuse_tetrahedra: usize,
+}
+
+/// Dihedral angle (radians) of tetrahedron `t` at each of its [`EDGES`], and the stiffness
+/// weight `−V ∇λ_i·∇λ_j` of each edge.
+pub fn tet_angles_and_weights(mesh: &TetMesh, t: u32) -> ([f64; 6], [f64; 6]) {
+    let (g, vol) = mesh.barycentric_gradients(t);
+    let mut angles = [0.0; 6];
+    let mut weights = [0.0; 6];
+    for (e, &[i, j]) in EDGES.iter().enumerate() {
+        weights[e] = -vol * g[i].dot(&g[j]);
+        // The dihedral angle at edge (i, j) is between faces k and l (the other two); the
+        // gradients of λ_k and λ_l are inward normals of those faces.
+        let others: Vec<usize> = (0..4).filter(|&m| m != i && m != j).collect();
+        let (a, b) = (g[others[0]], g[others[1]]);
+        let c = (-a.dot(&b) / (a.norm() * b.norm())).clamp(-1.0, 1.0);
+        angles[e] = c.acos();
+    }
+    (angles, weights)
+}
+
+/// Measures `mesh`.
+pub fn quality(mesh: &TetMesh) -> QualityReport {
+    let mut report = QualityReport {
+        vertices: mesh.vertices().len(),
+        tetrahedra: mesh.tetrahedra().len(),
+        boundary_faces: mesh.boundary_faces().len(),
+        min_dihedral_deg: f64::INFINITY,
+        max_dihedral_deg: 0.0,
+        min_volume: f64::INFINITY,
+        max_volume: 0.0,
+        edges: 0,
+        negative_weight_edges: 0,
+        obtuse_tetrahedra: 0,
+    };
+    let mut edges: Vec<(u64, f64)> = Vec::with_capacity(6 * mesh.tetrahedra().len());
+    for (t, tet) in mesh.tetrahedra().iter().enumerate() {
+        let (angles, weights) = tet_angles_and_weights(mesh, t as u32);
+        let vol = mesh.tet_volume(t as u32);
+        report.min_volume = report.min_volume.min(vol);
+        report.max_volume = report.max_volume.max(vol);
+        let mut obtuse = false;
+        for e in 0..6 {
+            let deg = angles[e].to_degrees();
+            report.min_dihedral_deg = report.min_dihedral_deg.min(deg);
+            report.max_dihedral_deg = report.max_dihedral_deg.max(deg);
+            obtuse |= deg > 90.0 + 1e-9;
+            let [i, j] = EDGES[e];
+            let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
+            edges.push((a << 32 | b, weights[e]));
+        }
+        report.obtuse_tetrahedra += obtuse as usize;
+    }
+    edges.sort_unstable_by_key(|e| e.0);
+    // Largest |weight| at each vertex, for the round-off tolerance.
+    let mut scale = vec![0.0f64; mesh.vertices().len()];
+    for &(k, w) in &edges {
+        for v in [k >> 32, k & 0xffff_ffff] {
+            scale[v as usize] = scale[v as usize].max(w.abs());
+        }
+    }
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i;
+        let mut sum = 0.0;
+        while j < edges.len() && edges[j].0 == edges[i].0 {
+            sum += edges[j].1;
+            j += 1;
+        }
+        let k = edges[i].0;
+        let tol = 1e-12 * scale[(k >> 32) as usize].max(scale[(k & 0xffff_ffff) as usize]);
+        report.edges += 1;
+        if sum < -tol {
+            report.negative_weight_edges += 1;
+        }
+        i = j;
+    }
+    report
+}
