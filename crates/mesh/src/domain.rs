@@ -11,8 +11,8 @@ use geo::{
 use serde::{Deserialize, Serialize};
 
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
+use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
-use crate::triangulate::MeshOptions;
 use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
 
 /// An obstacle shape, in workspace coordinates.

@@ -3,7 +3,7 @@
 use rstar::RTree;
 
 use crate::geom::SegmentIndex;
-use crate::triangulate::Grading;
+use crate::options::Grading;
 use crate::{BoundaryTag, Domain, Point};
 
 /// A boundary vertex is an obstacle corner if the boundary turns there by more than this

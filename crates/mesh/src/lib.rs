@@ -42,12 +42,14 @@ mod grading;
 mod halves;
 pub mod io;
 mod mesh;
+mod options;
 mod touch;
 mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
-pub use triangulate::{Grading, MAX_MIN_ANGLE_DEG, MeshOptions, MeshReport};
+pub use options::{Grading, MAX_MIN_ANGLE_DEG, MeshOptions};
+pub use triangulate::MeshReport;
 
 /// A part of the input scene, used to say where an input error is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

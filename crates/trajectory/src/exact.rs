@@ -7,10 +7,14 @@
 //! triangle, a level edge, a vertex with no lower neighbour) is escaped by a small
 //! perturbation to a lower point in free space, as in Connolly's and Garrido's planners;
 //! when none is found the path ends `Stalled`.
+//!
+//! This module also makes [`P1Field`] and [`SmoothP1Field`] [`Field`]s: their fallback step is
+//! one move of this tracer, so their implementations sit here and `field.rs` needs nothing
+//! from the tracers.
 
 use harmonic_mesh::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
 
-use crate::field::{P1Field, goal_crossing, magnitude, orient};
+use crate::field::{P1Field, SmoothP1Field, goal_crossing, magnitude, orient};
 use crate::{Fallback, Field, Locate, Path, Segment, TraceStatus};
 
 /// Options of the exact tracer.
@@ -121,7 +125,7 @@ pub fn trace_exact_with_hint(
 
 /// One move of the exact tracer from `p` in triangle `t`: what the smooth tracer falls back
 /// on when its steps keep being rejected (against a wall, at a stagnation point).
-pub(crate) fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32> {
+fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32> {
     let mut tracer = Tracer {
         field,
         points: vec![p],
@@ -149,6 +153,71 @@ pub(crate) fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32>
         }
     }
     Fallback::Stuck
+}
+
+/// A P1 field is followed triangle by triangle; where an integrator cannot make progress it
+/// falls back on one move of the exact tracer.
+impl Field for P1Field<'_> {
+    type Cell = u32;
+
+    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+        self.locate_point(p, hint)
+    }
+
+    #[inline]
+    fn value(&self, cell: u32, p: Point) -> f64 {
+        self.value_at(cell, p)
+    }
+
+    #[inline]
+    fn gradient(&self, cell: u32, _p: Point) -> Vector {
+        self.triangle_gradient(cell)
+    }
+
+    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+        self.segment_from(cell, from, to)
+    }
+
+    fn goal_reachable(&self, cell: u32) -> bool {
+        self.component_has_goal(cell)
+    }
+
+    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
+        if (cell as usize) >= self.mesh().triangles().len() {
+            return Fallback::Stuck;
+        }
+        exact_move(self, cell, p)
+    }
+}
+
+/// A smooth P1 field is its [`P1Field`] (location, values, segments, the exact fallback)
+/// with the recovered, continuous gradient.
+impl Field for SmoothP1Field<'_> {
+    type Cell = u32;
+
+    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+        self.p1().locate(p, hint)
+    }
+
+    fn value(&self, cell: u32, p: Point) -> f64 {
+        self.p1().value(cell, p)
+    }
+
+    fn gradient(&self, cell: u32, p: Point) -> Vector {
+        self.gradient_at(cell, p)
+    }
+
+    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+        self.p1().segment(cell, from, to)
+    }
+
+    fn goal_reachable(&self, cell: u32) -> bool {
+        self.p1().goal_reachable(cell)
+    }
+
+    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
+        self.p1().fallback_step(cell, p)
+    }
 }
 
 /// The gradient in triangle `n`, or zero across a boundary edge (`NO_NEIGHBOR`).

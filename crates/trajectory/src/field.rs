@@ -1,6 +1,7 @@
-//! The [`Field`] trait that tracers and the car stepper follow, and its P1 (finite element)
-//! implementations [`P1Field`] and [`SmoothP1Field`], which borrow the mesh and the nodal
-//! values without copying them.
+//! The [`Field`] trait that tracers and the car stepper follow, and the P1 (finite element)
+//! fields [`P1Field`] and [`SmoothP1Field`], which borrow the mesh and the nodal values
+//! without copying them. Their [`Field`] implementations are in `exact.rs`, beside the exact
+//! tracer's move that they fall back on; this module needs nothing from the tracers.
 
 use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point, Vector};
 
@@ -348,7 +349,7 @@ impl<'a> P1Field<'a> {
     }
 
     /// Whether some goal edge lies in the same connected component as triangle `t`.
-    fn component_has_goal(&self, t: u32) -> bool {
+    pub(crate) fn component_has_goal(&self, t: u32) -> bool {
         let comps = self.mesh.triangle_components();
         let c = comps[t as usize];
         self.mesh
@@ -370,10 +371,11 @@ fn check_len(what: &'static str, expected: usize, got: usize) -> Result<(), Trac
     }
 }
 
-impl Field for P1Field<'_> {
-    type Cell = u32;
-
-    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+impl P1Field<'_> {
+    /// The triangle holding `p` ([`Field::locate`]): a walk from `hint` when given, else
+    /// (or when the walk meets the boundary) the mesh's own point location, else what lies
+    /// outside.
+    pub(crate) fn locate_point(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
         let n = self.mesh.triangles().len();
         if n == 0 || !p.x.is_finite() || !p.y.is_finite() {
             return Locate::OutsideWorkspace;
@@ -392,8 +394,9 @@ impl Field for P1Field<'_> {
         self.classify_outside(p)
     }
 
+    /// The field's value at `p` in triangle `cell` ([`Field::value`]; sign applied).
     #[inline]
-    fn value(&self, cell: u32, p: Point) -> f64 {
+    pub(crate) fn value_at(&self, cell: u32, p: Point) -> f64 {
         let tri = self.mesh.triangles()[cell as usize];
         let l = self.barycentric(cell, p);
         self.sign
@@ -402,28 +405,14 @@ impl Field for P1Field<'_> {
                 + l[2] * self.values[tri[2] as usize])
     }
 
-    #[inline]
-    fn gradient(&self, cell: u32, _p: Point) -> Vector {
-        self.triangle_gradient(cell)
-    }
-
-    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+    /// Where the segment `from → to` from triangle `cell` ends ([`Field::segment`]):
+    /// blocked for a triangle that is not the mesh's or a non-finite end.
+    pub(crate) fn segment_from(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
         if (cell as usize) >= self.mesh.triangles().len() || !to.x.is_finite() || !to.y.is_finite()
         {
             return Segment::Blocked;
         }
         self.segment_walk(cell, from, to)
-    }
-
-    fn goal_reachable(&self, cell: u32) -> bool {
-        self.component_has_goal(cell)
-    }
-
-    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
-        if (cell as usize) >= self.mesh.triangles().len() {
-            return Fallback::Stuck;
-        }
-        crate::exact::exact_move(self, cell, p)
     }
 }
 
@@ -481,36 +470,17 @@ impl<'a> SmoothP1Field<'a> {
     }
 }
 
-impl Field for SmoothP1Field<'_> {
-    type Cell = u32;
-
-    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
-        self.p1.locate(p, hint)
-    }
-
-    fn value(&self, cell: u32, p: Point) -> f64 {
-        self.p1.value(cell, p)
-    }
-
-    fn gradient(&self, cell: u32, p: Point) -> Vector {
+impl SmoothP1Field<'_> {
+    /// The recovered gradient at `p` in triangle `cell` ([`Field::gradient`]): the nodal
+    /// gradients interpolated with the barycentric coordinates clamped to the triangle,
+    /// sign applied.
+    pub(crate) fn gradient_at(&self, cell: u32, p: Point) -> Vector {
         let tri = self.p1.mesh.triangles()[cell as usize];
         let l = self.p1.barycentric(cell, p).map(|x| x.clamp(0.0, 1.0));
         let g = self.gradients[tri[0] as usize] * l[0]
             + self.gradients[tri[1] as usize] * l[1]
             + self.gradients[tri[2] as usize] * l[2];
         g * (self.p1.sign / (l[0] + l[1] + l[2]))
-    }
-
-    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
-        self.p1.segment(cell, from, to)
-    }
-
-    fn goal_reachable(&self, cell: u32) -> bool {
-        self.p1.goal_reachable(cell)
-    }
-
-    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32> {
-        self.p1.fallback_step(cell, p)
     }
 }
 
