@@ -37,7 +37,7 @@
 #![warn(missing_docs)]
 
 mod domain;
-mod geom;
+pub mod geom;
 mod grading;
 mod halves;
 pub mod io;

@@ -1,54 +1,10 @@
-//! Small geometric kernels and a segment R-tree for clearance and tagging queries.
+//! A segment R-tree for clearance and tagging queries.
 
 use rstar::primitives::{GeomWithData, Line};
 use rstar::{AABB, RTree};
 
-use crate::{Point, orient2d};
-
-/// Squared distance from `p` to the closed segment `ab`.
-pub(crate) fn point_segment_dist2(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t - p).norm_squared()
-}
-
-/// Whether the closed segments `ab` and `cd` share a point.
-pub(crate) fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
-    let o1 = orient2d(a, b, c);
-    let o2 = orient2d(a, b, d);
-    let o3 = orient2d(c, d, a);
-    let o4 = orient2d(c, d, b);
-    if ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
-        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
-    {
-        return true;
-    }
-    let on = |p: Point, q: Point, r: Point, o: f64| {
-        o == 0.0
-            && r.x >= p.x.min(q.x)
-            && r.x <= p.x.max(q.x)
-            && r.y >= p.y.min(q.y)
-            && r.y <= p.y.max(q.y)
-    };
-    on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4)
-}
-
-/// Distance between the closed segments `ab` and `cd` (0 if they intersect).
-pub(crate) fn segment_segment_dist(a: Point, b: Point, c: Point, d: Point) -> f64 {
-    if segments_intersect(a, b, c, d) {
-        return 0.0;
-    }
-    point_segment_dist2(a, c, d)
-        .min(point_segment_dist2(b, c, d))
-        .min(point_segment_dist2(c, a, b))
-        .min(point_segment_dist2(d, a, b))
-        .sqrt()
-}
+use super::{even_odd, point_segment_dist2, segment_segment_distance};
+use crate::Point;
 
 type Seg = GeomWithData<Line<[f64; 2]>, u32>;
 
@@ -112,7 +68,7 @@ impl SegmentIndex {
         let lo = Point::new(a.x.min(b.x) - best, a.y.min(b.y) - best);
         let hi = Point::new(a.x.max(b.x) + best, a.y.max(b.y) + best);
         for (c, d, _) in self.in_box(lo, hi) {
-            best = best.min(segment_segment_dist(a, b, c, d));
+            best = best.min(segment_segment_distance(a, b, c, d));
             if best == 0.0 {
                 break;
             }
@@ -122,17 +78,8 @@ impl SegmentIndex {
 
     /// Parity of the number of segments crossed by the ray from `p` towards +x (even-odd rule).
     pub(crate) fn ray_parity(&self, p: Point, x_max: f64) -> bool {
-        let mut inside = false;
         let lo = Point::new(p.x, p.y);
         let hi = Point::new(x_max.max(p.x) + 1.0, p.y);
-        for (a, b, _) in self.in_box(lo, hi) {
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if x > p.x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
+        even_odd(self.in_box(lo, hi).map(|(a, b, _)| (a, b)), p)
     }
 }

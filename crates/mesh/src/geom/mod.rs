@@ -1,0 +1,171 @@
+//! The workspace's one home of the planar geometric kernels: distances between points,
+//! segments and polygons, the even-odd inside test, polyline length.
+//!
+//! Rings are slices of vertices, closed implicitly (the last vertex joins the first), in
+//! either orientation. Every function takes the project's [`Point`] or anything that turns
+//! into one for free (`[f64; 2]`, as the scene format stores points), so callers holding
+//! serde arrays need not copy their polygons.
+//!
+//! ```
+//! use harmonic_mesh::geom::{polygon_contains, polygon_distance, segment_polygon_distance};
+//! let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+//! assert!(polygon_contains(&square, [1.0, 1.0]));
+//! assert_eq!(polygon_distance(&square, [1.0, 1.0]), 0.0);
+//! assert_eq!(polygon_distance(&square, [3.0, 1.0]), 1.0);
+//! assert_eq!(segment_polygon_distance([3.0, -1.0], [3.0, 3.0], &square), 1.0);
+//! ```
+
+mod index;
+
+pub(crate) use index::SegmentIndex;
+
+use crate::{Point, orient2d};
+
+/// The edges of a ring, the closing edge last.
+pub fn ring_edges<P: Copy + Into<Point>>(ring: &[P]) -> impl Iterator<Item = (Point, Point)> + '_ {
+    let n = ring.len();
+    (0..n).map(move |k| (ring[k].into(), ring[(k + 1) % n].into()))
+}
+
+/// Whether the ray from `p` towards +x crosses an odd number of `edges` (the even-odd rule):
+/// for the edges of a closed ring, whether `p` lies inside it. Each edge counts on the
+/// half-open interval of its y extent, so a vertex on the ray is crossed once.
+pub fn even_odd(edges: impl IntoIterator<Item = (Point, Point)>, p: Point) -> bool {
+    let mut inside = false;
+    for (a, b) in edges {
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if x > p.x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// Whether `p` lies inside the polygon `ring` (even-odd rule; either orientation).
+pub fn polygon_contains<P: Copy + Into<Point>>(ring: &[P], p: impl Into<Point>) -> bool {
+    even_odd(ring_edges(ring), p.into())
+}
+
+/// The point of the closed segment `ab` closest to `p`.
+pub fn closest_point_on_segment(
+    p: impl Into<Point>,
+    a: impl Into<Point>,
+    b: impl Into<Point>,
+) -> Point {
+    let (p, a, b) = (p.into(), a.into(), b.into());
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a + ab * t
+}
+
+/// Squared distance from `p` to the closed segment `ab`.
+pub(crate) fn point_segment_dist2(p: Point, a: Point, b: Point) -> f64 {
+    (closest_point_on_segment(p, a, b) - p).norm_squared()
+}
+
+/// Distance from `p` to the closed segment `ab`.
+pub fn point_segment_distance(
+    p: impl Into<Point>,
+    a: impl Into<Point>,
+    b: impl Into<Point>,
+) -> f64 {
+    point_segment_dist2(p.into(), a.into(), b.into()).sqrt()
+}
+
+/// Whether the closed segments `ab` and `cd` share a point (touching counts).
+pub fn segments_intersect(a: Point, b: Point, c: Point, d: Point) -> bool {
+    let o1 = orient2d(a, b, c);
+    let o2 = orient2d(a, b, d);
+    let o3 = orient2d(c, d, a);
+    let o4 = orient2d(c, d, b);
+    if ((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0))
+        && ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0))
+    {
+        return true;
+    }
+    let on = |p: Point, q: Point, r: Point, o: f64| {
+        o == 0.0
+            && r.x >= p.x.min(q.x)
+            && r.x <= p.x.max(q.x)
+            && r.y >= p.y.min(q.y)
+            && r.y <= p.y.max(q.y)
+    };
+    on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4)
+}
+
+/// Distance between the closed segments `ab` and `cd` (0 if they meet).
+pub fn segment_segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
+    if segments_intersect(a, b, c, d) {
+        return 0.0;
+    }
+    point_segment_dist2(a, c, d)
+        .min(point_segment_dist2(b, c, d))
+        .min(point_segment_dist2(c, a, b))
+        .min(point_segment_dist2(d, a, b))
+        .sqrt()
+}
+
+/// The point of the boundary of `ring` closest to `p`, and its distance (`None` for an
+/// empty ring).
+pub fn closest_point_on_ring<P: Copy + Into<Point>>(
+    ring: &[P],
+    p: impl Into<Point>,
+) -> Option<(Point, f64)> {
+    let p = p.into();
+    ring_edges(ring)
+        .map(|(a, b)| {
+            let c = closest_point_on_segment(p, a, b);
+            (c, (c - p).norm())
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+}
+
+/// Distance from `p` to the boundary of `ring` (infinity for an empty ring).
+pub fn ring_distance<P: Copy + Into<Point>>(ring: &[P], p: impl Into<Point>) -> f64 {
+    closest_point_on_ring(ring, p).map_or(f64::INFINITY, |(_, d)| d)
+}
+
+/// Distance from `p` to the polygon `ring` as a solid: 0 inside, the distance to its
+/// boundary outside.
+pub fn polygon_distance<P: Copy + Into<Point>>(ring: &[P], p: impl Into<Point>) -> f64 {
+    let p = p.into();
+    if polygon_contains(ring, p) {
+        0.0
+    } else {
+        ring_distance(ring, p)
+    }
+}
+
+/// Distance between the segment `ab` and the polygon `ring` as a solid: 0 if the segment
+/// meets its boundary or starts inside it (infinity for an empty ring).
+pub fn segment_polygon_distance<P: Copy + Into<Point>>(
+    a: impl Into<Point>,
+    b: impl Into<Point>,
+    ring: &[P],
+) -> f64 {
+    let (a, b) = (a.into(), b.into());
+    if ring.is_empty() {
+        return f64::INFINITY;
+    }
+    if polygon_contains(ring, a) {
+        return 0.0;
+    }
+    ring_edges(ring)
+        .map(|(c, d)| segment_segment_distance(a, b, c, d))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Total length of the polyline through `points`.
+pub fn polyline_length<P: Copy + Into<Point>>(points: &[P]) -> f64 {
+    points
+        .windows(2)
+        .map(|w| (w[1].into() - w[0].into()).norm())
+        .sum()
+}
