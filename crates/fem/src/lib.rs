@@ -106,6 +106,7 @@ mod assemble;
 mod bc;
 mod potential;
 mod solve;
+pub mod volume;
 
 pub use assemble::{
     Assembler, AssemblyOptions, BoundaryData, LinearSystem, NotMMatrix, RobinMass,

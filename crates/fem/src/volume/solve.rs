@@ -1,0 +1,146 @@
+//! Solving the tetrahedral system: the entrywise-accurate M-matrix elimination where it is
+//! small, faer's Cholesky (AMD ordering; 3D fill grows like n^{4/3}) up to a size, IC(0)-PCG
+//! beyond.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use harmonic_solver::{AccurateLdlt, Ordering, PcgOptions, Preconditioner, SymbolicCholesky, pcg};
+use harmonic_volume::TetMesh;
+
+use super::VolumeFemError;
+use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
+use super::potential::VolumePotential;
+use crate::bc::BoundaryConditions;
+
+/// Up to this many unknowns [`VolumeSolveMethod::Auto`] uses the accurate solve on M-matrix
+/// systems (the simplicial elimination's 3D fill makes it slow beyond).
+pub const AUTO_ACCURATE_MAX_UNKNOWNS_3D: usize = 20_000;
+/// Up to this many unknowns [`VolumeSolveMethod::Auto`] factors with Cholesky; above, PCG.
+pub const AUTO_CHOLESKY_MAX_UNKNOWNS: usize = 250_000;
+
+/// How to solve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum VolumeSolveMethod {
+    /// Accurate on small M-matrices, else Cholesky, PCG on large systems.
+    #[default]
+    Auto,
+    /// [`AccurateLdlt`] (needs an M-matrix).
+    Accurate,
+    /// faer's supernodal Cholesky with AMD.
+    Cholesky,
+    /// Conjugate gradients with IC(0), to relative residual 1e-10.
+    Pcg,
+}
+
+/// What a solve did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VolumeSolveReport {
+    /// The method that produced ψ.
+    pub method: VolumeSolveMethod,
+    /// PCG iterations (0 for direct solves).
+    pub iterations: usize,
+    /// Seconds spent.
+    pub seconds: f64,
+}
+
+/// Solves `system` by `method`; returns ψ at every vertex.
+pub fn solve_volume(
+    system: &VolumeSystem,
+    method: VolumeSolveMethod,
+) -> Result<(Vec<f64>, VolumeSolveReport), VolumeFemError> {
+    let start = Instant::now();
+    let n = system.matrix().n();
+    let method = match method {
+        VolumeSolveMethod::Auto if n == 0 => VolumeSolveMethod::Cholesky,
+        VolumeSolveMethod::Auto => {
+            if system.not_m_matrix().is_none() && n <= AUTO_ACCURATE_MAX_UNKNOWNS_3D {
+                VolumeSolveMethod::Accurate
+            } else if n <= AUTO_CHOLESKY_MAX_UNKNOWNS {
+                VolumeSolveMethod::Cholesky
+            } else {
+                VolumeSolveMethod::Pcg
+            }
+        }
+        m => m,
+    };
+    let mut iterations = 0;
+    let x = if n == 0 {
+        Vec::new()
+    } else {
+        match method {
+            VolumeSolveMethod::Accurate => {
+                let m = system.m_matrix()?;
+                AccurateLdlt::factor(&m, Ordering::Amd)?.solve(system.rhs())?
+            }
+            VolumeSolveMethod::Cholesky | VolumeSolveMethod::Auto => {
+                SymbolicCholesky::analyze(system.matrix(), Ordering::Amd)?
+                    .factor(system.matrix())?
+                    .solve(system.rhs())?
+            }
+            VolumeSolveMethod::Pcg => {
+                let mut x = vec![0.0; n];
+                let opts = PcgOptions {
+                    preconditioner: Preconditioner::IncompleteCholesky,
+                    rel_tol: 1e-10,
+                    max_iter: 20_000,
+                };
+                let report = pcg(system.matrix(), system.rhs(), &mut x, &opts)?;
+                iterations = report.iterations;
+                if report.rel_residual.is_nan() || report.rel_residual > 1e-10 {
+                    return Err(VolumeFemError::NotConverged {
+                        iterations,
+                        residual: report.rel_residual,
+                    });
+                }
+                x
+            }
+        }
+    };
+    let psi = system.expand(&x)?;
+    Ok((
+        psi,
+        VolumeSolveReport {
+            method,
+            iterations,
+            seconds: start.elapsed().as_secs_f64(),
+        },
+    ))
+}
+
+/// One-shot for planning: assemble `bcs` on `mesh` with the Galerkin stiffness, solve
+/// ([`VolumeSolveMethod::Auto`]); if that solution has an interior local extremum (possible
+/// where the mesh has obtuse dihedral angles), assemble again with
+/// [`NegativeWeights::Clamp`] — an M-matrix, so no interior extremum — and solve that.
+pub fn solve_volume_potential(
+    mesh: Arc<TetMesh>,
+    bcs: &BoundaryConditions,
+) -> Result<VolumePotential, VolumeFemError> {
+    Ok(solve_volume_potential_with_report(mesh, bcs)?.0)
+}
+
+/// [`solve_volume_potential`], also returning the solve report and whether the clamped
+/// (M-matrix) stiffness was needed.
+pub fn solve_volume_potential_with_report(
+    mesh: Arc<TetMesh>,
+    bcs: &BoundaryConditions,
+) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
+    let assembler = VolumeAssembler::new(Arc::clone(&mesh), bcs)?;
+    let system = assembler.assemble(bcs)?;
+    let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+    let potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
+    if system.positive_offdiagonals() == 0 || potential.interior_local_extrema() == 0 {
+        return Ok((potential, report, false));
+    }
+    let options = VolumeAssemblyOptions {
+        negative_weights: NegativeWeights::Clamp,
+    };
+    let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), bcs, options)?;
+    let system = assembler.assemble(bcs)?;
+    let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+    Ok((
+        VolumePotential::new(mesh, psi, system.reference())?,
+        report,
+        true,
+    ))
+}
