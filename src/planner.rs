@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
+    interior_local_extrema,
 };
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
@@ -519,7 +520,7 @@ impl Planner {
             PotentialSummary {
                 min: lo,
                 max: hi,
-                interior_local_minima: interior_local_minima(&self.mesh, psi),
+                interior_local_minima: interior_local_extrema(&self.mesh, psi).minima,
                 min_psi: finite_or_zero(min_psi),
             },
         )
@@ -662,28 +663,6 @@ fn tag_name(tag: BoundaryTag) -> String {
 
 fn finite_or_zero(v: f64) -> f64 {
     if v.is_finite() { v } else { 0.0 }
-}
-
-/// Interior vertices (on no boundary) where φ is a strict local minimum, i.e. ψ = φ_wall − φ
-/// a strict local maximum, over the vertices sharing an edge with them.
-pub fn interior_local_minima(mesh: &Mesh, psi: &[f64]) -> usize {
-    let mut dominated = vec![false; psi.len()];
-    for tri in mesh.triangles() {
-        for k in 0..3 {
-            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-            if psi[b] >= psi[a] {
-                dominated[a] = true;
-            }
-            if psi[a] >= psi[b] {
-                dominated[b] = true;
-            }
-        }
-    }
-    mesh.vertex_tags()
-        .iter()
-        .zip(&dominated)
-        .filter(|(tag, d)| tag.is_none() && !**d)
-        .count()
 }
 
 impl<P: PathSummary> Report<P> {

@@ -15,8 +15,8 @@
 
 use std::collections::HashSet;
 
+use harmonic_fem::interior_local_extrema;
 use harmonic_planner::mesh::{BoundaryTag, NO_NEIGHBOR, Point};
-use harmonic_planner::planner::interior_local_minima;
 use harmonic_planner::{PlannedPath, Planner, Scene};
 use proptest::prelude::*;
 use serde_json::{Value, json};
@@ -256,7 +256,7 @@ fn check_potential(planner: &Planner) -> Result<(), TestCaseError> {
             "psi[{i}] = {v} outside [0, 1]"
         );
     }
-    prop_assert_eq!(interior_local_minima(planner.mesh(), psi), 0);
+    prop_assert_eq!(interior_local_extrema(planner.mesh(), psi).minima, 0);
     Ok(())
 }
 

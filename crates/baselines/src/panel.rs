@@ -14,8 +14,9 @@ use harmonic_mesh::{Point, Vector};
 use harmonic_trajectory::{Field, Locate, TraceStatus};
 use nalgebra::{DMatrix, DVector};
 
-use crate::geometry::{check_point, check_polygon, check_positive, contains};
+use crate::geometry::{check_point, check_polygon, check_positive};
 use crate::{BaselineError, PlanResult};
+use harmonic_mesh::geom::polygon_contains;
 
 /// A straight source panel from `start` to `end`; its normal points to the right of
 /// `start → end` (the outside of a counter-clockwise obstacle).
@@ -439,7 +440,8 @@ impl PanelPlanner {
     }
 
     fn is_free(&self, p: Point) -> bool {
-        contains(&self.workspace, p) && !self.obstacles.iter().any(|o| contains(o, p))
+        polygon_contains(&self.workspace, p)
+            && !self.obstacles.iter().any(|o| polygon_contains(o, p))
     }
 
     /// The flow for a query from `start` as a [`Field`] the shared tracer and car stepper can
@@ -457,7 +459,7 @@ impl PanelPlanner {
         let clock = Instant::now();
         let o = &self.options;
         let mut points = vec![start];
-        let status = if !contains(&self.workspace, start) {
+        let status = if !polygon_contains(&self.workspace, start) {
             TraceStatus::OutsideWorkspace
         } else if !self.is_free(start) {
             TraceStatus::StartInObstacle
@@ -513,9 +515,9 @@ impl Field for PanelFlow<'_> {
 
     fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {
         let pl = self.planner;
-        if !contains(&pl.workspace, p) {
+        if !polygon_contains(&pl.workspace, p) {
             Locate::OutsideWorkspace
-        } else if pl.obstacles.iter().any(|o| contains(o, p)) {
+        } else if pl.obstacles.iter().any(|o| polygon_contains(o, p)) {
             Locate::InObstacle
         } else if (p - pl.goal).norm() < pl.options.goal_tolerance {
             Locate::Goal(0)
@@ -765,7 +767,7 @@ mod tests {
             .map(|p| (p.end - p.start).norm())
             .sum();
         assert!((total - 12.0).abs() < 1e-9, "{total}");
-        let in_obstacle = |q: Point| obstacles.iter().any(|o| contains(o, q));
+        let in_obstacle = |q: Point| obstacles.iter().any(|o| polygon_contains(o, q));
         for p in &planner.panels {
             let c = p.midpoint();
             assert!(!in_obstacle(c + p.normal() * 1e-6), "panel at {c}");

@@ -9,8 +9,9 @@ use std::time::Instant;
 use harmonic_mesh::{Point, Vector};
 use harmonic_trajectory::TraceStatus;
 
-use crate::geometry::{check_point, check_polygon, check_positive, closest_on_boundary, contains};
+use crate::geometry::{check_point, check_polygon, check_positive};
 use crate::{BaselineError, PlanResult};
+use harmonic_mesh::geom::{closest_point_on_ring, polygon_contains};
 
 /// Gains, thresholds and descent settings of [`PotentialField`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -116,7 +117,8 @@ impl PotentialField {
 
     /// Whether `p` lies in the workspace and outside every obstacle.
     pub fn is_free(&self, p: Point) -> bool {
-        contains(&self.workspace, p) && !self.obstacles.iter().any(|o| contains(o, p))
+        polygon_contains(&self.workspace, p)
+            && !self.obstacles.iter().any(|o| polygon_contains(o, p))
     }
 
     /// The polygons that repel: the workspace boundary and every obstacle.
@@ -136,7 +138,7 @@ impl PotentialField {
         let rep: f64 = self
             .repellers()
             .map(|poly| {
-                let (_, dist) = closest_on_boundary(poly, p);
+                let (_, dist) = closest_point_on_ring(poly, p).unwrap_or((p, f64::INFINITY));
                 if dist <= o.q_star {
                     let s = 1.0 / dist - 1.0 / o.q_star;
                     0.5 * o.eta * s * s
@@ -161,7 +163,7 @@ impl PotentialField {
             to_goal * (o.d_star * o.zeta / d)
         };
         for poly in self.repellers() {
-            let (c, dist) = closest_on_boundary(poly, p);
+            let (c, dist) = closest_point_on_ring(poly, p).unwrap_or((p, f64::INFINITY));
             if dist <= o.q_star && dist > 0.0 {
                 g += (p - c) * (o.eta * (1.0 / o.q_star - 1.0 / dist) / (dist * dist * dist));
             }
@@ -174,7 +176,7 @@ impl PotentialField {
         let clock = Instant::now();
         let o = &self.options;
         let mut points = vec![start];
-        let status = if !contains(&self.workspace, start) {
+        let status = if !polygon_contains(&self.workspace, start) {
             TraceStatus::OutsideWorkspace
         } else if !self.is_free(start) {
             TraceStatus::StartInObstacle

@@ -41,6 +41,7 @@ use harmonic_baselines::{
     PanelOptions, PanelPlanner, PlanResult, PotentialField, PotentialFieldOptions, Raster,
     SorOptions, Wavefront,
 };
+use harmonic_mesh::geom::{closest_point_on_segment, polygon_contains, ring_distance};
 use harmonic_mesh::{BoundaryTag, Domain, Point, orient2d};
 use harmonic_trajectory::{SmoothOptions, TraceStatus, path_metrics, trace_smooth};
 use rayon::prelude::*;
@@ -154,17 +155,6 @@ impl Ord for Entry {
     }
 }
 
-/// The point of segment `ab` closest to `p`.
-fn closest_on_segment(p: Point, a: Point, b: Point) -> Point {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    if len2 == 0.0 {
-        return a;
-    }
-    let t = ((p - a).dot(&ab) / len2).clamp(0.0, 1.0);
-    a + ab * t
-}
-
 impl<'d> VisibilityGraph<'d> {
     /// Builds the graph: the corners, their mutual visibility (in parallel) and, by Dijkstra
     /// from the goal, each corner's distance to it.
@@ -260,7 +250,7 @@ impl<'d> VisibilityGraph<'d> {
     fn goal_leg(domain: &Domain, goal_edges: &[(Point, Point)], p: Point) -> (f64, Point) {
         goal_edges
             .iter()
-            .map(|&(a, b)| closest_on_segment(p, a, b))
+            .map(|&(a, b)| closest_point_on_segment(p, a, b))
             .filter(|&q| Self::sees(domain, p, q))
             .map(|q| ((q - p).norm(), q))
             .min_by(|x, y| x.0.total_cmp(&y.0))
@@ -484,25 +474,6 @@ fn centroid(ring: &[Point]) -> Point {
             .fold(harmonic_mesh::Vector::zeros(), |s, p| s + p.coords);
         Point::from(s / n.max(1) as f64)
     }
-}
-
-/// Whether the ray from `q` toward +x crosses `ring` an odd number of times.
-fn even_odd(ring: &[Point], q: Point) -> bool {
-    let mut inside = false;
-    for k in 0..ring.len() {
-        let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
-        if (a.y > q.y) != (b.y > q.y) && a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x) > q.x {
-            inside = !inside;
-        }
-    }
-    inside
-}
-
-/// Distance from `p` to the nearest edge of `ring`.
-fn ring_distance(ring: &[Point], p: Point) -> f64 {
-    (0..ring.len())
-        .map(|k| (closest_on_segment(p, ring[k], ring[(k + 1) % ring.len()]) - p).norm())
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The sphere world of a scene: its workspace a regular polygon standing for a disc (all
@@ -753,7 +724,12 @@ impl Arena {
     /// Whether `q` lies in a goal region or within 1e-9 × the scene's size of its boundary
     /// (paths end there, off free space).
     fn in_goal(&self, q: Point) -> bool {
-        self.goal_rings.iter().filter(|r| even_odd(r, q)).count() % 2 == 1
+        self.goal_rings
+            .iter()
+            .filter(|r| polygon_contains(r, q))
+            .count()
+            % 2
+            == 1
             || self
                 .goal_rings
                 .iter()
@@ -774,7 +750,8 @@ impl Arena {
             .goal_rings
             .iter()
             .flat_map(|r| {
-                (0..r.len()).map(move |k| closest_on_segment(last, r[k], r[(k + 1) % r.len()]))
+                (0..r.len())
+                    .map(move |k| closest_point_on_segment(last, r[k], r[(k + 1) % r.len()]))
             })
             .min_by(|a, b| (a - last).norm().total_cmp(&(b - last).norm()));
         if let Some(q) = closest {

@@ -34,7 +34,7 @@ use harmonic_trajectory::{
     ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, Tracer, descend,
 };
 
-use super::{polygon_contains, polygon_distance};
+use harmonic_mesh::geom::{polygon_contains, polygon_distance};
 
 /// Side of the square tiles in which the known map's blocked lattice vertices are cached.
 const TILE: i64 = 32;
@@ -941,9 +941,9 @@ enum Kind {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use harmonic_fem::interior_local_extrema;
     use harmonic_fem::{BoundaryConditions, solve_potential};
     use harmonic_planner::Scene;
-    use harmonic_planner::planner::interior_local_minima;
 
     /// A 6 × 4 room with a post; the lattice is the 10 cm one of the paper, 4 m wide around the
     /// robot, the goal at (3.8, 2) inside it.
@@ -987,7 +987,7 @@ mod tests {
             .map(|(a, b)| (a - b).abs() / b.abs().max(1e-300))
             .fold(0.0, f64::max);
         assert!(worst < 1e-9, "relative difference {worst:e}");
-        assert_eq!(interior_local_minima(&mesh, potential.psi()), 0);
+        assert_eq!(interior_local_extrema(&mesh, potential.psi()).minima, 0);
         // Triangles cut out around the box and the post: fewer than the full 3200.
         assert!(
             plan.triangles < 3200 && plan.triangles > 2500,
@@ -1007,7 +1007,7 @@ mod tests {
                 assert!(domain.segment_clearance(w[0], w[1]) > 0.0, "{robot:?}");
                 // Whole segments, not just their ends, keep off the sensed box.
                 let (a, b) = ([w[0].x, w[0].y], [w[1].x, w[1].y]);
-                let d = super::super::segment_polygon_distance(a, b, &BOX);
+                let d = harmonic_mesh::geom::segment_polygon_distance(a, b, &BOX);
                 assert!(d > 0.0, "{robot:?}: {a:?}-{b:?}");
             }
             // The path ends in the goal disc.

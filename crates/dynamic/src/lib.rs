@@ -48,7 +48,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use geo::{Area, BooleanOps, ConvexHull, Coord, LineString, MultiPoint, Polygon};
-use harmonic_mesh::Point;
+use harmonic_mesh::{Point, geom};
 use serde::Serialize;
 
 use harmonic_planner::scene::{Circle, Goals, MeshSpec, Region, Scene};
@@ -300,46 +300,10 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// The point of segment `ab` closest to `p`, as the scene format's array.
 fn projection(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    [a[0] + t * dx, a[1] + t * dy]
-}
-
-fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    dist(p, projection(p, a, b))
-}
-
-/// Whether `p` lies inside the polygon `ring` (even-odd rule; either orientation).
-pub fn polygon_contains(ring: &[[f64; 2]], p: [f64; 2]) -> bool {
-    let n = ring.len();
-    let mut inside = false;
-    for i in 0..n {
-        let (a, b) = (ring[i], ring[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
-
-/// Distance from `p` to the polygon `ring`: 0 inside, the distance to its boundary outside.
-pub fn polygon_distance(ring: &[[f64; 2]], p: [f64; 2]) -> f64 {
-    if polygon_contains(ring, p) {
-        return 0.0;
-    }
-    let n = ring.len();
-    (0..n)
-        .map(|i| point_segment_distance(p, ring[i], ring[(i + 1) % n]))
-        .fold(f64::INFINITY, f64::min)
+    let q = geom::closest_point_on_segment(p, a, b);
+    [q.x, q.y]
 }
 
 /// A laser scan: hit points in the robot frame (x forward, y left) and the robot's pose
@@ -487,7 +451,7 @@ pub fn scan_obstacles(
         .filter_map(|cluster| {
             let bare = inflated_hull(&cluster, 0.0);
             let gap = if bare.len() >= 3 {
-                polygon_distance(&bare, robot)
+                geom::polygon_distance(&bare, robot)
             } else {
                 cluster
                     .iter()
@@ -582,7 +546,7 @@ impl DynamicPlanner {
     fn check_in_workspace(&self, robot: [f64; 2]) -> Result<(), DynamicError> {
         if robot[0].is_finite()
             && robot[1].is_finite()
-            && polygon_contains(&self.scene.workspace, robot)
+            && geom::polygon_contains(&self.scene.workspace, robot)
         {
             Ok(())
         } else {
@@ -600,7 +564,7 @@ impl DynamicPlanner {
             .global_path
             .windows(2)
             .enumerate()
-            .map(|(i, w)| (i, point_segment_distance(robot, w[0], w[1])))
+            .map(|(i, w)| (i, geom::point_segment_distance(robot, w[0], w[1])))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match nearest {
             Some((i, d)) if d <= self.options.global_path_tolerance => {
@@ -659,12 +623,12 @@ impl DynamicPlanner {
                     && p[0] < hi[0] - eps
                     && p[1] > lo[1] + eps
                     && p[1] < hi[1] - eps
-                    && polygon_contains(&self.scene.workspace, *p)
+                    && geom::polygon_contains(&self.scene.workspace, *p)
             }) && self
                 .scene
                 .workspace
                 .iter()
-                .all(|w| !polygon_contains(ring, *w))
+                .all(|w| !geom::polygon_contains(ring, *w))
         };
         let mut obstacles: Vec<Region> = Vec::new();
         let mut cut: Vec<Polygon<f64>> = Vec::new();
@@ -709,7 +673,7 @@ impl DynamicPlanner {
             .iter()
             .find(|p| {
                 let ring: Vec<[f64; 2]> = p.exterior().coords().map(|c| [c.x, c.y]).collect();
-                polygon_contains(&ring, robot)
+                geom::polygon_contains(&ring, robot)
             })
             .ok_or_else(outside)?;
         let ring_of = |ls: &LineString<f64>| {
@@ -1047,7 +1011,7 @@ impl DynamicPlanner {
             let (a2, b2) = ([a.x, a.y], [b.x, b.y]);
             sensed
                 .iter()
-                .map(|ring| segment_polygon_distance(a2, b2, ring) - r)
+                .map(|ring| geom::segment_polygon_distance(a2, b2, ring) - r)
                 .fold(domain.segment_clearance(a, b), f64::min)
         });
         let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
@@ -1121,36 +1085,9 @@ fn inside_square(p: [f64; 2], lo: [f64; 2], hi: [f64; 2], margin: f64) -> bool {
 
 /// Whether `p` is farther than `need` from every ring of `sensed`.
 fn clear_of(sensed: &[&[[f64; 2]]], p: [f64; 2], need: f64) -> bool {
-    sensed.iter().all(|ring| polygon_distance(ring, p) > need)
-}
-
-/// Distance between segment `[a, b]` and the polygon `ring` (0 if they meet or the segment
-/// starts inside it).
-fn segment_polygon_distance(a: [f64; 2], b: [f64; 2], ring: &[[f64; 2]]) -> f64 {
-    if ring.is_empty() {
-        return f64::INFINITY;
-    }
-    if polygon_contains(ring, a) {
-        return 0.0;
-    }
-    let cross = |o: [f64; 2], p: [f64; 2], q: [f64; 2]| {
-        (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-    };
-    (0..ring.len())
-        .map(|k| {
-            let (c, d) = (ring[k], ring[(k + 1) % ring.len()]);
-            let crosses =
-                cross(a, b, c) * cross(a, b, d) <= 0.0 && cross(c, d, a) * cross(c, d, b) <= 0.0;
-            if crosses {
-                0.0
-            } else {
-                point_segment_distance(a, c, d)
-                    .min(point_segment_distance(b, c, d))
-                    .min(point_segment_distance(c, a, b))
-                    .min(point_segment_distance(d, a, b))
-            }
-        })
-        .fold(f64::INFINITY, f64::min)
+    sensed
+        .iter()
+        .all(|ring| geom::polygon_distance(ring, p) > need)
 }
 
 /// An obstacle of the simulated world that the known map does not have: static (zero
@@ -1258,7 +1195,7 @@ impl World {
         self.obstacles
             .iter()
             .filter(|o| !moving_only || o.moves())
-            .map(|o| polygon_distance(&o.at(t), p))
+            .map(|o| geom::polygon_distance(&o.at(t), p))
             .fold(f64::INFINITY, f64::min)
     }
 }
@@ -1353,10 +1290,6 @@ fn advance(points: &[[f64; 2]], step: f64) -> [f64; 2] {
     points.last().copied().unwrap_or([f64::NAN, f64::NAN])
 }
 
-fn path_length(points: &[[f64; 2]]) -> f64 {
-    points.windows(2).map(|w| dist(w[0], w[1])).sum()
-}
-
 /// The paper's Figure 10 loop: from `start`, scan, turn the scan into obstacles, replan,
 /// move a step along the local path sized by the distance to the nearest sensed obstacle,
 /// let the world's obstacles move for the step's duration, repeat until the goal is reached
@@ -1383,7 +1316,7 @@ pub fn run(planner: &mut DynamicPlanner, world: &World, start: [f64; 2], opts: &
         let sensed = scan_obstacles(&scan, |p| planner.known_distance(p), &opts.scan);
         let nearest = sensed
             .iter()
-            .map(|ring| polygon_distance(ring, pos))
+            .map(|ring| geom::polygon_distance(ring, pos))
             .fold(f64::INFINITY, f64::min);
         planner.set_obstacles(sensed);
         let plan = match planner.replan(pos) {
@@ -1417,7 +1350,7 @@ pub fn run(planner: &mut DynamicPlanner, world: &World, start: [f64; 2], opts: &
         out.triangles.1 = out.triangles.1.max(plan.triangles);
 
         let step = (opts.step_fraction * nearest).clamp(opts.min_step, opts.max_step);
-        let remaining = path_length(&plan.path.points);
+        let remaining = geom::polyline_length(&plan.path.points);
         let final_leg = plan.goal_in_window && remaining <= step;
         let next = if final_leg {
             plan.path.points[plan.path.points.len() - 1]

@@ -4,9 +4,9 @@
 
 use harmonic_dynamic::{
     DynamicError, DynamicPlanner, LaserScan, LocalMapMode, LocalMapOptions, RunOptions,
-    ScanOptions, World, WorldObstacle, cluster_points, inflated_hull, polygon_contains,
-    polygon_distance, run, scan_obstacles,
+    ScanOptions, World, WorldObstacle, cluster_points, inflated_hull, run, scan_obstacles,
 };
+use harmonic_mesh::geom::{polygon_contains, polygon_distance};
 use harmonic_planner::Scene;
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<[f64; 2]> {

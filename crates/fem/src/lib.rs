@@ -113,7 +113,7 @@ pub use assemble::{
     offdiagonal_sign_violations,
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
-pub use potential::{Evaluation, Potential, blend};
+pub use potential::{Evaluation, LocalExtrema, Potential, blend, interior_local_extrema};
 pub use solve::{
     AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
 };

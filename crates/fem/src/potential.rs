@@ -199,27 +199,48 @@ impl Potential {
     /// maximum among their edge neighbours. Zero for a harmonic potential on a Delaunay mesh
     /// (discrete maximum principle).
     pub fn interior_local_extrema(&self) -> usize {
-        let mesh = &*self.mesh;
-        let nv = mesh.vertices().len();
-        // Per vertex: the smallest and largest ψ among its neighbours.
-        let mut lo = vec![f64::INFINITY; nv];
-        let mut hi = vec![f64::NEG_INFINITY; nv];
-        for tri in mesh.triangles() {
-            for k in 0..3 {
-                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                lo[a] = lo[a].min(self.psi[b]);
-                hi[a] = hi[a].max(self.psi[b]);
-                lo[b] = lo[b].min(self.psi[a]);
-                hi[b] = hi[b].max(self.psi[a]);
-            }
-        }
-        let tags = mesh.vertex_tags();
-        (0..nv)
-            .filter(|&v| {
-                tags[v].is_none() && lo[v] <= hi[v] && (self.psi[v] > hi[v] || self.psi[v] < lo[v])
-            })
-            .count()
+        let e = interior_local_extrema(&self.mesh, &self.psi);
+        e.minima + e.maxima
     }
+}
+
+/// Counts of interior vertices where φ (= c − ψ) is a strict local extremum.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LocalExtrema {
+    /// Vertices whose φ is below every edge neighbour's (ψ above): where a robot would stop.
+    pub minima: usize,
+    /// Vertices whose φ is above every edge neighbour's (ψ below).
+    pub maxima: usize,
+}
+
+/// The strict local extrema of the nodal values `psi` over the interior vertices (on no
+/// boundary) of `mesh`, each vertex compared with the vertices it shares an edge with. The
+/// discrete maximum principle says both counts are zero for a harmonic potential on a mesh
+/// whose stiffness is an M-matrix.
+pub fn interior_local_extrema(mesh: &Mesh, psi: &[f64]) -> LocalExtrema {
+    let nv = mesh.vertices().len().min(psi.len());
+    // Per vertex: the smallest and largest ψ among its neighbours.
+    let mut lo = vec![f64::INFINITY; nv];
+    let mut hi = vec![f64::NEG_INFINITY; nv];
+    for tri in mesh.triangles() {
+        for k in 0..3 {
+            let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+            if a >= nv || b >= nv {
+                continue;
+            }
+            lo[a] = lo[a].min(psi[b]);
+            hi[a] = hi[a].max(psi[b]);
+            lo[b] = lo[b].min(psi[a]);
+            hi[b] = hi[b].max(psi[a]);
+        }
+    }
+    let tags = mesh.vertex_tags();
+    let interior = (0..nv).filter(|&v| tags[v].is_none() && lo[v] <= hi[v]);
+    interior.fold(LocalExtrema::default(), |mut e, v| {
+        e.minima += usize::from(psi[v] > hi[v]);
+        e.maxima += usize::from(psi[v] < lo[v]);
+        e
+    })
 }
 
 /// The blended field of the ME766 paper: φ = k·φ_a + (1−k)·φ_b, e.g. `a` from a Dirichlet

@@ -3,7 +3,7 @@
 use harmonic_mesh::Point;
 use serde::Serialize;
 
-use crate::path::polyline_length;
+use harmonic_mesh::geom::polyline_length;
 
 /// Geometric measures of a path.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

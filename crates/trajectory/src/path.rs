@@ -1,6 +1,7 @@
 //! What a tracer or the car stepper returns: the path, how it ended, and its metrics.
 
 use harmonic_mesh::Point;
+use harmonic_mesh::geom::polyline_length;
 use serde::{Serialize, Serializer};
 
 /// How a path ended.
@@ -128,9 +129,4 @@ pub struct CarPath {
 
 fn serialize_points<S: Serializer>(points: &[Point], s: S) -> Result<S::Ok, S::Error> {
     s.collect_seq(points.iter().map(|p| [p.x, p.y]))
-}
-
-/// Length of a polyline.
-pub fn polyline_length(points: &[Point]) -> f64 {
-    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
