@@ -19,6 +19,7 @@ mod field;
 mod metrics;
 mod path;
 mod smooth;
+pub mod volume;
 
 pub use car::{CarOptions, CarSpeed, CarTarget, Collision, Footprint, drive};
 pub use descend::{Tracer, descend};

@@ -19,6 +19,20 @@ pub enum GoalRegion {
     Point(Point),
 }
 
+/// Where a point lies with respect to a scene's exact solids (see [`VolumeDomain::classify`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointClass {
+    /// In free space: inside the workspace shrunk by the robot radius, outside every goal and
+    /// every obstacle inflated by it.
+    Free,
+    /// Inside goal region `j`.
+    Goal(u32),
+    /// Inside obstacle `i` inflated by the robot radius.
+    Obstacle(u32),
+    /// Outside the workspace shrunk by the robot radius.
+    OutsideWorkspace,
+}
+
 /// Free space of a volume scene: the workspace shrunk by the robot radius, minus the
 /// obstacles inflated by it, minus the goal regions (whose boundary is the goal).
 #[derive(Clone, Debug)]
@@ -95,6 +109,26 @@ impl VolumeDomain {
     /// The robot radius.
     pub fn robot_radius(&self) -> f64 {
         self.robot_radius
+    }
+
+    /// Classifies `p` against the exact solids (point goals as balls of `point_goal_radius`):
+    /// outside the shrunk workspace first, then goals, then inflated obstacles.
+    pub fn classify(&self, p: &Point, point_goal_radius: f64) -> PointClass {
+        let r = self.robot_radius;
+        if self.workspace.signed_distance(p) > -r {
+            return PointClass::OutsideWorkspace;
+        }
+        for (j, g) in self.goal_solids(point_goal_radius).iter().enumerate() {
+            if g.signed_distance(p) <= 0.0 {
+                return PointClass::Goal(j as u32);
+            }
+        }
+        for (i, o) in self.obstacles.iter().enumerate() {
+            if o.signed_distance(p) < r {
+                return PointClass::Obstacle(i as u32);
+            }
+        }
+        PointClass::Free
     }
 
     /// The goal regions as solids, point goals becoming balls of `point_goal_radius`.

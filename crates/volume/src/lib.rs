@@ -51,7 +51,7 @@ mod solid;
 mod spec;
 mod stuffing;
 
-pub use domain::{DomainImplicit, GoalRegion, VolumeDomain};
+pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
 pub use error::{SolidRole, VolumeError};
 pub use implicit::ImplicitDomain;
 pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};

@@ -1,0 +1,992 @@
+//! Following a 3D field: the exact tetrahedron-to-tetrahedron tracer of a P1 potential on a
+//! [`TetMesh`], and a smooth Runge–Kutta tracer of any [`VolumeField`].
+//!
+//! **Exact.** Inside a tetrahedron the gradient is constant, so steepest descent is a straight
+//! segment to an exit face. The tracer keeps the point together with its *carrier*: the
+//! smallest mesh simplex (tetrahedron, face, edge or vertex) holding it in its relative
+//! interior. From there it moves into whichever incident cell descends steepest and can be
+//! entered: a tetrahedron whose −∇ points into it, else a face (sliding along it: the flow
+//! of both neighbours pushes into the face, or it is a wall and the flow points out), else an
+//! edge toward its lower end. The value is linear on every cell, so each move goes straight to
+//! the cell's boundary, and the path never leaves the mesh. Reaching a goal face ends the path;
+//! a point from which nothing descends (a flat spot, a discrete saddle or minimum) is escaped
+//! by a jump to a lower point in free space nearby (reached along a straight segment inside
+//! the mesh), as in the 2D tracer; failing that the path is `stalled`.
+//!
+//! **Smooth.** Classical RK4 on the unit direction −∇v/|∇v| with a fixed step, each step checked
+//! by [`VolumeField::segment`] (steps leaving free space are halved); when the step becomes too
+//! small the field's [`VolumeField::fallback_step`] (for P1 fields: exact moves) takes over.
+
+use harmonic_volume::{BoundaryTag, FACES, NO_NEIGHBOR, Point, TetMesh, Vector};
+use serde::{Serialize, Serializer};
+
+use crate::{Locate, Segment, TraceError};
+
+/// How a 3D path ended (the same statuses as the 2D [`crate::TraceStatus`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VolumeTraceStatus {
+    /// Reached goal region `j`.
+    ReachedGoal(u32),
+    /// No goal lies in the start's connected component of free space.
+    Unreachable,
+    /// The start lies in an obstacle.
+    StartInObstacle,
+    /// The start lies outside the workspace.
+    OutsideWorkspace,
+    /// No progress at `at`.
+    Stalled {
+        /// Where the path stopped.
+        at: Point,
+    },
+    /// The step budget ran out.
+    MaxSteps,
+}
+
+impl VolumeTraceStatus {
+    /// The scene contract's snake_case name.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            VolumeTraceStatus::ReachedGoal(_) => "reached_goal",
+            VolumeTraceStatus::Unreachable => "unreachable",
+            VolumeTraceStatus::StartInObstacle => "start_in_obstacle",
+            VolumeTraceStatus::OutsideWorkspace => "outside_workspace",
+            VolumeTraceStatus::Stalled { .. } => "stalled",
+            VolumeTraceStatus::MaxSteps => "max_steps",
+        }
+    }
+    /// Whether a goal was reached.
+    pub fn reached_goal(&self) -> bool {
+        matches!(self, VolumeTraceStatus::ReachedGoal(_))
+    }
+}
+
+impl Serialize for VolumeTraceStatus {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+/// A path through a volume.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct VolumePath {
+    /// The polyline from the start, serialised as `[[x, y, z], ...]`.
+    #[serde(serialize_with = "serialize_points")]
+    pub points: Vec<Point>,
+    /// How it ended.
+    pub status: VolumeTraceStatus,
+    /// The goal reached, if any.
+    pub goal: Option<u32>,
+    /// Its length.
+    pub length: f64,
+    /// The smallest |∇value| met (`+∞` if none).
+    pub min_gradient: f64,
+    /// Moves made (cells entered).
+    pub moves: usize,
+}
+
+fn serialize_points<S: Serializer>(points: &[Point], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(points.iter().map(|p| [p.x, p.y, p.z]))
+}
+
+impl VolumePath {
+    fn new(points: Vec<Point>, status: VolumeTraceStatus, min_gradient: f64, moves: usize) -> Self {
+        let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        let goal = match status {
+            VolumeTraceStatus::ReachedGoal(j) => Some(j),
+            _ => None,
+        };
+        VolumePath {
+            points,
+            status,
+            goal,
+            length,
+            min_gradient,
+            moves,
+        }
+    }
+}
+
+/// The outcome of [`VolumeField::fallback_step`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VolumeFallback<C> {
+    /// Moved downhill to this point in this cell.
+    Moved(Point, C),
+    /// Reached goal `j`.
+    Goal(u32),
+    /// No guaranteed move.
+    Stuck,
+}
+
+/// A potential over a volume that a robot follows downhill (`value` decreases toward the goal).
+pub trait VolumeField {
+    /// A handle on the piece of the field holding a point.
+    type Cell: Copy + PartialEq + std::fmt::Debug;
+    /// Finds the cell holding `p`, starting from `hint`.
+    fn locate(&self, p: &Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
+    /// The value at `p` in `cell`.
+    fn value(&self, cell: Self::Cell, p: &Point) -> f64;
+    /// The gradient at `p` in `cell`.
+    fn gradient(&self, cell: Self::Cell, p: &Point) -> Vector;
+    /// Whether the straight segment `from → to` stays in free space (default: locate `to`).
+    fn segment(&self, cell: Self::Cell, from: &Point, to: &Point) -> Segment<Self::Cell> {
+        let _ = from;
+        match self.locate(to, Some(cell)) {
+            Locate::Inside(c) => Segment::Inside(c),
+            Locate::Goal(j) => Segment::Goal(j),
+            Locate::InObstacle | Locate::OutsideWorkspace => Segment::Blocked,
+        }
+    }
+    /// One guaranteed downhill move (default: none).
+    fn fallback_step(&self, cell: Self::Cell, p: &Point) -> VolumeFallback<Self::Cell> {
+        let _ = (cell, p);
+        VolumeFallback::Stuck
+    }
+}
+
+/// How points outside the mesh are classified (e.g. from the scene's exact solids).
+pub type OutsideClassifier<'a> = &'a (dyn Fn(&Point) -> Locate<u32> + Sync);
+
+/// A P1 field on a tetrahedral mesh: nodal values (decreasing toward the goal), borrowed mesh.
+pub struct P1VolumeField<'a> {
+    mesh: &'a TetMesh,
+    values: Vec<f64>,
+    /// Vertex → tetrahedra (CSR).
+    vt_start: Vec<u32>,
+    vt: Vec<u32>,
+    nodal: Vec<Vector>,
+    outside: Option<OutsideClassifier<'a>>,
+    /// Per tetrahedron: its component; per component: whether it has a goal face.
+    component: Vec<u32>,
+    component_goal: Vec<bool>,
+}
+
+impl std::fmt::Debug for P1VolumeField<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("P1VolumeField")
+            .field("vertices", &self.values.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> P1VolumeField<'a> {
+    /// A field whose value decreases toward the goal (φ).
+    pub fn descending(mesh: &'a TetMesh, values: &[f64]) -> Result<Self, TraceError> {
+        Self::build(mesh, values.to_vec())
+    }
+
+    /// A field from ψ, which increases toward the goal: the value followed is −ψ.
+    pub fn ascending(mesh: &'a TetMesh, psi: &[f64]) -> Result<Self, TraceError> {
+        Self::build(mesh, psi.iter().map(|v| -v).collect())
+    }
+
+    /// Classifies points outside the mesh with `f` (goal, obstacle or outside the workspace)
+    /// instead of calling them all obstacles.
+    pub fn with_outside(mut self, f: OutsideClassifier<'a>) -> Self {
+        self.outside = Some(f);
+        self
+    }
+
+    fn build(mesh: &'a TetMesh, values: Vec<f64>) -> Result<Self, TraceError> {
+        let nv = mesh.vertices().len();
+        if values.len() != nv {
+            return Err(TraceError::LengthMismatch {
+                what: "nodal values",
+                expected: nv,
+                got: values.len(),
+            });
+        }
+        if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+            return Err(TraceError::NotFinite {
+                what: "nodal values",
+                index,
+            });
+        }
+        let tets = mesh.tetrahedra();
+        let mut vt_start = vec![0u32; nv + 1];
+        for t in tets {
+            for &v in t {
+                vt_start[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..nv {
+            vt_start[i + 1] += vt_start[i];
+        }
+        let mut next = vt_start.clone();
+        let mut vt = vec![0u32; 4 * tets.len()];
+        for (t, tet) in tets.iter().enumerate() {
+            for &v in tet {
+                vt[next[v as usize] as usize] = t as u32;
+                next[v as usize] += 1;
+            }
+        }
+        // Recovered nodal gradients (volume-weighted), for the smooth tracer.
+        let mut nodal = vec![Vector::zeros(); nv];
+        let mut weight = vec![0.0; nv];
+        for (t, tet) in tets.iter().enumerate() {
+            let (g, vol) = mesh.barycentric_gradients(t as u32);
+            let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
+            for &v in tet {
+                nodal[v as usize] += grad * vol;
+                weight[v as usize] += vol;
+            }
+        }
+        for (n, w) in nodal.iter_mut().zip(&weight) {
+            if *w > 0.0 {
+                *n /= *w;
+            }
+        }
+        // Components and their goals.
+        let mut component = vec![u32::MAX; tets.len()];
+        let mut component_goal = Vec::new();
+        let mut stack = Vec::new();
+        for seed in 0..tets.len() {
+            if component[seed] != u32::MAX {
+                continue;
+            }
+            let c = component_goal.len() as u32;
+            let mut goal = false;
+            component[seed] = c;
+            stack.push(seed as u32);
+            while let Some(t) = stack.pop() {
+                for k in 0..4 {
+                    match mesh.neighbors()[t as usize][k] {
+                        NO_NEIGHBOR => {
+                            goal |= matches!(
+                                mesh.boundary_face(t, k).map(|f| f.tag),
+                                Some(BoundaryTag::Goal(_))
+                            );
+                        }
+                        n if component[n as usize] == u32::MAX => {
+                            component[n as usize] = c;
+                            stack.push(n);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            component_goal.push(goal);
+        }
+        Ok(P1VolumeField {
+            mesh,
+            values,
+            vt_start,
+            vt,
+            nodal,
+            outside: None,
+            component,
+            component_goal,
+        })
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &TetMesh {
+        self.mesh
+    }
+
+    /// The value's gradient on tetrahedron `t`.
+    pub fn tet_gradient(&self, t: u32) -> Vector {
+        let (g, _) = self.mesh.barycentric_gradients(t);
+        let tet = self.mesh.tetrahedra()[t as usize];
+        (0..4).map(|k| g[k] * self.values[tet[k] as usize]).sum()
+    }
+
+    fn vertex_tets(&self, v: u32) -> &[u32] {
+        &self.vt[self.vt_start[v as usize] as usize..self.vt_start[v as usize + 1] as usize]
+    }
+
+    /// The tetrahedra containing every vertex of `sigma`.
+    fn star(&self, sigma: &[u32]) -> Vec<u32> {
+        let first = sigma
+            .iter()
+            .min_by_key(|&&v| self.vertex_tets(v).len())
+            .copied()
+            .unwrap_or(0);
+        self.vertex_tets(first)
+            .iter()
+            .copied()
+            .filter(|&t| {
+                let tet = self.mesh.tetrahedra()[t as usize];
+                sigma.iter().all(|v| tet.contains(v))
+            })
+            .collect()
+    }
+
+    fn interpolate(&self, t: u32, p: &Point) -> f64 {
+        let l = self.mesh.barycentric(t, p);
+        let tet = self.mesh.tetrahedra()[t as usize];
+        (0..4).map(|k| l[k] * self.values[tet[k] as usize]).sum()
+    }
+
+    /// Walks the straight segment `a → b` from tetrahedron `t` (holding `a`) through the
+    /// mesh: where it ends, or the goal face it crosses first, or `Blocked` at a wall or
+    /// obstacle face.
+    pub fn walk_segment(&self, t: u32, a: &Point, b: &Point) -> Segment<u32> {
+        let mut t = t;
+        let mut s = 0.0f64;
+        let mut previous: Option<u32> = None;
+        let limit = 64 + 8 * (self.mesh.tetrahedra().len() as f64).cbrt() as usize;
+        for _ in 0..limit {
+            let la = self.mesh.barycentric(t, a);
+            let lb = self.mesh.barycentric(t, b);
+            // Exit parameter: the first face whose coordinate reaches zero after s.
+            let mut exit = (f64::INFINITY, usize::MAX);
+            for k in 0..4 {
+                let d = lb[k] - la[k];
+                if d < 0.0 {
+                    let sk = -la[k] / d;
+                    let back = previous.is_some_and(|q| self.mesh.neighbors()[t as usize][k] == q);
+                    if sk < exit.0 && sk >= s - 1e-12 && !back {
+                        exit = (sk, k);
+                    }
+                }
+            }
+            if exit.0 >= 1.0 {
+                return Segment::Inside(t);
+            }
+            let k = exit.1;
+            s = exit.0.max(s);
+            match self.mesh.neighbors()[t as usize][k] {
+                NO_NEIGHBOR => {
+                    return match self.mesh.boundary_face(t, k).map(|f| f.tag) {
+                        Some(BoundaryTag::Goal(j)) => Segment::Goal(j),
+                        _ => Segment::Blocked,
+                    };
+                }
+                n => {
+                    previous = Some(t);
+                    t = n;
+                }
+            }
+        }
+        Segment::Blocked
+    }
+
+    fn goal_reachable(&self, t: u32) -> bool {
+        self.component_goal[self.component[t as usize] as usize]
+    }
+}
+
+impl VolumeField for P1VolumeField<'_> {
+    type Cell = u32;
+    fn locate(&self, p: &Point, hint: Option<u32>) -> Locate<u32> {
+        match self.mesh.locate(p, hint) {
+            Some(t) => Locate::Inside(t),
+            None => match self.outside {
+                Some(f) => match f(p) {
+                    // The classifier says free, but the mesh (kept off the obstacles by its
+                    // safety margin) does not reach it: not plannable here.
+                    Locate::Inside(_) => Locate::InObstacle,
+                    other => other,
+                },
+                None => {
+                    let (lo, hi) = self.mesh.bounds();
+                    if (0..3).any(|a| p[a] < lo[a] || p[a] > hi[a]) {
+                        Locate::OutsideWorkspace
+                    } else {
+                        Locate::InObstacle
+                    }
+                }
+            },
+        }
+    }
+    fn value(&self, cell: u32, p: &Point) -> f64 {
+        self.interpolate(cell, p)
+    }
+    /// The recovered (smooth) gradient, interpolated.
+    fn gradient(&self, cell: u32, p: &Point) -> Vector {
+        let l = self.mesh.barycentric(cell, p);
+        let tet = self.mesh.tetrahedra()[cell as usize];
+        (0..4).map(|k| self.nodal[tet[k] as usize] * l[k]).sum()
+    }
+    fn segment(&self, cell: u32, from: &Point, to: &Point) -> Segment<u32> {
+        self.walk_segment(cell, from, to)
+    }
+    fn fallback_step(&self, cell: u32, p: &Point) -> VolumeFallback<u32> {
+        let mut tracer = Exact::new(self, ExactVolumeOptions::default());
+        let mut at = tracer.carrier(cell, *p);
+        let v0 = self.interpolate(cell, p);
+        for _ in 0..16 {
+            match tracer.advance(&at) {
+                Ok(next) => {
+                    at = next;
+                    if self.interpolate(at.tet, &at.p) < v0 - 1e-15 * v0.abs().max(1.0) {
+                        return VolumeFallback::Moved(at.p, at.tet);
+                    }
+                }
+                Err(VolumeTraceStatus::ReachedGoal(j)) => return VolumeFallback::Goal(j),
+                Err(_) => return VolumeFallback::Stuck,
+            }
+        }
+        VolumeFallback::Stuck
+    }
+}
+
+/// Options of [`trace_exact_volume`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactVolumeOptions {
+    /// Largest number of moves.
+    pub max_steps: usize,
+    /// Largest number of perturbations escaping stagnation points.
+    pub max_perturbations: usize,
+}
+
+impl Default for ExactVolumeOptions {
+    fn default() -> Self {
+        ExactVolumeOptions {
+            max_steps: 1_000_000,
+            max_perturbations: 32,
+        }
+    }
+}
+
+/// The point and its carrier simplex (sorted vertices), with one tetrahedron holding it.
+#[derive(Clone, Debug)]
+struct At {
+    p: Point,
+    sigma: Vec<u32>,
+    tet: u32,
+}
+
+/// A cell to move in: its vertices and the direction.
+struct Move {
+    cell: Vec<u32>,
+    tet: u32,
+    dir: Vector,
+    rate: f64,
+}
+
+struct Exact<'f, 'a> {
+    field: &'f P1VolumeField<'a>,
+    opts: ExactVolumeOptions,
+    perturbations: usize,
+    min_gradient: f64,
+}
+
+/// Barycentric coordinates of `p` in the simplex `pts` (1 to 4 points), after projecting
+/// `p` onto its affine hull.
+fn simplex_coords(pts: &[Point], p: &Point) -> Vec<f64> {
+    match pts.len() {
+        1 => vec![1.0],
+        2 => {
+            let e = pts[1] - pts[0];
+            let s = (p - pts[0]).dot(&e) / e.norm_squared();
+            vec![1.0 - s, s]
+        }
+        3 => {
+            let (e1, e2, d) = (pts[1] - pts[0], pts[2] - pts[0], p - pts[0]);
+            let m = nalgebra::Matrix2::new(e1.dot(&e1), e1.dot(&e2), e1.dot(&e2), e2.dot(&e2));
+            let r = nalgebra::Vector2::new(e1.dot(&d), e2.dot(&d));
+            let c = m
+                .try_inverse()
+                .map_or(nalgebra::Vector2::zeros(), |inv| inv * r);
+            vec![1.0 - c.x - c.y, c.x, c.y]
+        }
+        _ => {
+            let vol = harmonic_volume::signed_volume(&pts[0], &pts[1], &pts[2], &pts[3]);
+            (0..4)
+                .map(|k| {
+                    let mut q = [pts[0], pts[1], pts[2], pts[3]];
+                    q[k] = *p;
+                    harmonic_volume::signed_volume(&q[0], &q[1], &q[2], &q[3]) / vol
+                })
+                .collect()
+        }
+    }
+}
+
+impl<'f, 'a> Exact<'f, 'a> {
+    fn new(field: &'f P1VolumeField<'a>, opts: ExactVolumeOptions) -> Self {
+        Exact {
+            field,
+            opts,
+            perturbations: 0,
+            min_gradient: f64::INFINITY,
+        }
+    }
+
+    fn mesh(&self) -> &TetMesh {
+        self.field.mesh
+    }
+
+    /// The carrier of `p` in tetrahedron `t`: its vertices with a coordinate above 1e-10,
+    /// and `p` snapped onto that simplex.
+    fn carrier(&self, t: u32, p: Point) -> At {
+        let tet = self.mesh().tetrahedra()[t as usize];
+        let l = self.mesh().barycentric(t, &p);
+        self.snap(t, &tet, &l)
+    }
+
+    fn snap(&self, t: u32, cell: &[u32], l: &[f64]) -> At {
+        let keep: Vec<usize> = (0..cell.len()).filter(|&k| l[k] > 1e-10).collect();
+        let keep = if keep.is_empty() {
+            // Round-off pushed every coordinate down: the largest one's vertex.
+            vec![
+                (0..cell.len())
+                    .max_by(|&a, &b| l[a].total_cmp(&l[b]))
+                    .unwrap_or(0),
+            ]
+        } else {
+            keep
+        };
+        let sum: f64 = keep.iter().map(|&k| l[k].max(0.0)).sum();
+        let v = self.mesh().vertices();
+        let p = if sum > 0.0 {
+            Point::from(
+                keep.iter()
+                    .map(|&k| v[cell[k] as usize].coords * (l[k].max(0.0) / sum))
+                    .sum::<Vector>(),
+            )
+        } else {
+            v[cell[keep[0]] as usize]
+        };
+        let mut sigma: Vec<u32> = keep.iter().map(|&k| cell[k]).collect();
+        sigma.sort_unstable();
+        At { p, sigma, tet: t }
+    }
+
+    /// Whether the carrier lies on a goal face.
+    fn on_goal(&self, at: &At, star: &[u32]) -> Option<u32> {
+        if at.sigma.len() == 4 {
+            return None;
+        }
+        for &t in star {
+            let tet = self.mesh().tetrahedra()[t as usize];
+            for (k, f) in FACES.iter().enumerate() {
+                if at.sigma.contains(&tet[k]) {
+                    continue;
+                }
+                let _ = f;
+                if let Some(bf) = self.mesh().boundary_face(t, k)
+                    && let BoundaryTag::Goal(j) = bf.tag
+                {
+                    return Some(j);
+                }
+            }
+        }
+        None
+    }
+
+    /// The steepest feasible move from `at`.
+    fn best_move(&self, at: &At, star: &[u32]) -> Option<Move> {
+        let mesh = self.mesh();
+        let v = mesh.vertices();
+        let mut best: Option<Move> = None;
+        let consider = |m: Move, best: &mut Option<Move>| {
+            if m.rate > 0.0
+                && best
+                    .as_ref()
+                    .is_none_or(|b| m.rate > b.rate * (1.0 + 1e-12))
+            {
+                *best = Some(m);
+            }
+        };
+        for &t in star {
+            let g = self.field.tet_gradient(t);
+            let d = -g;
+            let dn = d.norm();
+            if dn == 0.0 || !dn.is_finite() {
+                continue;
+            }
+            let tet = mesh.tetrahedra()[t as usize];
+            let (gl, _) = mesh.barycentric_gradients(t);
+            // Entering t: every coordinate that is zero at p must not decrease.
+            let enters = (0..4)
+                .all(|k| at.sigma.contains(&tet[k]) || gl[k].dot(&d) > 1e-9 * gl[k].norm() * dn);
+            if enters {
+                consider(
+                    Move {
+                        cell: tet.to_vec(),
+                        tet: t,
+                        dir: d,
+                        rate: dn,
+                    },
+                    &mut best,
+                );
+            }
+            if at.sigma.len() == 4 {
+                continue;
+            }
+            // Faces and edges of t containing the carrier.
+            for k in 0..4 {
+                let face: Vec<u32> = (0..4).filter(|&m| m != k).map(|m| tet[m]).collect();
+                if !at.sigma.iter().all(|s| face.contains(s)) {
+                    continue;
+                }
+                let pts: Vec<Point> = face.iter().map(|&i| v[i as usize]).collect();
+                let n = (pts[1] - pts[0]).cross(&(pts[2] - pts[0])).normalize();
+                let df = d - n * d.dot(&n);
+                let r = df.norm();
+                if r > 1e-14 * dn && self.moves_inside(&pts, &face, at, &df) {
+                    consider(
+                        Move {
+                            cell: face.clone(),
+                            tet: t,
+                            dir: df,
+                            rate: r,
+                        },
+                        &mut best,
+                    );
+                }
+            }
+            for &[i, j] in &harmonic_volume::EDGES {
+                let (a, b) = (tet[i], tet[j]);
+                if !at.sigma.iter().all(|s| *s == a || *s == b) {
+                    continue;
+                }
+                let (va, vb) = (self.field.values[a as usize], self.field.values[b as usize]);
+                let (lo, hi) = if va < vb { (a, b) } else { (b, a) };
+                if va == vb || at.sigma == [lo] {
+                    continue;
+                }
+                let e = v[lo as usize] - v[hi as usize];
+                let len = e.norm();
+                consider(
+                    Move {
+                        cell: vec![hi, lo],
+                        tet: t,
+                        dir: e / len,
+                        rate: (va - vb).abs() / len,
+                    },
+                    &mut best,
+                );
+            }
+        }
+        best
+    }
+
+    /// Whether moving from `at` along `d` stays in the triangle `pts` (coordinates that are
+    /// zero at the point do not decrease).
+    fn moves_inside(&self, pts: &[Point], face: &[u32], at: &At, d: &Vector) -> bool {
+        let l0 = simplex_coords(pts, &at.p);
+        let l1 = simplex_coords(pts, &(at.p + d));
+        let scale = d.norm();
+        (0..3).all(|m| {
+            at.sigma.contains(&face[m]) || {
+                let _ = l0[m];
+                l1[m] - l0[m] > 1e-9 * scale / (pts[(m + 1) % 3] - pts[(m + 2) % 3]).norm()
+            }
+        })
+    }
+
+    /// One move (or a perturbation).
+    fn advance(&mut self, at: &At) -> Result<At, VolumeTraceStatus> {
+        let star = self.field.star(&at.sigma);
+        if let Some(j) = self.on_goal(at, &star) {
+            return Err(VolumeTraceStatus::ReachedGoal(j));
+        }
+        let Some(m) = self.best_move(at, &star) else {
+            return self.perturb(at);
+        };
+        self.min_gradient = self.min_gradient.min(m.rate);
+        let v = self.mesh().vertices();
+        let pts: Vec<Point> = m.cell.iter().map(|&i| v[i as usize]).collect();
+        let l0 = simplex_coords(&pts, &at.p);
+        let l1 = simplex_coords(&pts, &(at.p + m.dir));
+        let mut s = f64::INFINITY;
+        for k in 0..pts.len() {
+            let r = l1[k] - l0[k];
+            if r < 0.0 {
+                s = s.min(l0[k].max(0.0) / -r);
+            }
+        }
+        if !s.is_finite() {
+            return self.perturb(at);
+        }
+        let q = at.p + m.dir * s;
+        let l = simplex_coords(&pts, &q);
+        // Re-express in the tetrahedron for the carrier (a face or edge move ends on the
+        // boundary of that cell, inside the tetrahedron `m.tet`).
+        let next = if pts.len() == 4 {
+            self.snap(m.tet, &m.cell, &l)
+        } else {
+            let snapped = self.snap(m.tet, &m.cell, &l);
+            At {
+                tet: m.tet,
+                ..snapped
+            }
+        };
+        Ok(next)
+    }
+
+    /// Escapes a stagnation point: the lowest of a few points around `at` that lies lower and
+    /// is reached by a straight segment inside the mesh.
+    fn perturb(&mut self, at: &At) -> Result<At, VolumeTraceStatus> {
+        if self.perturbations >= self.opts.max_perturbations {
+            return Err(VolumeTraceStatus::Stalled { at: at.p });
+        }
+        self.perturbations += 1;
+        let field = self.field;
+        let v0 = field.interpolate(at.tet, &at.p);
+        let scale = field.mesh.tet_volume(at.tet).abs().cbrt();
+        let mut best: Option<(f64, Point, u32)> = None;
+        let mut dirs = Vec::new();
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    if (x, y, z) != (0, 0, 0) {
+                        dirs.push(Vector::new(x as f64, y as f64, z as f64).normalize());
+                    }
+                }
+            }
+        }
+        for r in [0.05, 0.2, 0.5, 1.0, 2.0] {
+            for d in &dirs {
+                let q = at.p + d * (r * scale);
+                match field.walk_segment(at.tet, &at.p, &q) {
+                    Segment::Goal(j) => return Err(VolumeTraceStatus::ReachedGoal(j)),
+                    Segment::Inside(c) => {
+                        let vq = field.interpolate(c, &q);
+                        if vq < v0 - 1e-13 * v0.abs().max(1e-300)
+                            && best.is_none_or(|(b, _, _)| vq < b)
+                        {
+                            best = Some((vq, q, c));
+                        }
+                    }
+                    Segment::Blocked => {}
+                }
+            }
+            if let Some((_, q, c)) = best {
+                return Ok(self.carrier(c, q));
+            }
+        }
+        Err(VolumeTraceStatus::Stalled { at: at.p })
+    }
+}
+
+/// Traces steepest descent of `field` from `start` through the mesh (see the module docs).
+pub fn trace_exact_volume(
+    field: &P1VolumeField<'_>,
+    start: Point,
+    opts: &ExactVolumeOptions,
+) -> VolumePath {
+    let t0 = match field.locate(&start, None) {
+        Locate::Inside(t) => t,
+        Locate::Goal(j) => {
+            return VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::ReachedGoal(j),
+                f64::INFINITY,
+                0,
+            );
+        }
+        Locate::InObstacle => {
+            return VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::StartInObstacle,
+                f64::INFINITY,
+                0,
+            );
+        }
+        Locate::OutsideWorkspace => {
+            return VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::OutsideWorkspace,
+                f64::INFINITY,
+                0,
+            );
+        }
+    };
+    if !field.goal_reachable(t0) {
+        return VolumePath::new(
+            vec![start],
+            VolumeTraceStatus::Unreachable,
+            f64::INFINITY,
+            0,
+        );
+    }
+    let mut tracer = Exact::new(field, *opts);
+    let mut at = tracer.carrier(t0, start);
+    let mut points = vec![start];
+    if (at.p - start).norm() > 0.0 {
+        points.push(at.p);
+    }
+    let mut moves = 0;
+    // Moves that do not lower the value (entering a cell from its boundary) are normal, but
+    // many in a row mean the tracer is circling at a stagnation point.
+    let mut flat = 0;
+    let status = loop {
+        if moves >= opts.max_steps {
+            break VolumeTraceStatus::MaxSteps;
+        }
+        let before = field.interpolate(at.tet, &at.p);
+        let step = if flat > 64 {
+            flat = 0;
+            tracer.perturb(&at)
+        } else {
+            tracer.advance(&at)
+        };
+        match step {
+            Ok(next) => {
+                moves += 1;
+                if (next.p - at.p).norm() > 0.0 {
+                    points.push(next.p);
+                }
+                let after = field.interpolate(next.tet, &next.p);
+                if after < before - 1e-14 * before.abs().max(1e-300) {
+                    flat = 0;
+                } else {
+                    flat += 1;
+                }
+                at = next;
+            }
+            Err(status) => break status,
+        }
+    };
+    VolumePath::new(points, status, tracer.min_gradient, moves)
+}
+
+/// Options of [`trace_smooth_volume`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothVolumeOptions {
+    /// The RK4 step length.
+    pub step: f64,
+    /// Steps shorter than this hand over to the field's fallback move.
+    pub min_step: f64,
+    /// Largest number of steps.
+    pub max_steps: usize,
+}
+
+impl SmoothVolumeOptions {
+    /// Options for a scene of size `scale` (step `scale/200`).
+    pub fn for_scale(scale: f64) -> Self {
+        SmoothVolumeOptions {
+            step: scale / 200.0,
+            min_step: scale * 1e-7,
+            max_steps: 200_000,
+        }
+    }
+}
+
+/// Follows `−∇value` of `field` from `start` by RK4 steps (see the module docs).
+pub fn trace_smooth_volume<F: VolumeField>(
+    field: &F,
+    start: Point,
+    opts: &SmoothVolumeOptions,
+) -> Result<VolumePath, TraceError> {
+    for (name, value) in [("step", opts.step), ("min_step", opts.min_step)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(TraceError::InvalidOption {
+                name,
+                value,
+                reason: "must be a positive finite number",
+            });
+        }
+    }
+    let mut cell = match field.locate(&start, None) {
+        Locate::Inside(c) => c,
+        Locate::Goal(j) => {
+            return Ok(VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::ReachedGoal(j),
+                f64::INFINITY,
+                0,
+            ));
+        }
+        Locate::InObstacle => {
+            return Ok(VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::StartInObstacle,
+                f64::INFINITY,
+                0,
+            ));
+        }
+        Locate::OutsideWorkspace => {
+            return Ok(VolumePath::new(
+                vec![start],
+                VolumeTraceStatus::OutsideWorkspace,
+                f64::INFINITY,
+                0,
+            ));
+        }
+    };
+    let mut p = start;
+    let mut points = vec![p];
+    let mut min_gradient = f64::INFINITY;
+    let mut h = opts.step;
+    let mut fallbacks = 0usize;
+    let dir = |c: F::Cell, q: &Point| -> Option<(Vector, f64)> {
+        let g = field.gradient(c, q);
+        let n = g.norm();
+        (n > 0.0 && n.is_finite()).then(|| (-g / n, n))
+    };
+    for step in 0..opts.max_steps {
+        let _ = step;
+        let v0 = field.value(cell, &p);
+        // RK4 on the unit direction; intermediate points located from the current cell.
+        let rk = |h: f64| -> Option<Point> {
+            let (k1, _) = dir(cell, &p)?;
+            let at = |q: Point| match field.locate(&q, Some(cell)) {
+                Locate::Inside(c) => dir(c, &q).map(|d| d.0),
+                _ => None,
+            };
+            let k2 = at(p + k1 * (h / 2.0))?;
+            let k3 = at(p + k2 * (h / 2.0))?;
+            let k4 = at(p + k3 * h)?;
+            Some(p + (k1 + 2.0 * k2 + 2.0 * k3 + k4) * (h / 6.0))
+        };
+        if let Some((_, g)) = dir(cell, &p) {
+            min_gradient = min_gradient.min(g);
+        }
+        let mut moved = false;
+        while h >= opts.min_step {
+            if let Some(q) = rk(h) {
+                match field.segment(cell, &p, &q) {
+                    Segment::Goal(j) => {
+                        points.push(q);
+                        return Ok(VolumePath::new(
+                            points,
+                            VolumeTraceStatus::ReachedGoal(j),
+                            min_gradient,
+                            step + 1,
+                        ));
+                    }
+                    Segment::Inside(c) if field.value(c, &q) < v0 => {
+                        p = q;
+                        cell = c;
+                        points.push(p);
+                        moved = true;
+                        break;
+                    }
+                    _ => {}
+                }
+            }
+            h *= 0.5;
+        }
+        if moved {
+            h = (h * 2.0).min(opts.step);
+            continue;
+        }
+        // Steps keep failing: one guaranteed move.
+        fallbacks += 1;
+        match field.fallback_step(cell, &p) {
+            VolumeFallback::Moved(q, c) if fallbacks < opts.max_steps => {
+                p = q;
+                cell = c;
+                points.push(p);
+                h = opts.step;
+            }
+            VolumeFallback::Goal(j) => {
+                return Ok(VolumePath::new(
+                    points,
+                    VolumeTraceStatus::ReachedGoal(j),
+                    min_gradient,
+                    step + 1,
+                ));
+            }
+            _ => {
+                return Ok(VolumePath::new(
+                    points,
+                    VolumeTraceStatus::Stalled { at: p },
+                    min_gradient,
+                    step + 1,
+                ));
+            }
+        }
+    }
+    Ok(VolumePath::new(
+        points,
+        VolumeTraceStatus::MaxSteps,
+        min_gradient,
+        opts.max_steps,
+    ))
+}
