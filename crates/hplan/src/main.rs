@@ -157,15 +157,35 @@ fn main() -> ExitCode {
     }
 }
 
-/// A clap error as one line: the message and its notes, without the usage block.
+/// A clap error as one line: the message and its notes, without the usage block. A line
+/// ending in a colon runs on into the next (`not provided: --goal <X,Y>`); other lines are
+/// joined with `; `.
 fn one_line(rendered: &str) -> String {
-    rendered
+    let parts = rendered
         .lines()
         .take_while(|l| !l.starts_with("Usage:"))
         .map(|l| l.trim().trim_start_matches("error: "))
-        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
-        .collect::<Vec<_>>()
-        .join("; ")
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"));
+    let mut line = String::new();
+    for part in parts {
+        if !line.is_empty() {
+            line.push_str(if line.ends_with(':') { " " } else { "; " });
+        }
+        line.push_str(part);
+    }
+    line
+}
+
+/// Writes `text` to standard output. A reader that has gone away (`hplan … | head`) ends the
+/// output quietly, as for any Unix filter; other write errors are reported.
+fn print_out(text: &str) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(format!("cannot write to standard output: {e}")),
+    }
 }
 
 fn load(common_scene: &Path, max_area: Option<f64>) -> Result<Scene, String> {
@@ -238,12 +258,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 write_file(vtk, &planner.vtu())?;
             }
             if common.json {
-                println!(
-                    "{}",
-                    serde_json::to_string(&report).map_err(|e| e.to_string())?
-                );
+                let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+                print_out(&format!("{json}\n"))?;
             } else {
-                print!("{}", report.summary());
+                print_out(&report.summary())?;
             }
         }
         Command::Car {
@@ -280,12 +298,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 write_file(vtk, &planner.vtu())?;
             }
             if common.json {
-                println!(
-                    "{}",
-                    serde_json::to_string(&report).map_err(|e| e.to_string())?
-                );
+                let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+                print_out(&format!("{json}\n"))?;
             } else {
-                print!("{}", report.summary());
+                print_out(&report.summary())?;
             }
         }
         Command::Export {

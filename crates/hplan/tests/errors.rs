@@ -141,3 +141,46 @@ fn the_command_line_plans_on_a_map() {
     );
     fails(&["plan", "meshes/reference.json", "--goal", "1,1"], "--map");
 }
+
+/// A reader that goes away early (`hplan plan … --json | head -c 100`) ends the output
+/// quietly: no panic, exit 0.
+#[test]
+fn a_closed_pipe_is_not_a_panic() {
+    use std::process::{Command as Std, Stdio};
+    let bin = assert_cmd::cargo::cargo_bin("hplan");
+    let mut child = Std::new(bin)
+        .args(["plan"])
+        .arg(harmonic_fixtures::mesh_file("maze.json"))
+        .arg("--json")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("hplan starts");
+    // Close our end of stdout before hplan writes anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("hplan ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        out.status.success(),
+        "exit {:?}: {stderr}",
+        out.status.code()
+    );
+}
+
+/// clap's "required arguments were not provided:" runs on into the argument it names.
+#[test]
+fn a_missing_argument_is_named_on_the_same_line() {
+    let out = Command::cargo_bin("hplan")
+        .expect("hplan is built")
+        .args(["plan", "--map"])
+        .arg(warehouse_yaml())
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("not provided: --goal"),
+        "one line naming --goal: {err}"
+    );
+}
