@@ -597,7 +597,7 @@ impl<'f, 'a> Exact<'f, 'a> {
                     Move {
                         cell: tet.to_vec(),
                         tet: t,
-                        dir: d,
+                        dir: d / dn,
                         rate: dn,
                     },
                     &mut best,
@@ -616,12 +616,13 @@ impl<'f, 'a> Exact<'f, 'a> {
                 let n = (pts[1] - pts[0]).cross(&(pts[2] - pts[0])).normalize();
                 let df = d - n * d.dot(&n);
                 let r = df.norm();
-                if r > 1e-14 * dn && self.moves_inside(&pts, &face, at, &df) {
+                // Unit directions: the gradient may be far below the coordinates' precision.
+                if r > 1e-14 * dn && self.moves_inside(&pts, &face, at, &(df / r)) {
                     consider(
                         Move {
                             cell: face.clone(),
                             tet: t,
-                            dir: df,
+                            dir: df / r,
                             rate: r,
                         },
                         &mut best,

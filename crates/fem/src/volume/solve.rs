@@ -108,10 +108,20 @@ pub fn solve_volume(
     ))
 }
 
-/// One-shot for planning: assemble `bcs` on `mesh` with the Galerkin stiffness, solve
-/// ([`VolumeSolveMethod::Auto`]); if that solution has an interior local extremum (possible
-/// where the mesh has obtuse dihedral angles), assemble again with
-/// [`NegativeWeights::Clamp`] — an M-matrix, so no interior extremum — and solve that.
+/// Below this ratio of the smallest to the largest ψ at the unknowns, a Cholesky ψ may
+/// have lost its relative precision far from the goal; the planning solve then redoes it with
+/// the accurate elimination (as the 2D `AUTO_FLAT_RATIO`).
+pub const FLAT_RATIO_3D: f64 = 1e-12;
+
+/// Largest system the planning solve hands to the accurate elimination when it must.
+pub const PLANNING_ACCURATE_MAX_UNKNOWNS: usize = 150_000;
+
+/// One-shot for planning: assemble `bcs` on `mesh` with the Galerkin stiffness and solve
+/// ([`VolumeSolveMethod::Auto`]). If that solution has an interior local extremum (possible
+/// where the mesh has obtuse dihedral angles), or ψ spans more than 1/[`FLAT_RATIO_3D`] (a
+/// far field a Cholesky solve cannot resolve), assemble again with [`NegativeWeights::Clamp`]
+/// — an M-matrix, so no interior extremum — and solve it with the entrywise-accurate
+/// elimination (up to [`PLANNING_ACCURATE_MAX_UNKNOWNS`] unknowns).
 pub fn solve_volume_potential(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
@@ -119,8 +129,8 @@ pub fn solve_volume_potential(
     Ok(solve_volume_potential_with_report(mesh, bcs)?.0)
 }
 
-/// [`solve_volume_potential`], also returning the solve report and whether the clamped
-/// (M-matrix) stiffness was needed.
+/// [`solve_volume_potential`], also returning the report of the solve that produced ψ and
+/// whether the clamped (M-matrix) stiffness was used.
 pub fn solve_volume_potential_with_report(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
@@ -128,8 +138,16 @@ pub fn solve_volume_potential_with_report(
     let assembler = VolumeAssembler::new(Arc::clone(&mesh), bcs)?;
     let system = assembler.assemble(bcs)?;
     let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+    let flat = {
+        let free = system.free_vertices();
+        let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
+            (a.min(psi[v as usize]), b.max(psi[v as usize]))
+        });
+        !free.is_empty() && (lo.is_nan() || lo <= FLAT_RATIO_3D * hi)
+    };
     let potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
-    if system.positive_offdiagonals() == 0 || potential.interior_local_extrema() == 0 {
+    let accurate_already = report.method == VolumeSolveMethod::Accurate;
+    if accurate_already || (!flat && potential.interior_local_extrema() == 0) {
         return Ok((potential, report, false));
     }
     let options = VolumeAssemblyOptions {
@@ -137,7 +155,12 @@ pub fn solve_volume_potential_with_report(
     };
     let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), bcs, options)?;
     let system = assembler.assemble(bcs)?;
-    let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+    let method = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
+        VolumeSolveMethod::Accurate
+    } else {
+        VolumeSolveMethod::Auto
+    };
+    let (psi, report) = solve_volume(&system, method)?;
     Ok((
         VolumePotential::new(mesh, psi, system.reference())?,
         report,
