@@ -158,3 +158,121 @@ fn point_location_finds_every_centroid() {
     }
     assert_eq!(mesh.locate(&Point::new(5.0, 5.0, 5.0), None), None);
 }
+
+/// A configuration-space-like domain known only through an inside test (±1, no distances):
+/// a solid torus (tube radius 0.5 around a circle of radius 1.5). Cut points come from
+/// bisection; the mesh's volume approaches 2π²Rr².
+struct InsideOnlyTorus;
+
+impl harmonic_volume::ImplicitDomain for InsideOnlyTorus {
+    fn value(&self, p: &Point) -> f64 {
+        let q = ((p.x * p.x + p.y * p.y).sqrt() - 1.5).hypot(p.z);
+        if q < 0.5 { -1.0 } else { 1.0 }
+    }
+    fn tag(&self, _p: &Point) -> BoundaryTag {
+        BoundaryTag::Obstacle(0)
+    }
+    fn bounds(&self) -> (Point, Point) {
+        (Point::new(-2.0, -2.0, -0.5), Point::new(2.0, 2.0, 0.5))
+    }
+}
+
+#[test]
+fn an_inside_test_alone_is_enough_to_mesh() {
+    use harmonic_volume::{StuffingOptions, TetMesh, stuff};
+    let exact = 2.0 * std::f64::consts::PI.powi(2) * 1.5 * 0.25;
+    let mut errors = Vec::new();
+    for h in [0.2, 0.1] {
+        let s = stuff(
+            &InsideOnlyTorus,
+            &StuffingOptions {
+                spacing: h,
+                max_tetrahedra: 10_000_000,
+            },
+        )
+        .unwrap();
+        let mesh = TetMesh::new(s.vertices, s.tetrahedra, &|_| BoundaryTag::Obstacle(0)).unwrap();
+        let q = quality(&mesh);
+        let err = (mesh.volume() - exact).abs() / exact;
+        println!(
+            "inside-only torus, h = {h}: {} tets, volume error {err:.2e}, {q:?}",
+            q.tetrahedra
+        );
+        assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 175.0);
+        // Closed: every boundary face's edges are shared by two boundary faces.
+        let mut edges = std::collections::HashMap::new();
+        for f in mesh.boundary_faces() {
+            for k in 0..3 {
+                let (a, b) = (f.vertices[k], f.vertices[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        assert!(
+            edges.values().all(|&c| c == 2),
+            "the boundary is a closed surface"
+        );
+        errors.push(err);
+    }
+    // Chords of a convex-ish surface: second order in h.
+    assert!(
+        errors[1] < 0.4 * errors[0] && errors[1] < 0.01,
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn triangle_surface_obstacles_are_meshed_around_with_clearance() {
+    // An octahedron of "radius" 1 around (2, 2, 2), given inward-oriented (it is reoriented).
+    let c = Point::new(2.0, 2.0, 2.0);
+    let v = vec![
+        c + harmonic_volume::Vector::x(),
+        c - harmonic_volume::Vector::x(),
+        c + harmonic_volume::Vector::y(),
+        c - harmonic_volume::Vector::y(),
+        c + harmonic_volume::Vector::z(),
+        c - harmonic_volume::Vector::z(),
+    ];
+    let t = vec![
+        [0, 4, 2],
+        [2, 4, 1],
+        [1, 4, 3],
+        [3, 4, 0],
+        [0, 2, 5],
+        [2, 1, 5],
+        [1, 3, 5],
+        [3, 0, 5],
+    ];
+    let octahedron = Solid::new_surface(SolidRole::Obstacle(0), v, t).unwrap();
+    assert!((octahedron.volume() - 4.0 / 3.0).abs() < 1e-12);
+    let domain = VolumeDomain::new(
+        Solid::new_box(
+            SolidRole::Workspace,
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(4.0, 4.0, 4.0),
+        )
+        .unwrap(),
+        vec![octahedron],
+        vec![GoalRegion::Point(Point::new(0.5, 0.5, 0.5))],
+        0.1,
+    )
+    .unwrap();
+    let (mesh, report) = domain.mesh(&MeshOptions::with_max_volume(0.002)).unwrap();
+    println!("octahedron: {report:?}");
+    assert!(report.clearance_deficit <= 1e-10, "{report:?}");
+    assert!(
+        mesh.boundary_faces()
+            .iter()
+            .any(|f| f.tag == BoundaryTag::Obstacle(0))
+    );
+    for p in mesh.vertices() {
+        assert!(
+            domain.obstacles()[0].signed_distance(p) >= 0.1 - 1e-9,
+            "{p}"
+        );
+    }
+    // The free volume: the box shrunk by 0.1 (3.8³) minus the octahedron inflated by 0.1 plus
+    // the margin (surface 4√3 ≈ 6.9 times about 0.19) and the goal ball.
+    let shrunk = 3.8f64.powi(3) - 4.0 / 3.0;
+    assert!(mesh.volume() < shrunk, "{}", mesh.volume());
+    assert!(mesh.volume() > shrunk - 2.0, "{}", mesh.volume());
+}
