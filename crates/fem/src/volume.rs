@@ -13,7 +13,8 @@
 //! the clamped stiffness ([`NegativeWeights::Clamp`], an M-matrix) when the Galerkin solution
 //! has an interior extremum. [`VolumeSolveMethod::Auto`] uses the entrywise-accurate
 //! M-matrix elimination ([`harmonic_solver::AccurateLdlt`]) on small M-matrix systems, faer's
-//! Cholesky (AMD ordering) up to [`AUTO_CHOLESKY_MAX_UNKNOWNS`] unknowns and IC(0)-PCG above.
+//! Cholesky (AMD ordering) up to [`AUTO_CHOLESKY_MAX_UNKNOWNS`] unknowns and IC(0)-PCG above
+//! (50.6k unknowns: PCG 0.16 s, Cholesky 3.9 s, accurate 69 s).
 //!
 //! ```
 //! use std::sync::Arc;

@@ -62,3 +62,62 @@ fn accurate_cholesky_and_pcg_agree() {
         );
     }
 }
+
+/// Costs of the three solves on the benchmark scene at a lattice spacing `H` (default 0.3):
+/// `H=0.24 cargo test --release -p harmonic-fem --test volume_solvers -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn solver_costs() {
+    let h: f64 = std::env::var("H")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.3);
+    let domain = VolumeDomain::new(
+        Solid::new_box(
+            SolidRole::Workspace,
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(10.0, 10.0, 10.0),
+        )
+        .unwrap(),
+        vec![
+            Solid::new_box(
+                SolidRole::Obstacle(0),
+                Point::new(3.0, 3.0, -1.0),
+                Point::new(7.0, 7.0, 11.0),
+            )
+            .unwrap(),
+            Solid::new_sphere(SolidRole::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0).unwrap(),
+        ],
+        vec![GoalRegion::Point(Point::new(9.0, 9.0, 9.0))],
+        0.1,
+    )
+    .unwrap();
+    let (mesh, _) = domain
+        .mesh(&MeshOptions::with_max_volume(h.powi(3) / 12.0))
+        .unwrap();
+    let tets = mesh.tetrahedra().len();
+    let mesh = Arc::new(mesh);
+    let bcs = BoundaryConditions::default();
+    let options = VolumeAssemblyOptions {
+        negative_weights: NegativeWeights::Clamp,
+    };
+    let system = VolumeAssembler::with_options(mesh, &bcs, options)
+        .unwrap()
+        .assemble(&bcs)
+        .unwrap();
+    println!(
+        "h = {h}: {tets} tetrahedra, {} unknowns",
+        system.matrix().n()
+    );
+    for method in [
+        VolumeSolveMethod::Pcg,
+        VolumeSolveMethod::Cholesky,
+        VolumeSolveMethod::Accurate,
+    ] {
+        let (_, r) = solve_volume(&system, method).unwrap();
+        println!(
+            "  {method:?}: {:.3} s ({} iterations)",
+            r.seconds, r.iterations
+        );
+    }
+}

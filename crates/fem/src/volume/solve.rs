@@ -1,6 +1,6 @@
 //! Solving the tetrahedral system: the entrywise-accurate M-matrix elimination where it is
-//! small, faer's Cholesky (AMD ordering; 3D fill grows like n^{4/3}) up to a size, IC(0)-PCG
-//! beyond.
+//! small, faer's Cholesky (AMD ordering) on small systems, IC(0)-PCG beyond (in 3D the
+//! factors' fill makes PCG far cheaper from a few ten thousand unknowns).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -14,10 +14,13 @@ use super::potential::VolumePotential;
 use crate::bc::BoundaryConditions;
 
 /// Up to this many unknowns [`VolumeSolveMethod::Auto`] uses the accurate solve on M-matrix
-/// systems (the simplicial elimination's 3D fill makes it slow beyond).
-pub const AUTO_ACCURATE_MAX_UNKNOWNS_3D: usize = 20_000;
-/// Up to this many unknowns [`VolumeSolveMethod::Auto`] factors with Cholesky; above, PCG.
-pub const AUTO_CHOLESKY_MAX_UNKNOWNS: usize = 250_000;
+/// systems: the simplicial elimination's 3D fill makes it slow beyond (measured on the bench
+/// scene, clamped weights: 7.7k unknowns 0.05 s, 50.6k unknowns 69 s).
+pub const AUTO_ACCURATE_MAX_UNKNOWNS_3D: usize = 15_000;
+/// Up to this many unknowns [`VolumeSolveMethod::Auto`] factors with Cholesky; above, IC(0)-PCG,
+/// which wins by far in 3D (50.6k unknowns: PCG 0.16 s in 40 iterations, Cholesky 3.9 s;
+/// `H=0.3 cargo test --release -p harmonic-fem --test volume_solvers -- --ignored --nocapture`).
+pub const AUTO_CHOLESKY_MAX_UNKNOWNS: usize = 20_000;
 
 /// How to solve.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -113,8 +116,9 @@ pub fn solve_volume(
 /// the accurate elimination (as the 2D `AUTO_FLAT_RATIO`).
 pub const FLAT_RATIO_3D: f64 = 1e-12;
 
-/// Largest system the planning solve hands to the accurate elimination when it must.
-pub const PLANNING_ACCURATE_MAX_UNKNOWNS: usize = 150_000;
+/// Largest system the planning solve hands to the accurate elimination when it must (a few
+/// seconds at most; larger flat fields keep the normwise-accurate solution).
+pub const PLANNING_ACCURATE_MAX_UNKNOWNS: usize = 25_000;
 
 /// One-shot for planning: assemble `bcs` on `mesh` with the Galerkin stiffness and solve
 /// ([`VolumeSolveMethod::Auto`]). If that solution has an interior local extremum (possible
