@@ -28,13 +28,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-// (missing_docs: enabled once every item is documented)
+#![warn(missing_docs)]
 
 #[cfg(feature = "map")]
 pub mod map;
 pub mod planner;
 pub mod render;
 pub mod scene;
+pub mod volume;
 
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;
@@ -45,4 +46,5 @@ pub use planner::{
     CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
     PlannerOptions, Report, Stage, SvgOptions, Timings,
 };
-pub use scene::{Scene, SceneError};
+pub use scene::{AnyScene, Scene, SceneError};
+pub use volume::{VolumePlanner, VolumeScene};

@@ -104,50 +104,91 @@ pub enum MapError {
     /// A file could not be read.
     #[error("cannot read {file}: {source}")]
     Io {
+        /// The file: the YAML, or the image with the YAML that names it.
         file: String,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
     /// The YAML is malformed.
     #[error("{file}: not valid YAML: {message}")]
-    Yaml { file: String, message: String },
+    Yaml {
+        /// The YAML file.
+        file: String,
+        /// The parser's message, or what the document should have been.
+        message: String,
+    },
     /// A required field is missing.
     #[error("{file}: missing field `{field}`")]
-    MissingField { file: String, field: &'static str },
+    MissingField {
+        /// The YAML file.
+        file: String,
+        /// The missing field (`image`, `resolution`, `origin`, ...).
+        field: &'static str,
+    },
     /// A field has a wrong type or value.
     #[error("{file}: field `{field}`: {message}")]
     BadField {
+        /// The YAML file.
         file: String,
+        /// The field with the bad value.
         field: &'static str,
+        /// What is wrong with the value.
         message: String,
     },
     /// `mode` names none of trinary, scale, raw.
     #[error("{file}: field `mode`: unsupported mode `{mode}` (expected trinary, scale or raw)")]
-    UnsupportedMode { file: String, mode: String },
+    UnsupportedMode {
+        /// The YAML file.
+        file: String,
+        /// The mode as written.
+        mode: String,
+    },
     /// The image could not be decoded.
     #[error("{file}: cannot decode the map image: {message}")]
-    Image { file: String, message: String },
+    Image {
+        /// The image file.
+        file: String,
+        /// The decoder's message.
+        message: String,
+    },
     /// The grid has no cells, or the cell list does not match its size.
     #[error("{0}")]
-    BadGrid(String),
+    BadGrid(
+        /// What is wrong: the cell count against the size, the resolution or the origin.
+        String,
+    ),
     /// No cell is free.
     #[error("{file}: the map has no free cell")]
-    EmptyMap { file: String },
+    EmptyMap {
+        /// The image file, or the map's source (its YAML file, or `map` for
+        /// [`OccupancyMap::from_cells`]).
+        file: String,
+    },
     /// A map option is out of range.
     #[error("map option `{option}`: {message}")]
     BadOption {
+        /// The field of [`MapOptions`] (`simplify_cells`, `max_area`).
         option: &'static str,
+        /// The allowed range and the value given.
         message: String,
     },
     /// The goal lies outside the map.
     #[error("goal ({x}, {y}) is outside the map ({file}), which covers x {x0}..{x1}, y {y0}..{y1}")]
     GoalOutsideMap {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
         file: String,
+        /// The goal's x, in world coordinates.
         x: f64,
+        /// The goal's y, in world coordinates.
         y: f64,
+        /// Smallest x of the map's corners, in world coordinates.
         x0: f64,
+        /// Largest x of the map's corners.
         x1: f64,
+        /// Smallest y of the map's corners.
         y0: f64,
+        /// Largest y of the map's corners.
         y1: f64,
     },
     /// The goal lies in a cell that is not free.
@@ -155,10 +196,15 @@ pub enum MapError {
         "goal ({x}, {y}) is in {what} cell (column {column}, row {row} from the bottom) of {file}"
     )]
     GoalNotFree {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
         file: String,
+        /// The goal's x, in world coordinates.
         x: f64,
+        /// The goal's y, in world coordinates.
         y: f64,
+        /// The column of the goal's cell, from the left.
         column: usize,
+        /// The row of the goal's cell, from the bottom (the image's last line is row 0).
         row: usize,
         /// `an occupied` or `an unknown`.
         what: &'static str,
@@ -168,15 +214,23 @@ pub enum MapError {
         "goal ({x}, {y}) (column {column}, row {row} from the bottom of {file}) is in a free gap narrower than three cells next to an obstacle; move it into open space"
     )]
     GoalInNarrowGap {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
         file: String,
+        /// The goal's x, in world coordinates.
         x: f64,
+        /// The goal's y, in world coordinates.
         y: f64,
+        /// The column of the goal's cell, from the left.
         column: usize,
+        /// The row of the goal's cell, from the bottom.
         row: usize,
     },
     /// The robot radius is negative or not a number.
     #[error("robot radius must be zero or positive, got {0}")]
-    BadRadius(f64),
+    BadRadius(
+        /// The radius given, in world units.
+        f64,
+    ),
 }
 
 /// An occupancy grid with its place in the world.

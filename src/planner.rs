@@ -70,9 +70,13 @@ impl std::fmt::Debug for PlannerOptions {
 /// Wall-clock time of each stage, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct Timings {
+    /// Validating the scene and meshing its free space.
     pub mesh: f64,
+    /// Assembling the finite element system (sparsity pattern and values).
     pub assemble: f64,
+    /// Ordering, factoring and solving for the potential, and recovering its nodal gradients.
     pub solve: f64,
+    /// Answering a report's queries (every start, in parallel); 0 in [`Planner::timings`].
     pub trace: f64,
 }
 
@@ -106,6 +110,7 @@ pub struct Planner {
 /// One planned path, as the `hplan plan --json` contract prints it.
 #[derive(Clone, Debug, Serialize)]
 pub struct PlannedPath {
+    /// The query point `[x, y]`, as given.
     pub start: [f64; 2],
     /// How the path ended, serialised as `reached_goal`, `unreachable`, `stalled`,
     /// `start_in_obstacle`, `outside_workspace` or `max_steps`.
@@ -115,42 +120,58 @@ pub struct PlannedPath {
     pub goal: Option<u32>,
     /// Which tracer made the path: `smooth` (the default) or `exact` (the fallback).
     pub tracer: Tracer,
+    /// Length of the polyline `points`, in scene units.
     pub length: f64,
     /// Smallest distance from the path to a wall or an obstacle (exact geometry).
     pub min_clearance: f64,
-    /// Smallest |∇φ| met along the path.
+    /// Smallest |∇φ| met along the path (0 if none was met).
     pub min_gradient: f64,
+    /// The path's vertices `[x, y]` from the start; on reaching the goal the last lies on its
+    /// boundary.
     pub points: Vec<[f64; 2]>,
 }
 
 /// One car run, as `hplan car --json` prints it.
 #[derive(Clone, Debug, Serialize)]
 pub struct CarRun {
+    /// The start pose `[x, y, θ]`: rear-axle midpoint and heading in radians from +x.
     pub start: [f64; 3],
     /// How the run ended (as for [`PlannedPath::status`], or `collision`).
     pub status: TraceStatus,
+    /// The goal reached, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
+    /// Distance driven by the rear-axle midpoint (sum of the steps' arc lengths).
     pub length: f64,
+    /// Smallest distance from the rear-axle midpoint's polyline to a wall or an obstacle.
     pub min_clearance: f64,
+    /// Smallest |∇φ| met at the front axle (0 if none was met).
     pub min_gradient: f64,
+    /// Largest |curvature| commanded, `tan δ / L`, in 1 / scene units.
     pub max_curvature: f64,
+    /// The poses `[x, y, θ]` from the start pose, one per step.
     pub poses: Vec<[f64; 3]>,
 }
 
 /// Mesh figures of a report.
 #[derive(Clone, Debug, Serialize)]
 pub struct MeshSummary {
+    /// Number of mesh vertices.
     pub vertices: usize,
+    /// Number of triangles.
     pub triangles: usize,
+    /// Smallest angle of any triangle, in degrees.
     pub min_angle_deg: f64,
+    /// False if refinement stopped at its cap before meeting the area and angle bounds.
     pub refinement_complete: bool,
 }
 
 /// Potential figures of a report.
 #[derive(Clone, Debug, Serialize)]
 pub struct PotentialSummary {
+    /// Smallest φ at a vertex (the goal's value for the default conditions).
     pub min: f64,
+    /// Largest φ at a vertex (the walls' value for the default conditions).
     pub max: f64,
     /// Interior vertices that are strict local minima of φ (0 for a harmonic potential on a
     /// Delaunay mesh).
@@ -163,9 +184,13 @@ pub struct PotentialSummary {
 /// potential's figures and one entry per path.
 #[derive(Clone, Debug, Serialize)]
 pub struct Report<P> {
+    /// The mesh's figures.
     pub mesh: MeshSummary,
+    /// Wall-clock time of each stage, in milliseconds (`trace`: all the report's queries).
     pub timings_ms: Timings,
+    /// The potential's figures.
     pub potential: PotentialSummary,
+    /// One entry per start, in the order given.
     pub paths: Vec<P>,
 }
 
@@ -207,7 +232,9 @@ impl PathSummary for CarRun {
 /// The mesh and the potential for outside tools (`hplan export --potential`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Export {
+    /// Vertex positions `[x, y]`.
     pub vertices: Vec<[f64; 2]>,
+    /// Triangles as three vertex indices, counter-clockwise.
     pub triangles: Vec<[u32; 3]>,
     /// φ at every vertex.
     pub values: Vec<f64>,
@@ -653,7 +680,7 @@ impl Default for SvgOptions {
     }
 }
 
-fn tag_name(tag: BoundaryTag) -> String {
+pub(crate) fn tag_name(tag: BoundaryTag) -> String {
     match tag {
         BoundaryTag::Wall => "wall".into(),
         BoundaryTag::Obstacle(i) => format!("obstacle:{i}"),
@@ -661,7 +688,7 @@ fn tag_name(tag: BoundaryTag) -> String {
     }
 }
 
-fn finite_or_zero(v: f64) -> f64 {
+pub(crate) fn finite_or_zero(v: f64) -> f64 {
     if v.is_finite() { v } else { 0.0 }
 }
 

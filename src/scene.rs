@@ -47,7 +47,14 @@ pub enum Condition {
     /// ∂φ/∂n = g.
     Neumann(f64),
     /// a·∂φ/∂n + b·φ = g.
-    Robin { a: f64, b: f64, g: f64 },
+    Robin {
+        /// Coefficient of the normal derivative (`a = 0` makes it a Dirichlet condition).
+        a: f64,
+        /// Coefficient of φ; `b/a ≥ 0`, and `a`, `b` not both zero.
+        b: f64,
+        /// Right-hand side.
+        g: f64,
+    },
 }
 
 /// Boundary conditions by part; missing parts take the defaults.
@@ -94,7 +101,9 @@ pub struct RobotSpec {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Circle {
+    /// Centre `[x, y]`, in scene units.
     pub center: [f64; 2],
+    /// Radius, positive, in scene units.
     pub radius: f64,
 }
 
@@ -102,8 +111,10 @@ pub struct Circle {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Region {
+    /// A simple polygon, its vertices `[x, y]` in either orientation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polygon: Option<Vec<[f64; 2]>>,
+    /// A disc.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub circle: Option<Circle>,
     /// Only for goals: a point goal, meshed as a small circle.
@@ -119,7 +130,10 @@ pub type Obstacle = Region;
 
 /// One goal region or several (`"goal": {...}` or `"goal": [{...}, ...]`).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Goals(pub Vec<Region>);
+pub struct Goals(
+    /// The goal regions, in file order: goal `j` of the boundary tags is `self.0[j]`.
+    pub Vec<Region>,
+);
 
 impl Serialize for Goals {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -162,50 +176,124 @@ pub enum SceneError {
     Parse {
         /// Where in the document (`obstacles[2].circle.radius: `), empty at the top level.
         path: String,
+        /// Line of the first mismatch, counted from 1.
         line: usize,
+        /// Column of the first mismatch in that line, counted from 1.
         column: usize,
+        /// What is wrong, as serde_json says it (without its own position).
         message: String,
     },
     /// The JSON is well formed but describes an impossible scene.
     #[error("{path}: {message}")]
-    Invalid { path: String, message: String },
+    Invalid {
+        /// The JSON path of the offending value (`obstacles[1]`, `goal`,
+        /// `obstacles[0].circle.radius`).
+        path: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// The file could not be read.
     #[error("cannot read {file}: {source}")]
     Io {
+        /// The path of the file, as given.
         file: String,
+        /// The operating system's error.
         #[source]
         source: std::io::Error,
     },
+}
+
+/// Deserialises a JSON object, naming the field, line and column of the first mismatch.
+pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, SceneError> {
+    check_is_object(text)?;
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let path = if path == "." || path.is_empty() {
+            String::new()
+        } else {
+            format!("{path}: ")
+        };
+        let message = strip_position(&inner.to_string());
+        SceneError::Parse {
+            path,
+            line: inner.line(),
+            column: inner.column(),
+            message,
+        }
+    })?;
+    de.end().map_err(|e| SceneError::Parse {
+        path: String::new(),
+        line: e.line(),
+        column: e.column(),
+        message: strip_position(&e.to_string()),
+    })?;
+    Ok(value)
+}
+
+/// A scene file of either kind: a plane scene, or a volume (`"dimension": 3`).
+#[derive(Clone, Debug)]
+pub enum AnyScene {
+    /// A workspace polygon with obstacles (the default).
+    Plane(Box<Scene>),
+    /// A volume scene.
+    Volume(Box<harmonic_volume::VolumeSceneSpec>),
+}
+
+impl AnyScene {
+    /// Parses either kind of scene: `"dimension": 3` selects a volume, `2` or no
+    /// `"dimension"` a plane scene.
+    pub fn from_json(text: &str) -> Result<AnyScene, SceneError> {
+        #[derive(serde::Deserialize)]
+        struct Dimension {
+            dimension: Option<serde_json::Value>,
+        }
+        let dimension = serde_json::from_str::<Dimension>(text)
+            .ok()
+            .and_then(|d| d.dimension);
+        match dimension {
+            None => Ok(AnyScene::Plane(Box::new(Scene::from_json(text)?))),
+            Some(d) if d.as_u64() == Some(2) => {
+                // The plane format has no "dimension" field: accept an explicit 2.
+                let mut value: serde_json::Value =
+                    serde_json::from_str(text).map_err(|e| SceneError::Parse {
+                        path: String::new(),
+                        line: e.line(),
+                        column: e.column(),
+                        message: strip_position(&e.to_string()),
+                    })?;
+                if let Some(o) = value.as_object_mut() {
+                    o.remove("dimension");
+                }
+                Ok(AnyScene::Plane(Box::new(Scene::from_json(
+                    &value.to_string(),
+                )?)))
+            }
+            Some(d) if d.as_u64() == Some(3) => Ok(AnyScene::Volume(Box::new(parse_json(text)?))),
+            Some(d) => Err(SceneError::Invalid {
+                path: "dimension".into(),
+                message: format!("must be 2 or 3, not {d}"),
+            }),
+        }
+    }
+
+    /// Reads and parses a scene file of either kind.
+    pub fn from_file(path: impl AsRef<std::path::Path>) -> Result<AnyScene, SceneError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            file: path.display().to_string(),
+            source,
+        })?;
+        AnyScene::from_json(&text)
+    }
 }
 
 impl Scene {
     /// Parses a scene from JSON text and checks what the format alone can check (one shape
     /// per region, finite numbers, positive radii, mesh options in range).
     pub fn from_json(text: &str) -> Result<Scene, SceneError> {
-        check_is_object(text)?;
-        let mut de = serde_json::Deserializer::from_str(text);
-        let scene: Scene = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            let path = if path == "." || path.is_empty() {
-                String::new()
-            } else {
-                format!("{path}: ")
-            };
-            let message = strip_position(&inner.to_string());
-            SceneError::Parse {
-                path,
-                line: inner.line(),
-                column: inner.column(),
-                message,
-            }
-        })?;
-        de.end().map_err(|e| SceneError::Parse {
-            path: String::new(),
-            line: e.line(),
-            column: e.column(),
-            message: strip_position(&e.to_string()),
-        })?;
+        let scene: Scene = parse_json(text)?;
         scene.check()?;
         Ok(scene)
     }

@@ -14,7 +14,9 @@ mod progress;
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
-use harmonic_planner::{CarParams, Planner, PlannerOptions, Scene, SvgOptions};
+use harmonic_planner::{
+    AnyScene, CarParams, Planner, PlannerOptions, Scene, SvgOptions, VolumePlanner, VolumeScene,
+};
 
 #[derive(Parser)]
 #[command(
@@ -39,9 +41,9 @@ enum Command {
     Plan {
         #[command(flatten)]
         common: Common,
-        /// A start point (repeatable); defaults to the scene's "starts".
-        #[arg(long = "start", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
-        starts: Vec<[f64; 2]>,
+        /// A start point (repeatable; X,Y,Z on a volume scene); defaults to the scene's "starts".
+        #[arg(long = "start", value_name = "X,Y", value_parser = parse_start, allow_hyphen_values = true)]
+        starts: Vec<Vec<f64>>,
         /// Plan on a ROS map_server occupancy map (YAML + PGM/PNG) instead of a scene file;
         /// unknown cells are obstacles.
         #[arg(
@@ -109,6 +111,9 @@ struct Common {
     /// Override the scene's largest triangle area.
     #[arg(long, value_name = "A")]
     max_area: Option<f64>,
+    /// Override a volume scene's largest tetrahedron volume.
+    #[arg(long, value_name = "V")]
+    max_volume: Option<f64>,
 }
 
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
@@ -125,6 +130,27 @@ fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String
             .ok_or_else(|| format!("`{p}` is not a finite number (in `{s}`, expected {what})"))?;
     }
     Ok(out)
+}
+
+/// A start: X,Y on a plane scene, X,Y,Z on a volume (the scene decides which is right).
+fn parse_start(s: &str) -> Result<Vec<f64>, String> {
+    match s.split(',').count() {
+        3 => parse_numbers::<3>(s, "X,Y,Z").map(|p| p.to_vec()),
+        _ => parse_numbers::<2>(s, "X,Y or X,Y,Z").map(|p| p.to_vec()),
+    }
+}
+
+/// The starts as points of dimension `N`, or an error naming the first that is not.
+fn starts_of<const N: usize>(starts: &[Vec<f64>], what: &str) -> Result<Vec<[f64; N]>, String> {
+    starts
+        .iter()
+        .map(|s| {
+            <[f64; N]>::try_from(s.as_slice()).map_err(|_| {
+                let text: Vec<String> = s.iter().map(f64::to_string).collect();
+                format!("--start {}: expected {what}", text.join(","))
+            })
+        })
+        .collect()
 }
 
 fn parse_point(s: &str) -> Result<[f64; 2], String> {
@@ -188,16 +214,76 @@ fn print_out(text: &str) -> Result<(), String> {
     }
 }
 
-fn load(common_scene: &Path, max_area: Option<f64>) -> Result<Scene, String> {
-    let mut scene =
-        Scene::from_file(common_scene).map_err(|e| format!("{}: {e}", common_scene.display()))?;
-    if let Some(a) = max_area {
-        if !(a.is_finite() && a > 0.0) {
-            return Err(format!("--max-area must be a positive number, got {a}"));
+fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
+    let positive = |flag: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{flag} must be a positive number, got {v}"))
         }
-        scene.mesh.max_area = Some(a);
+    };
+    let scene = AnyScene::from_file(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    match scene {
+        AnyScene::Plane(mut scene) => {
+            if common.max_volume.is_some() {
+                return Err("--max-volume is for volume scenes; use --max-area".into());
+            }
+            if let Some(a) = common.max_area {
+                scene.mesh.max_area = Some(positive("--max-area", a)?);
+            }
+            Ok(AnyScene::Plane(scene))
+        }
+        AnyScene::Volume(mut scene) => {
+            if common.max_area.is_some() {
+                return Err("--max-area is for plane scenes; use --max-volume".into());
+            }
+            if let Some(v) = common.max_volume {
+                scene.mesh.max_volume = Some(positive("--max-volume", v)?);
+            }
+            Ok(AnyScene::Volume(scene))
+        }
     }
-    Ok(scene)
+}
+
+/// The plane scene of `scene`, or an error saying `command` needs one.
+fn plane(scene: AnyScene, command: &str) -> Result<Scene, String> {
+    match scene {
+        AnyScene::Plane(scene) => Ok(*scene),
+        AnyScene::Volume(_) => Err(format!("{command} works on plane scenes, not volumes")),
+    }
+}
+
+fn build_volume(scene: &VolumeScene, path: &Path) -> Result<VolumePlanner, String> {
+    VolumePlanner::new(scene).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `hplan plan` on a volume scene.
+fn plan_volume(
+    scene: &VolumeScene,
+    path: &Path,
+    common: &Common,
+    starts: &[Vec<f64>],
+) -> Result<(), String> {
+    let starts = if starts.is_empty() {
+        scene.starts.clone()
+    } else {
+        starts_of::<3>(starts, "X,Y,Z on a volume scene")?
+    };
+    let planner = build_volume(scene, path)?;
+    let report = planner.plan_report(&starts);
+    if let Some(svg) = &common.svg {
+        let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
+        write_file(svg, &planner.svg(&paths))?;
+    }
+    if let Some(vtk) = &common.vtk {
+        write_file(vtk, &planner.vtu().map_err(|e| e.to_string())?)?;
+    }
+    if common.json {
+        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&VolumePlanner::summary(&report))
+    }
 }
 
 fn write_file(path: &Path, text: &str) -> Result<(), String> {
@@ -231,7 +317,10 @@ fn run(cli: Cli) -> Result<(), String> {
                         .map_err(|e| e.to_string())?;
                     (scene, map.clone())
                 }
-                (Some(path), None, None) => (load(path, common.max_area)?, path.clone()),
+                (Some(path), None, None) => match load(path, &common)? {
+                    AnyScene::Plane(scene) => (*scene, path.clone()),
+                    AnyScene::Volume(scene) => return plan_volume(&scene, path, &common, &starts),
+                },
                 (Some(_), None, Some(_)) => {
                     return Err(
                         "--goal goes with --map MAP.yaml (a scene file names its goal)".into(),
@@ -243,7 +332,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let starts = if starts.is_empty() {
                 scene.starts.clone()
             } else {
-                starts
+                starts_of::<2>(&starts, "X,Y on a plane scene")?
             };
             let report = planner.plan_report(&starts);
             if let Some(svg) = &common.svg {
@@ -270,8 +359,8 @@ fn run(cli: Cli) -> Result<(), String> {
             wheelbase,
             max_steer,
         } => {
-            let path = common.scene.ok_or("car needs a SCENE.json")?;
-            let scene = load(&path, common.max_area)?;
+            let path = common.scene.clone().ok_or("car needs a SCENE.json")?;
+            let scene = plane(load(&path, &common)?, "car")?;
             if pose.is_empty() {
                 return Err("car needs at least one --pose X,Y,THETA".into());
             }
@@ -312,7 +401,28 @@ fn run(cli: Cli) -> Result<(), String> {
             if potential.is_none() && vtk.is_none() {
                 return Err("export needs --potential OUT.json and/or --vtk OUT.vtu".into());
             }
-            let scene = load(&path, None)?;
+            let no_overrides = Common {
+                scene: None,
+                json: false,
+                svg: None,
+                mesh: false,
+                vtk: None,
+                max_area: None,
+                max_volume: None,
+            };
+            if let AnyScene::Volume(scene) = load(&path, &no_overrides)? {
+                let planner = build_volume(&scene, &path)?;
+                if let Some(out) = &potential {
+                    let text =
+                        serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;
+                    write_file(out, &text)?;
+                }
+                if let Some(vtk) = &vtk {
+                    write_file(vtk, &planner.vtu().map_err(|e| e.to_string())?)?;
+                }
+                return Ok(());
+            }
+            let scene = plane(load(&path, &no_overrides)?, "export")?;
             let planner = build(&scene, &path, true)?;
             if let Some(out) = &potential {
                 let text = serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;

@@ -1,0 +1,431 @@
+//! Volume scenes (`"dimension": 3`): the same pipeline as the plane's — mesh (isosurface
+//! stuffing), assemble P1 on tetrahedra, solve for ψ, trace — with reports in the JSON
+//! contract's shape.
+//!
+//! ```
+//! use harmonic_planner::volume::{VolumePlanner, parse_volume_scene};
+//! let scene = parse_volume_scene(r#"{
+//!     "dimension": 3,
+//!     "workspace": {"box": {"min": [0, 0, 0], "max": [4, 2, 2]}},
+//!     "obstacles": [{"box": {"min": [1.5, -1, -1], "max": [2.5, 1.2, 3]}}],
+//!     "goal": {"sphere": {"center": [3.5, 1, 1], "radius": 0.3}},
+//!     "mesh": {"max_volume": 0.004}
+//! }"#)?;
+//! let planner = VolumePlanner::new(&scene)?;
+//! let path = planner.plan([0.5, 1.0, 1.0]);
+//! assert!(path.status.reached_goal());
+//! // Around the wall, through the gap beside it (y > 1.2).
+//! assert!(path.points.iter().any(|p| p[1] > 1.2));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use harmonic_fem::volume::{
+    NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeFemError, VolumePotential,
+    VolumeSolveMethod, scene_conditions, solve_volume,
+};
+use harmonic_trajectory::volume::{
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumePath, VolumeTraceStatus,
+    trace_exact_volume, trace_smooth_volume,
+};
+use harmonic_trajectory::{Locate, TraceError, Tracer};
+use harmonic_volume::io::PointData;
+use harmonic_volume::{
+    MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
+    VolumeSceneSpec, quality,
+};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::planner::{Timings, finite_or_zero, tag_name};
+use crate::scene::SceneError;
+
+/// A volume scene: the serde form of the format's "Three dimensions" section.
+pub type VolumeScene = VolumeSceneSpec;
+
+/// Why a volume planner could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum VolumePlanError {
+    /// The solids are invalid or the free space cannot be meshed.
+    #[error(transparent)]
+    Volume(#[from] VolumeError),
+    /// Assembly or solve failed.
+    #[error(transparent)]
+    Fem(#[from] VolumeFemError),
+    /// The potential cannot be traced (not finite).
+    #[error(transparent)]
+    Trace(#[from] TraceError),
+}
+
+/// Parses a volume scene from JSON; errors name the field, line and column as for plane
+/// scenes. (A file of either kind: [`crate::AnyScene::from_file`].)
+pub fn parse_volume_scene(text: &str) -> Result<VolumeScene, SceneError> {
+    crate::scene::parse_json(text)
+}
+
+/// A harmonic-potential planner for one volume scene: built once, queried many times.
+pub struct VolumePlanner {
+    domain: VolumeDomain,
+    mesh: Arc<TetMesh>,
+    report: MeshReport,
+    potential: VolumePotential,
+    clamped_edges: usize,
+    positive_offdiagonals: usize,
+    timings: Timings,
+    scale: f64,
+}
+
+/// One planned path through a volume, as `hplan plan --json` prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumePlannedPath {
+    /// The start point.
+    pub start: [f64; 3],
+    /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
+    /// `outside_workspace`, `max_steps`).
+    pub status: VolumeTraceStatus,
+    /// The goal reached, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub goal: Option<u32>,
+    /// Which tracer made the path: `smooth`, or `exact` where the smooth one stalled.
+    pub tracer: Tracer,
+    /// Length of the polyline.
+    pub length: f64,
+    /// Smallest distance from the path's vertices to a wall or an obstacle, against the exact
+    /// solids (the robot radius not subtracted).
+    pub min_clearance: f64,
+    /// Smallest |∇φ| met along the path.
+    pub min_gradient: f64,
+    /// The polyline `[[x, y, z], ...]`.
+    pub points: Vec<[f64; 3]>,
+}
+
+/// The mesh part of a volume report.
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumeMeshSummary {
+    /// Mesh vertices.
+    pub vertices: usize,
+    /// Tetrahedra.
+    pub tetrahedra: usize,
+    /// Boundary faces.
+    pub boundary_faces: usize,
+    /// Smallest dihedral angle, degrees.
+    pub min_dihedral_deg: f64,
+    /// Largest dihedral angle, degrees.
+    pub max_dihedral_deg: f64,
+    /// Edges whose P1 stiffness weight is negative (a positive off-diagonal).
+    pub negative_weight_edges: usize,
+    /// Of those, the ones clamped to zero because the Galerkin solution had an interior
+    /// extremum (0 when the plain Galerkin field was kept).
+    pub clamped_edges: usize,
+    /// Lattice spacing of the stuffing.
+    pub spacing: f64,
+}
+
+/// The potential part of a volume report.
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumePotentialSummary {
+    /// Smallest φ at a vertex.
+    pub min: f64,
+    /// Largest φ at a vertex.
+    pub max: f64,
+    /// Smallest ψ = φ_wall − φ at a vertex.
+    pub min_psi: f64,
+    /// Interior vertices where φ is a strict local minimum or maximum.
+    pub interior_local_extrema: usize,
+    /// Positive off-diagonals of the assembled (unclamped) matrix.
+    pub positive_offdiagonals: usize,
+}
+
+/// The report of `hplan plan` on a volume scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumePlanReport {
+    /// The mesh.
+    pub mesh: VolumeMeshSummary,
+    /// Milliseconds per stage.
+    pub timings_ms: Timings,
+    /// The potential.
+    pub potential: VolumePotentialSummary,
+    /// One entry per start.
+    pub paths: Vec<VolumePlannedPath>,
+}
+
+/// The mesh and the potential for outside tools (`hplan export --potential` on a volume).
+#[derive(Clone, Debug, Serialize)]
+pub struct VolumeExport {
+    /// Vertex positions.
+    pub vertices: Vec<[f64; 3]>,
+    /// Positively oriented tetrahedra.
+    pub tetrahedra: Vec<[u32; 4]>,
+    /// φ per vertex (underflows to the wall value where ψ is below the float's resolution).
+    pub values: Vec<f64>,
+    /// ψ = φ_wall − φ per vertex, accurate however small.
+    pub psi: Vec<f64>,
+    /// Boundary faces `[i, j, k, tag]`, normals out of free space.
+    pub boundary_faces: Vec<(u32, u32, u32, String)>,
+}
+
+fn millis(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl VolumePlanner {
+    /// Builds the planner: validates and meshes the scene, assembles and solves for ψ.
+    pub fn new(scene: &VolumeScene) -> Result<VolumePlanner, VolumePlanError> {
+        let t = Instant::now();
+        let domain = scene.build()?;
+        let max_volume = scene.max_volume(&domain)?;
+        let (mesh, report) = domain.mesh(&MeshOptions::with_max_volume(max_volume))?;
+        let mesh = Arc::new(mesh);
+        let mesh_ms = millis(t);
+
+        let t = Instant::now();
+        let bcs = scene_conditions(scene);
+        let assembler = VolumeAssembler::new(Arc::clone(&mesh), &bcs)?;
+        let system = assembler.assemble(&bcs)?;
+        let positive_offdiagonals = system.positive_offdiagonals();
+        let assemble_ms = millis(t);
+
+        let t = Instant::now();
+        let (psi, _) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+        let mut potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
+        let mut clamped_edges = 0;
+        // Stuffed meshes keep a few obtuse boundary tetrahedra; where their positive
+        // off-diagonals let the Galerkin field have an interior extremum, the M-matrix with
+        // those weights clamped restores the discrete maximum principle.
+        if potential.interior_local_extrema() > 0 {
+            let options = VolumeAssemblyOptions {
+                negative_weights: NegativeWeights::Clamp,
+            };
+            let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), &bcs, options)?;
+            let system = assembler.assemble(&bcs)?;
+            clamped_edges = system.clamped_edges();
+            let (psi, _) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+            potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
+        }
+        P1VolumeField::ascending(&mesh, potential.psi())?;
+        let solve_ms = millis(t);
+
+        let (lo, hi) = mesh.bounds();
+        let scale = (hi - lo).max();
+        Ok(VolumePlanner {
+            domain,
+            mesh,
+            report,
+            potential,
+            clamped_edges,
+            positive_offdiagonals,
+            timings: Timings {
+                mesh: mesh_ms,
+                assemble: assemble_ms,
+                solve: solve_ms,
+                trace: 0.0,
+            },
+            scale,
+        })
+    }
+
+    /// The tetrahedral mesh.
+    pub fn mesh(&self) -> &TetMesh {
+        &self.mesh
+    }
+
+    /// The validated free space.
+    pub fn domain(&self) -> &VolumeDomain {
+        &self.domain
+    }
+
+    /// The potential.
+    pub fn potential(&self) -> &VolumePotential {
+        &self.potential
+    }
+
+    /// Milliseconds spent building.
+    pub fn timings(&self) -> Timings {
+        self.timings
+    }
+
+    /// Plans from `start`: the smooth tracer, or the exact tet-to-tet tracer where the smooth
+    /// one stalls or runs out of steps.
+    pub fn plan(&self, start: [f64; 3]) -> VolumePlannedPath {
+        let p = Point::new(start[0], start[1], start[2]);
+        let goal_radius = self.report.point_goal_radius;
+        let classify = |q: &Point| match self.domain.classify(q, goal_radius) {
+            PointClass::Free => Locate::Inside(0),
+            PointClass::Goal(j) => Locate::Goal(j),
+            PointClass::Obstacle(_) => Locate::InObstacle,
+            PointClass::OutsideWorkspace => Locate::OutsideWorkspace,
+        };
+        let field = P1VolumeField::ascending(&self.mesh, self.potential.psi())
+            .expect("one finite ψ per vertex, checked when the planner was built")
+            .with_outside(&classify);
+        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale));
+        let (path, tracer) = match smooth {
+            Ok(path)
+                if !matches!(
+                    path.status,
+                    VolumeTraceStatus::Stalled { .. } | VolumeTraceStatus::MaxSteps
+                ) =>
+            {
+                (path, Tracer::Smooth)
+            }
+            _ => (
+                trace_exact_volume(&field, p, &ExactVolumeOptions::default()),
+                Tracer::Exact,
+            ),
+        };
+        self.planned(start, path, tracer)
+    }
+
+    /// Plans from every start, in parallel.
+    pub fn plan_many(&self, starts: &[[f64; 3]]) -> Vec<VolumePlannedPath> {
+        starts.par_iter().map(|&s| self.plan(s)).collect()
+    }
+
+    fn planned(&self, start: [f64; 3], path: VolumePath, tracer: Tracer) -> VolumePlannedPath {
+        let clearance = path
+            .points
+            .iter()
+            .map(|q| self.clearance(q))
+            .fold(f64::INFINITY, f64::min);
+        VolumePlannedPath {
+            start,
+            status: path.status,
+            goal: path.goal,
+            tracer,
+            length: path.length,
+            min_clearance: finite_or_zero(clearance),
+            min_gradient: finite_or_zero(path.min_gradient),
+            points: path.points.iter().map(|q| [q.x, q.y, q.z]).collect(),
+        }
+    }
+
+    /// Distance from `q` to the nearest wall or obstacle surface (exact solids).
+    fn clearance(&self, q: &Point) -> f64 {
+        let wall = -self.domain.workspace().signed_distance(q);
+        self.domain
+            .obstacles()
+            .iter()
+            .map(|o| o.signed_distance(q))
+            .fold(wall, f64::min)
+    }
+
+    /// Plans from `starts` and reports as `hplan plan --json` prints.
+    pub fn plan_report(&self, starts: &[[f64; 3]]) -> VolumePlanReport {
+        let t = Instant::now();
+        let paths = self.plan_many(starts);
+        let mut timings = self.timings;
+        timings.trace = millis(t);
+        let q = quality(&self.mesh);
+        let psi = self.potential.psi();
+        let phi = self.potential.phi_at_vertices();
+        VolumePlanReport {
+            mesh: VolumeMeshSummary {
+                vertices: q.vertices,
+                tetrahedra: q.tetrahedra,
+                boundary_faces: q.boundary_faces,
+                min_dihedral_deg: q.min_dihedral_deg,
+                max_dihedral_deg: q.max_dihedral_deg,
+                negative_weight_edges: q.negative_weight_edges,
+                clamped_edges: self.clamped_edges,
+                spacing: self.report.spacing,
+            },
+            timings_ms: timings,
+            potential: VolumePotentialSummary {
+                min: phi.iter().copied().fold(f64::INFINITY, f64::min),
+                max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                min_psi: psi.iter().copied().fold(f64::INFINITY, f64::min),
+                interior_local_extrema: self.potential.interior_local_extrema(),
+                positive_offdiagonals: self.positive_offdiagonals,
+            },
+            paths,
+        }
+    }
+
+    /// A human-readable summary of a report.
+    pub fn summary(report: &VolumePlanReport) -> String {
+        use std::fmt::Write as _;
+        let (m, t, p) = (&report.mesh, &report.timings_ms, &report.potential);
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
+            m.vertices, m.tetrahedra, m.min_dihedral_deg, m.max_dihedral_deg
+        );
+        let _ = writeln!(
+            s,
+            "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
+            t.mesh, t.assemble, t.solve, t.trace
+        );
+        let _ = writeln!(
+            s,
+            "potential: φ in [{:.6}, {:.6}], smallest ψ {:.2e}, interior local extrema {}",
+            p.min, p.max, p.min_psi, p.interior_local_extrema
+        );
+        for path in &report.paths {
+            let [x, y, z] = path.start;
+            let _ = writeln!(
+                s,
+                "({x}, {y}, {z}): {}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
+                path.status.as_str(),
+                path.length,
+                path.min_clearance,
+                path.min_gradient
+            );
+        }
+        s
+    }
+
+    /// The mesh and the potential for outside tools.
+    pub fn export(&self) -> VolumeExport {
+        VolumeExport {
+            vertices: self
+                .mesh
+                .vertices()
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect(),
+            tetrahedra: self.mesh.tetrahedra().to_vec(),
+            values: self.potential.phi_at_vertices(),
+            psi: self.potential.psi().to_vec(),
+            boundary_faces: self
+                .mesh
+                .boundary_faces()
+                .iter()
+                .map(|f| {
+                    let [i, j, k] = f.vertices;
+                    (i, j, k, tag_name(f.tag))
+                })
+                .collect(),
+        }
+    }
+
+    /// The mesh with φ, ψ and ∇φ (recovered) as a VTK unstructured grid, for ParaView.
+    pub fn vtu(&self) -> Result<String, VolumeError> {
+        let phi = self.potential.phi_at_vertices();
+        let grad: Vec<[f64; 3]> = self
+            .potential
+            .recovered_gradients()
+            .iter()
+            .map(|g| [-g.x, -g.y, -g.z])
+            .collect();
+        harmonic_volume::io::vtu_string(
+            &self.mesh,
+            &[
+                PointData::Scalar("phi", &phi),
+                PointData::Scalar("psi", self.potential.psi()),
+                PointData::Vector("grad_phi", &grad),
+            ],
+        )
+    }
+
+    /// The three orthographic projections (xy, xz, yz) of the boundary and the paths.
+    pub fn svg(&self, paths: &[Vec<[f64; 3]>]) -> String {
+        let paths: Vec<Vec<Point>> = paths
+            .iter()
+            .map(|p| p.iter().map(|q| Point::new(q[0], q[1], q[2])).collect())
+            .collect();
+        harmonic_volume::io::projections_svg(&self.mesh, &paths)
+    }
+}
