@@ -57,6 +57,7 @@ fn small_bundled_volumes_reach_the_goal_and_stay_out_of_the_solids() {
         let scene: Value =
             serde_json::from_str(&std::fs::read_to_string(&file).expect("scene")).expect("json");
         let (lo, hi, obstacles) = boxes(&scene);
+        let radius = scene["robot"]["radius"].as_f64().unwrap_or(0.0);
         assert!(!obstacles.is_empty(), "{name}: box obstacles");
         let path = file.to_str().expect("utf-8");
         let report = run_json(&["plan", path, "--json"]);
@@ -75,8 +76,8 @@ fn small_bundled_volumes_reach_the_goal_and_stay_out_of_the_solids() {
                 .iter()
                 .map(triple)
                 .collect();
-            // Every point of every segment, sampled at 1/50 of its length, keeps out of
-            // every box and inside the workspace (the robot is a point here).
+            // Every point of every segment, sampled at 1/50 of its length, keeps the robot's
+            // radius from every box obstacle and from the workspace's walls.
             for w in points.windows(2) {
                 for s in 0..=50 {
                     let t = f64::from(s) / 50.0;
@@ -201,5 +202,49 @@ fn bad_volume_input_fails_with_one_line() {
         .output()
         .expect("runs");
     assert!(String::from_utf8_lossy(&out.stderr).contains("--max-area"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Agreement with an outside solver: scikit-fem's own P1 Laplacian on our tetrahedra, with our
+/// boundary values held, gives our interior φ to rounding (`tests/peers/skfem_volume.py`).
+/// Runs where a Python with scikit-fem is found (`HARMONIC_PEER_PYTHON`, else `python3`);
+/// CI installs it. Elsewhere it says it skipped.
+#[test]
+fn scikit_fem_solves_the_same_system_on_our_tetrahedra() {
+    let python = std::env::var("HARMONIC_PEER_PYTHON").unwrap_or_else(|_| "python3".into());
+    let has_skfem = std::process::Command::new(&python)
+        .args(["-c", "import skfem"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_skfem {
+        eprintln!("skipped: no scikit-fem for {python} (set HARMONIC_PEER_PYTHON)");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("hplan-skfem-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let export = dir.join("torus.json");
+    hplan()
+        .arg("export")
+        .arg(harmonic_fixtures::mesh_file("torus3d.json"))
+        .arg("--potential")
+        .arg(&export)
+        .assert()
+        .success();
+    let script = harmonic_fixtures::repo_root().join("tests/peers/skfem_volume.py");
+    let out = std::process::Command::new(&python)
+        .arg(script)
+        .arg(&export)
+        .output()
+        .expect("the peer script runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result: Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
+    let max = result["max_abs_diff"].as_f64().expect("max_abs_diff");
+    assert!(result["interior"].as_u64().expect("interior") > 1000);
+    assert!(max < 1e-10, "scikit-fem differs by {max}: {result}");
+    eprintln!("scikit-fem {}: max |Δφ| {max:.2e}", result["skfem"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
