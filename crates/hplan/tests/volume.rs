@@ -82,12 +82,11 @@ fn small_bundled_volumes_reach_the_goal_and_stay_out_of_the_solids() {
                 for s in 0..=50 {
                     let t = f64::from(s) / 50.0;
                     let q = [0, 1, 2].map(|k| w[0][k] + t * (w[1][k] - w[0][k]));
-                    assert!(box_distance(q, lo, hi) <= 1e-9, "{name}: {q:?} outside");
+                    let wall = -box_distance(q, lo, hi);
+                    assert!(wall >= radius - 1e-9, "{name}: {q:?} {wall} from the walls");
                     for &(a, b) in &obstacles {
-                        assert!(
-                            box_distance(q, a, b) >= -1e-9,
-                            "{name}: {q:?} in {a:?}–{b:?}"
-                        );
+                        let d = box_distance(q, a, b);
+                        assert!(d >= radius - 1e-9, "{name}: {q:?} {d} from {a:?}–{b:?}");
                     }
                 }
             }
