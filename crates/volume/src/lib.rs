@@ -18,6 +18,16 @@
 //! * [`io`]: `.vtu` output and an SVG of the three orthographic projections.
 //! * [`VolumeSceneSpec`]: the serde form of a `"dimension": 3` scene.
 //!
+//! ## Measured
+//! On a shared 2-core machine (load average 6–7 from other work), `cargo bench -p
+//! harmonic-volume --bench volume` on the bench scene (10³ cube, a box through it, a ball, a
+//! goal ball, robot radius 0.1): 94k tetrahedra meshed in 0.20 s (three stuffing passes
+//! with the exact clearance check, since the inflated obstacles' chords need a margin), 742k
+//! in 1.6 s — about 0.45–0.5 M tetrahedra per second. Dihedral angles of stuffed meshes of
+//! boxes and balls measure between 11° and 148° (the lattice itself: 60° and 90°); the clipped
+//! boundary layer leaves 5–10 % of the edges with a negative stiffness weight, which the FEM
+//! counts and, where the solution shows it, clamps (`harmonic_fem::volume`).
+//!
 //! ```
 //! use harmonic_volume::{MeshOptions, VolumeSceneSpec, quality};
 //! let spec: VolumeSceneSpec = serde_json::from_str(r#"{

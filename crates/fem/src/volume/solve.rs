@@ -151,6 +151,8 @@ pub fn solve_volume_potential_with_report(
     };
     let potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
     let accurate_already = report.method == VolumeSolveMethod::Accurate;
+    // A flat field is only worth redoing when the accurate elimination will take it.
+    let flat = flat && system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS;
     if accurate_already || (!flat && potential.interior_local_extrema() == 0) {
         return Ok((potential, report, false));
     }
