@@ -2,12 +2,13 @@
 //! conditions on walls and obstacles, relative to Dirichlet (d = d_i / d_D × 100 %).
 //!
 //! ```text
-//! cargo run --release --example bc_table            # Markdown
-//! cargo run --release --example bc_table -- --json  # {"rows": [...]}
-//! cargo run --release --example bc_table -- --scene meshes/garrido_fig1.json --max-area 0.0001
+//! cargo run --release -p harmonic-bench --example bc_table            # Markdown
+//! cargo run --release -p harmonic-bench --example bc_table -- --json  # {"rows": [...]}
+//! cargo run --release -p harmonic-bench --example bc_table -- --scene meshes/garrido_fig1.json --max-area 0.0001
 //! ```
 
-use harmonic_bench::tables::{PAPER_ROWS, bc_table};
+use harmonic_bench::paper::GARRIDO_TABLE1_D;
+use harmonic_bench::tables::{BcKind, PAPER_ROWS, bc_table, bc_table_literal};
 use harmonic_planner::Scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -25,12 +26,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let starts = [[0.5, 0.8], [0.2, 0.8]];
     let rows = bc_table(&scene, &starts, &PAPER_ROWS)?;
+    let reference = rows
+        .iter()
+        .find(|r| r.row.kind == BcKind::Dirichlet)
+        .map(|r| r.clearance.clone())
+        .ok_or("the table has a Dirichlet row")?;
+    let literal = bc_table_literal(&scene, &starts, &PAPER_ROWS, &reference);
     if json {
         let rows: Vec<_> = rows
             .iter()
-            .map(|r| {
+            .zip(&literal)
+            .zip(GARRIDO_TABLE1_D)
+            .map(|((r, l), paper)| {
                 serde_json::json!({
                     "type": r.row.kind, "a": r.row.a, "b": r.row.b, "k": r.row.k,
+                    "paper_d_05_08": paper[0], "paper_d_02_08": paper[1],
+                    "literal_d_05_08": l.d[0], "literal_d_02_08": l.d[1],
+                    "literal_no_path": l.no_path,
                     "d_05_08": r.d[0], "d_02_08": r.d[1],
                     "clearance_05_08": r.clearance[0], "clearance_02_08": r.clearance[1],
                     "reached_05_08": r.reached[0], "reached_02_08": r.reached[1],
@@ -46,18 +58,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "Scene {path}; starts (0.5, 0.8) and (0.2, 0.8); goal φ = 0; walls and obstacles as below.\n"
     );
     println!(
-        "| condition | a | b | K | d (0.5, 0.8) % | d (0.2, 0.8) % | d_i (0.5, 0.8) | d_i (0.2, 0.8) | length | smallest abs grad phi | reached |"
+        "| condition | a | b | K | paper d (0.5, 0.8) % | ours | literal | paper d (0.2, 0.8) % | ours | literal | d_i (0.5, 0.8) | d_i (0.2, 0.8) | length | smallest abs grad phi | reached |"
     );
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---|---|---|");
-    for r in &rows {
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|");
+    let lit = |d: Option<f64>| d.map_or("no path".to_string(), |d| format!("{d:.1}"));
+    for ((r, l), paper) in rows.iter().zip(&literal).zip(GARRIDO_TABLE1_D) {
         println!(
-            "| {} | {} | {} | {} | {:.1} | {:.1} | {:.4} | {:.4} | {:.3} / {:.3} | {:.1e} / {:.1e} | {} / {} |",
+            "| {} | {} | {} | {} | {} | {:.1} | {} | {} | {:.1} | {} | {:.4} | {:.4} | {:.3} / {:.3} | {:.1e} / {:.1e} | {} / {} |",
             r.row.kind,
             r.row.a,
             r.row.b,
             r.row.k,
+            paper[0],
             r.d[0],
+            lit(l.d[0]),
+            paper[1],
             r.d[1],
+            lit(l.d[1]),
             r.clearance[0],
             r.clearance[1],
             r.length[0],

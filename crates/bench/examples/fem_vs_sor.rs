@@ -9,14 +9,15 @@
 //! triangles) by the largest error of φ at six sample points in free space.
 //!
 //! ```text
-//! cargo run --release --example fem_vs_sor             # Markdown
-//! cargo run --release --example fem_vs_sor -- --json   # {"rows": [...]}
-//! cargo run --release --example fem_vs_sor -- --max-n 200   # skip the largest grids
+//! cargo run --release -p harmonic-bench --example fem_vs_sor             # Markdown
+//! cargo run --release -p harmonic-bench --example fem_vs_sor -- --json   # {"rows": [...]}
+//! cargo run --release -p harmonic-bench --example fem_vs_sor -- --max-n 200   # skip the largest grids
 //! ```
 
 use std::time::Instant;
 
 use harmonic_baselines::{GridHarmonic, Raster, SorOptions};
+use harmonic_bench::paper::{GARRIDO_TABLE2_MACHINE, garrido_table2};
 use harmonic_planner::mesh::Domain;
 use harmonic_planner::scene::Region;
 use harmonic_planner::{Planner, Point, Scene};
@@ -81,8 +82,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let fem_seconds = t.elapsed().as_secs_f64();
         let fem_error = max_error(&reference, |p| planner.potential().phi_at(p, None).ok());
 
+        let paper = garrido_table2(n);
         rows.push(serde_json::json!({
             "n": n,
+            "paper_sor_seconds": paper.map(|c| c.sor),
+            "paper_fem_seconds": paper.map(|c| c.fem),
             "sor_iterations": grid.report().iterations,
             "sor_seconds": sor_seconds,
             "sor_error": sor_error,
@@ -96,7 +100,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if json {
         println!(
             "{}",
-            serde_json::json!({ "rows": rows, "reference_max_area": REFERENCE_MAX_AREA, "samples": SAMPLES })
+            serde_json::json!({
+                "rows": rows,
+                "reference_max_area": REFERENCE_MAX_AREA,
+                "samples": SAMPLES,
+                "paper_machine": GARRIDO_TABLE2_MACHINE,
+            })
         );
         return Ok(());
     }
@@ -105,14 +114,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         SAMPLES.len()
     );
     println!(
-        "| N | SOR sweeps | SOR s | SOR error | FEM triangles | FEM s | FEM error | FEM s ÷ SOR s |"
+        "| N | paper SOR s | paper FEM s | SOR sweeps | SOR s | SOR error | FEM triangles | FEM s | FEM error | FEM s ÷ SOR s |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for r in &rows {
         let f = |k: &str| r[k].as_f64().unwrap_or(f64::NAN);
+        let paper = |k: &str| r[k].as_f64().map_or("—".to_string(), |s| format!("{s:.4}"));
         println!(
-            "| {} | {} | {:.4} | {:.2e} | {} | {:.4} | {:.2e} | {:.3} |",
+            "| {} | {} | {} | {} | {:.4} | {:.2e} | {} | {:.4} | {:.2e} | {:.3} |",
             r["n"],
+            paper("paper_sor_seconds"),
+            paper("paper_fem_seconds"),
             r["sor_iterations"],
             f("sor_seconds"),
             f("sor_error"),
@@ -122,6 +134,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             f("fem_seconds") / f("sor_seconds")
         );
     }
+    println!(
+        "\nThe paper's seconds are from {GARRIDO_TABLE2_MACHINE}, Garrido et al. (2010), Table 2."
+    );
     println!("\nTime to reach an accuracy (the fastest row whose error is at most the target):\n");
     println!("| target error | SOR s (N) | FEM s (N) |");
     println!("|---:|---:|---:|");

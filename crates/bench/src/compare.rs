@@ -57,28 +57,38 @@ pub enum CompareError {
     /// The scene cannot be meshed or solved by the FEM planner.
     #[error("scene {scene}: {source}")]
     Plan {
+        /// The scene's `name` (`scene` if it has none).
         scene: String,
+        /// The planner's error.
         #[source]
         source: PlanError,
     },
     /// The scene's geometry is invalid.
     #[error("scene {scene}: {source}")]
     Mesh {
+        /// The scene's `name` (`scene` if it has none).
         scene: String,
+        /// The mesher's error.
         #[source]
         source: harmonic_mesh::MeshError,
     },
     /// A baseline planner rejected the scene or its options.
     #[error("scene {scene}, planner {planner}: {source}")]
     Baseline {
+        /// The scene's `name` (`scene` if it has none).
         scene: String,
+        /// The planner, as [`PlannerKind::name`] names it.
         planner: &'static str,
+        /// The baseline's error.
         #[source]
         source: BaselineError,
     },
     /// The scene has no goal region after meshing (nothing to plan toward).
     #[error("scene {scene}: no goal region")]
-    NoGoal { scene: String },
+    NoGoal {
+        /// The scene's `name` (`scene` if it has none).
+        scene: String,
+    },
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -411,6 +421,7 @@ impl Contestant {
 /// clearance.
 #[derive(Clone, Debug, Serialize)]
 pub struct Run {
+    /// The query point `[x, y]`.
     pub start: [f64; 2],
     /// The planner's own status (`reached_goal`, `stalled`, `collision`, ...), or `error`
     /// when the query failed (see `error`).
@@ -419,13 +430,17 @@ pub struct Run {
     pub success: bool,
     /// Trapped in a local minimum or a stagnation point.
     pub stalled: bool,
+    /// Length of `points`, in scene units.
     pub length: f64,
     /// Smallest distance from the path to a wall or an obstacle; 0 if it touches or crosses one.
     pub min_clearance: f64,
+    /// Wall-clock time of the query alone (not the measuring), in milliseconds.
     pub query_ms: f64,
     /// Why the query failed, if it did (a singular panel system, ...).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// The path from the start, with the closing step to the goal region if one was added
+    /// (just the start when the query failed); not serialised.
     #[serde(skip)]
     pub points: Vec<Point>,
 }
@@ -900,7 +915,9 @@ fn result_parts(r: &PlanResult) -> Parts {
 /// Every run of one planner on one scene.
 #[derive(Clone, Debug)]
 pub struct PlannerRuns {
+    /// The planner.
     pub kind: PlannerKind,
+    /// Time to build it for the scene, in milliseconds (as [`Contestant::build_ms`]).
     pub build_ms: f64,
     /// One per start, in the order of [`Comparison::starts`].
     pub runs: Vec<Run>,
@@ -909,6 +926,7 @@ pub struct PlannerRuns {
 /// The outcome of [`Arena::run`].
 #[derive(Clone, Debug)]
 pub struct Comparison {
+    /// The scene's `name` (`scene` if it has none).
     pub scene: String,
     /// The starts from which a collision-free path to the goal exists.
     pub starts: Vec<[f64; 2]>,
@@ -924,7 +942,9 @@ pub struct Comparison {
 /// One line of the comparison table.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
+    /// The scene's `name` (`scene` if it has none).
     pub scene: String,
+    /// The planner, as [`PlannerKind::name`] names it.
     pub planner: &'static str,
     /// Number of starts.
     pub starts: usize,

@@ -5,7 +5,8 @@
 //! shortest-path oracle it measures against ([`compare::VisibilityGraph`]), and the seed
 //! papers' tables ([`tables`]). The examples and benches that reproduce the papers depend on
 //! this crate; library users depend on `harmonic-planner` and never compile it.
-// (missing_docs: enabled once every item is documented)
+#![warn(missing_docs)]
 
 pub mod compare;
+pub mod paper;
 pub mod tables;

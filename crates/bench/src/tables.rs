@@ -44,8 +44,12 @@ pub struct BcRow {
     /// Serialised as `"type": "neumann" | "robin" | "dirichlet"`.
     #[serde(rename = "type")]
     pub kind: BcKind,
+    /// The paper's `a` column, as printed: 0 in the Dirichlet row, 1 in the others
+    /// ([`BcRow::condition`] reads only `kind` and `k`).
     pub a: f64,
+    /// The paper's `b` column, as printed (1 in every row).
     pub b: f64,
+    /// The gain K of ∂φ/∂n = K(1 − φ) in Robin rows (0 in the Neumann and Dirichlet rows).
     pub k: f64,
 }
 
@@ -125,6 +129,7 @@ impl BcRow {
 /// what the paper lacks — the path length, the smallest |∇φ| along it, whether it arrived.
 #[derive(Clone, Debug, Serialize)]
 pub struct BcResult {
+    /// The row measured (its fields inline in the JSON object).
     #[serde(flatten)]
     pub row: BcRow,
     /// d = d_i / d_D × 100 % for each start, d_i the smallest distance from the path to a wall
@@ -132,8 +137,11 @@ pub struct BcResult {
     pub d: Vec<f64>,
     /// d_i itself, for each start.
     pub clearance: Vec<f64>,
+    /// Whether the path from each start reached the goal.
     pub reached: Vec<bool>,
+    /// Length of the path from each start, in scene units.
     pub length: Vec<f64>,
+    /// Smallest |∇φ| along the path from each start (0 if none was met).
     pub min_gradient: Vec<f64>,
 }
 
@@ -174,6 +182,81 @@ pub fn bc_table(
                 length: paths.iter().map(|p| p.length).collect(),
                 min_gradient: paths.iter().map(|p| p.min_gradient).collect(),
             })
+        })
+        .collect()
+}
+
+impl BcRow {
+    /// The condition the row's printed triple gives when read literally:
+    /// a·∂φ/∂n + b·φ = K on walls and obstacles (φ = K/b where a = 0). With the goal at
+    /// φ = 0 this is linear in K, so every row with a = b = 1 and K > 0 gives K times one
+    /// field (the same paths), and K = 0 gives φ ≡ 0 (no path).
+    pub fn literal_condition(&self) -> Condition {
+        if self.a == 0.0 {
+            Condition::Dirichlet(self.k / self.b)
+        } else {
+            Condition::Robin {
+                a: self.a,
+                b: self.b,
+                g: self.k,
+            }
+        }
+    }
+}
+
+/// A row of the literal reading: d for each start, or why there is no path.
+#[derive(Clone, Debug, Serialize)]
+pub struct LiteralResult {
+    /// The row.
+    #[serde(flatten)]
+    pub row: BcRow,
+    /// d (%) for each start against the documented Dirichlet row's clearance (the literal
+    /// Dirichlet row has no path), `None` where the literal field gives no path.
+    pub d: Vec<Option<f64>>,
+    /// Why the literal field gives no path (`None` when it does).
+    pub no_path: Option<String>,
+}
+
+/// The table under the literal reading of each row's (a, b, K), against `reference`, the
+/// documented Dirichlet row's clearance per start.
+pub fn bc_table_literal(
+    scene: &Scene,
+    starts: &[[f64; 2]],
+    rows: &[BcRow],
+    reference: &[f64],
+) -> Vec<LiteralResult> {
+    rows.iter()
+        .map(|row| {
+            let mut s = scene.clone();
+            s.boundary.walls = Some(row.literal_condition());
+            s.boundary.obstacles = Some(row.literal_condition());
+            s.boundary.goal = Some(Condition::Dirichlet(0.0));
+            for o in &mut s.obstacles {
+                o.boundary = None;
+            }
+            match Planner::new(&s) {
+                Err(e) => LiteralResult {
+                    row: *row,
+                    d: vec![None; starts.len()],
+                    no_path: Some(e.to_string()),
+                },
+                Ok(planner) => {
+                    let paths = planner.plan_many(starts);
+                    let flat = planner.potential().psi().iter().all(|&v| v == 0.0);
+                    LiteralResult {
+                        row: *row,
+                        d: paths
+                            .iter()
+                            .zip(reference)
+                            .map(|(p, d_d)| {
+                                (p.status.reached_goal() && !flat)
+                                    .then(|| 100.0 * p.min_clearance / d_d)
+                            })
+                            .collect(),
+                        no_path: flat.then(|| "φ ≡ 0: the field is constant".to_string()),
+                    }
+                }
+            }
         })
         .collect()
 }

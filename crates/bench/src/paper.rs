@@ -1,0 +1,162 @@
+//! The seed papers' published numbers, quoted beside ours by the examples and the README.
+//!
+//! Each constant names its source (paper, section, table); the values are as printed.
+
+/// Garrido, Moreno, Blanco & Martín (2010), *Robotic Motion using Harmonic Functions and
+/// Finite Elements*, Table 1: d (%) = d_i / d_D × 100 for the starts (0.5, 0.8) and
+/// (0.2, 0.8), in the order of [`crate::tables::PAPER_ROWS`] (Neumann; Robin K = 1, 2, 3, 10;
+/// Dirichlet; Robin K = 100, 1000).
+pub const GARRIDO_TABLE1_D: [[f64; 2]; 8] = [
+    [23.0, 9.0],
+    [32.0, 23.0],
+    [41.0, 41.0],
+    [45.0, 50.0],
+    [82.0, 64.0],
+    [100.0, 100.0],
+    [100.0, 100.0],
+    [100.0, 100.0],
+];
+
+/// One column of Garrido et al. (2010), Table 2: SOR against FEM on the workspace of their
+/// Figure 1, N grid points per side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SorFemSeconds {
+    /// Grid points per side.
+    pub n: usize,
+    /// SOR, seconds.
+    pub sor: f64,
+    /// FEM, seconds.
+    pub fem: f64,
+}
+
+/// Garrido et al. (2010), Table 2, measured on "a 1.6 GHz laptop PC" ([`GARRIDO_TABLE2_MACHINE`]).
+pub const GARRIDO_TABLE2: [SorFemSeconds; 3] = [
+    SorFemSeconds {
+        n: 10,
+        sor: 1.3720,
+        fem: 0.2210,
+    },
+    SorFemSeconds {
+        n: 20,
+        sor: 5.2670,
+        fem: 0.9910,
+    },
+    SorFemSeconds {
+        n: 50,
+        sor: 128.8550,
+        fem: 7.5010,
+    },
+];
+
+/// The machine of Garrido et al.'s Table 2.
+pub const GARRIDO_TABLE2_MACHINE: &str = "a 1.6 GHz laptop PC (2010)";
+
+/// Garrido et al.'s Table 2 entry for `n` grid points per side, if the paper has one.
+pub fn garrido_table2(n: usize) -> Option<SorFemSeconds> {
+    GARRIDO_TABLE2.iter().copied().find(|c| c.n == n)
+}
+
+/// One relaxation run of the ME766 term paper (*harmonic path planning*, "Results").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Me766Run {
+    /// Which problem (1 or 2) and dimension (2 or 3).
+    pub problem: u8,
+    /// 2 or 3.
+    pub dimension: u8,
+    /// Grid points per side (100 in every run).
+    pub grid: usize,
+    /// The stopping accuracy (change between sweeps).
+    pub accuracy: f64,
+    /// Sweeps to reach it.
+    pub iterations: usize,
+    /// `"dirichlet"` or `"neumann"` walls.
+    pub walls: &'static str,
+}
+
+/// The ME766 paper's runs (100 × 100 and 100³ grids; sink φ = −10⁸, boundary φ = 1 for
+/// Dirichlet, sink −0.5 for Neumann). Of the 3D runs it says "it took hours".
+pub const ME766_RUNS: [Me766Run; 5] = [
+    Me766Run {
+        problem: 1,
+        dimension: 2,
+        grid: 100,
+        accuracy: 1e-4,
+        iterations: 647,
+        walls: "dirichlet",
+    },
+    Me766Run {
+        problem: 1,
+        dimension: 2,
+        grid: 100,
+        accuracy: 1e-6,
+        iterations: 7485,
+        walls: "neumann",
+    },
+    Me766Run {
+        problem: 2,
+        dimension: 2,
+        grid: 100,
+        accuracy: 1e-5,
+        iterations: 573,
+        walls: "dirichlet",
+    },
+    Me766Run {
+        problem: 2,
+        dimension: 3,
+        grid: 100,
+        accuracy: 1e-5,
+        iterations: 1278,
+        walls: "dirichlet",
+    },
+    Me766Run {
+        problem: 1,
+        dimension: 3,
+        grid: 100,
+        accuracy: 1e-6,
+        iterations: 2138,
+        walls: "dirichlet",
+    },
+];
+
+/// One experiment of Connolly, Burns & Weiss (1990), §5 (Lisp, Gauss–Seidel on a TI
+/// Explorer II, integer arithmetic).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConnollyRun {
+    /// The paper's figure.
+    pub figure: u8,
+    /// Grid size (columns × rows).
+    pub grid: (usize, usize),
+    /// Iterations to a zero-error solution, where given.
+    pub iterations: Option<usize>,
+    /// Seconds.
+    pub seconds: f64,
+}
+
+/// Connolly et al. (1990), §5: the maze (Figure 2, 64-bit integers), the obstacle region
+/// (Figure 3), and the two complicated domains (Figures 4 and 5, at most 80 bits per node).
+pub const CONNOLLY_RUNS: [ConnollyRun; 4] = [
+    ConnollyRun {
+        figure: 2,
+        grid: (55, 44),
+        iterations: Some(639),
+        seconds: 74.0,
+    },
+    ConnollyRun {
+        figure: 3,
+        grid: (30, 41),
+        iterations: Some(303),
+        seconds: 23.0,
+    },
+    ConnollyRun {
+        figure: 4,
+        grid: (50, 50),
+        iterations: None,
+        seconds: 188.0,
+    },
+    ConnollyRun {
+        figure: 5,
+        grid: (70, 70),
+        iterations: None,
+        seconds: 176.0,
+    },
+];
