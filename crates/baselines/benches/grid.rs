@@ -3,12 +3,14 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use harmonic_baselines::{Connectivity, GridHarmonic, Raster, Relaxation, SorOptions, Wavefront};
-
-#[path = "support/reference_scene.rs"]
-mod reference_scene;
+use harmonic_fixtures::{ScenePolygons, reference_polygons};
 
 fn raster(n: usize) -> Raster {
-    let (ws, obstacles, goals) = reference_scene::reference();
+    let ScenePolygons {
+        workspace: ws,
+        obstacles,
+        goals,
+    } = reference_polygons();
     Raster::from_polygons(&ws, &obstacles, &goals, n).expect("the reference scene rasterises")
 }
 

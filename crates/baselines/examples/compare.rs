@@ -9,11 +9,9 @@ use harmonic_baselines::{
     Connectivity, GridHarmonic, PanelOptions, PanelPlanner, PlanResult, PotentialField,
     PotentialFieldOptions, Raster, SorOptions, Wavefront,
 };
+use harmonic_fixtures::{REFERENCE_GOAL_CENTER, ScenePolygons, reference_polygons};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{SmoothOptions, trace_smooth};
-
-#[path = "../benches/support/reference_scene.rs"]
-mod reference_scene;
 
 fn row(planner: &str, start: Point, plan: &PlanResult, setup_ms: f64) {
     println!(
@@ -32,8 +30,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(a) => a.parse()?,
         None => 256,
     };
-    let (ws, obstacles, goals) = reference_scene::reference();
-    let goal = Point::new(8.5, 1.5);
+    let ScenePolygons {
+        workspace: ws,
+        obstacles,
+        goals,
+    } = reference_polygons();
+    let goal = Point::from(REFERENCE_GOAL_CENTER);
     let starts = [
         Point::new(1.0, 9.0),
         Point::new(1.0, 1.0),

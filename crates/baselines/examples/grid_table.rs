@@ -11,11 +11,9 @@ use std::time::Instant;
 use harmonic_baselines::{
     Cell, Connectivity, GridHarmonic, Raster, Relaxation, SorOptions, StopRule, Unknown, Wavefront,
 };
+use harmonic_fixtures::{ScenePolygons, reference_polygons};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{SmoothOptions, trace_smooth};
-
-#[path = "../benches/support/reference_scene.rs"]
-mod reference_scene;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut stop = StopRule::Residual(1e-13);
@@ -34,7 +32,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     } else {
         sizes
     };
-    let (ws, obstacles, goals) = reference_scene::reference();
+    let ScenePolygons {
+        workspace: ws,
+        obstacles,
+        goals,
+    } = reference_polygons();
     let start = Point::new(1.0, 9.0);
     println!(
         "| n | free cells | method | sweeps | solve ms | residual | rel. residual | min ψ | flat ψ | flat φ | traced | length | wavefront8 length | brushfire ms |"

@@ -1,22 +1,11 @@
-//! Property tests: rasterisation against a direct point-in-polygon test, and the discrete
-//! maximum principle of the grid harmonic field on random scenes.
+//! Property tests: rasterisation against a direct point-in-polygon test (`harmonic_mesh::geom`'s
+//! even-odd rule, independent of the raster's scanline fill), and the discrete maximum
+//! principle of the grid harmonic field on random scenes.
 
 use harmonic_baselines::{Cell, Connectivity, GridHarmonic, Raster, SorOptions, Wavefront};
 use harmonic_mesh::Point;
+use harmonic_mesh::geom::polygon_contains;
 use proptest::prelude::*;
-
-/// Crossing-number test, written independently of the crate's scanline fill.
-fn inside(poly: &[Point], p: Point) -> bool {
-    let mut c = false;
-    let m = poly.len();
-    for k in 0..m {
-        let (a, b) = (poly[k], poly[(k + 1) % m]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x {
-            c = !c;
-        }
-    }
-    c
-}
 
 fn square(s: f64) -> Vec<Point> {
     vec![
@@ -58,9 +47,9 @@ proptest! {
             let ring = i == 0 || j == 0 || i == n - 1 || j == n - 1;
             let expected = if ring {
                 Cell::Wall
-            } else if inside(&goal, p) {
+            } else if polygon_contains(&goal, p) {
                 Cell::Goal(0)
-            } else if inside(&obstacle, p) {
+            } else if polygon_contains(&obstacle, p) {
                 Cell::Obstacle(0)
             } else {
                 Cell::Free

@@ -6,11 +6,12 @@ use harmonic_baselines::{
     Cell, Connectivity, GridHarmonic, PanelOptions, PanelPlanner, PotentialField,
     PotentialFieldOptions, Raster, SorOptions, Wavefront,
 };
+use harmonic_fixtures::{
+    REFERENCE_GOAL_CENTER, REFERENCE_GOAL_RADIUS, ScenePolygons, reference_polygons,
+};
 use harmonic_mesh::Point;
+use harmonic_mesh::geom::polygon_contains;
 use harmonic_trajectory::{SmoothOptions, TraceStatus, trace_smooth};
-
-#[path = "../benches/support/reference_scene.rs"]
-mod reference_scene;
 
 const STARTS: [[f64; 2]; 6] = [
     [1.0, 1.0],
@@ -21,21 +22,15 @@ const STARTS: [[f64; 2]; 6] = [
     [3.5, 1.0],
 ];
 
-fn inside(poly: &[Point], p: Point) -> bool {
-    let mut c = false;
-    for k in 0..poly.len() {
-        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x {
-            c = !c;
-        }
-    }
-    c
-}
-
 #[test]
 fn harmonic_baselines_and_wavefront_reach_the_goal() {
-    let (ws, obstacles, goals) = reference_scene::reference();
-    let free = |p: Point| inside(&ws, p) && !obstacles.iter().any(|o| inside(o, p));
+    let ScenePolygons {
+        workspace: ws,
+        obstacles,
+        goals,
+    } = reference_polygons();
+    let free =
+        |p: Point| polygon_contains(&ws, p) && !obstacles.iter().any(|o| polygon_contains(o, p));
     let raster = Raster::from_polygons(&ws, &obstacles, &goals, 128).unwrap();
     let field = GridHarmonic::solve(raster.clone(), &SorOptions::default()).unwrap();
     assert_eq!(field.flat_cells(), 0);
@@ -43,7 +38,7 @@ fn harmonic_baselines_and_wavefront_reach_the_goal() {
     let panel = PanelPlanner::new(
         &ws,
         &obstacles,
-        Point::new(8.5, 1.5),
+        Point::from(REFERENCE_GOAL_CENTER),
         PanelOptions::default(),
     )
     .unwrap();
@@ -74,7 +69,7 @@ fn harmonic_baselines_and_wavefront_reach_the_goal() {
         );
         assert!(p.points.iter().all(|&q| free(q)), "panel path from {start}");
         // Every path is at least as long as the straight line to the goal disc.
-        let straight = (Point::new(8.5, 1.5) - start).norm() - 0.15;
+        let straight = (Point::from(REFERENCE_GOAL_CENTER) - start).norm() - REFERENCE_GOAL_RADIUS;
         for len in [traced.length, w.length, p.length] {
             assert!(len >= straight - 0.1, "from {start}: {len} < {straight}");
         }
@@ -83,11 +78,15 @@ fn harmonic_baselines_and_wavefront_reach_the_goal() {
 
 #[test]
 fn attractive_repulsive_field_is_trapped_from_the_far_corner() {
-    let (ws, obstacles, _) = reference_scene::reference();
+    let ScenePolygons {
+        workspace: ws,
+        obstacles,
+        ..
+    } = reference_polygons();
     let pf = PotentialField::new(
         &ws,
         &obstacles,
-        Point::new(8.5, 1.5),
+        Point::from(REFERENCE_GOAL_CENTER),
         PotentialFieldOptions::default(),
     )
     .unwrap();

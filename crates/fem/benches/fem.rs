@@ -4,15 +4,22 @@
 //!
 //! `cargo bench -p harmonic-fem --bench fem` (filter sizes with e.g. `-- 1M`).
 
-#[path = "../tests/support/reference.rs"]
-mod reference;
-
 use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use harmonic_fem::{Assembler, AssemblyOptions, Ordering};
+use harmonic_fem::{Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Ordering};
+use harmonic_fixtures::reference_mesh;
 use harmonic_solver::SymbolicCholesky;
+
+/// The peers' Robin case (docs/peers.md, case (b)): ∂φ/∂n = 1 − φ on walls and obstacles.
+fn robin() -> BoundaryConditions {
+    BoundaryConditions::uniform(BoundaryCondition::Robin {
+        a: 1.0,
+        b: 1.0,
+        g: 1.0,
+    })
+}
 
 const SIZES: [(&str, f64); 4] = [
     ("3k", 0.045),
@@ -28,8 +35,8 @@ fn stages(c: &mut Criterion) {
         group.warm_up_time(Duration::from_millis(500));
         group.measurement_time(Duration::from_secs(3));
         // Mesh only once the group is selected (criterion filters by id).
-        let mesh = Arc::new(reference::reference_mesh(max_area));
-        let bcs = reference::dirichlet();
+        let mesh = Arc::new(reference_mesh(max_area));
+        let bcs = BoundaryConditions::default();
         eprintln!(
             "{label}: {} triangles, {} vertices",
             mesh.triangles().len(),
@@ -45,7 +52,7 @@ fn stages(c: &mut Criterion) {
             b.iter(|| assembler.assemble_into(&bcs, None, &mut system))
         });
         // Robin walls and obstacles: no Dirichlet walls, more unknowns, boundary mass and load.
-        let robin = reference::robin();
+        let robin = robin();
         let robin_assembler =
             Assembler::new(Arc::clone(&mesh), &robin, AssemblyOptions::default()).expect("pattern");
         let mut robin_system = robin_assembler.assemble(&robin).expect("assembly");

@@ -1,15 +1,23 @@
 //! Agreement with the Python (scikit-fem on Triangle) and FreeFEM peers on the reference scene
 //! (docs/peers.md): φ at six sample points, Dirichlet and Robin cases.
 
-#[path = "support/reference.rs"]
-mod reference;
-
 use std::sync::Arc;
 
-use harmonic_fem::{Assembler, AssemblyOptions};
+use harmonic_fem::{Assembler, AssemblyOptions, BoundaryCondition};
 use harmonic_fem::{BoundaryConditions, Potential, offdiagonal_sign_violations, solve_potential};
+use harmonic_fixtures::reference_mesh;
 use harmonic_mesh::{Mesh, Point};
 use serde_json::Value;
+
+/// Case (b) of docs/peers.md: Robin ∂φ/∂n = 1 − φ (a = b = g = 1) on walls and obstacles,
+/// φ = 0 on the goal. Case (a) is the default, Dirichlet φ = 1 on walls and obstacles.
+fn robin() -> BoundaryConditions {
+    BoundaryConditions::uniform(BoundaryCondition::Robin {
+        a: 1.0,
+        b: 1.0,
+        g: 1.0,
+    })
+}
 
 /// (points, [(peer name, φ at the points)]) from a peer sample file.
 fn peer_samples(json: &str) -> (Vec<Point>, Vec<(String, Vec<f64>)>) {
@@ -73,18 +81,15 @@ fn check(p: &Potential, points: &[Point], peer: &str, expected: &[f64], tol: f64
 
 #[test]
 fn agrees_with_peers_at_30k_triangles() {
-    let mesh = Arc::new(reference::reference_mesh(0.0044));
+    let mesh = Arc::new(reference_mesh(0.0044));
     let n = mesh.triangles().len();
     assert!((25_000..40_000).contains(&n), "{n} triangles");
     for (file, bcs) in [
         (
             include_str!("data/reference_samples_dirichlet.json"),
-            reference::dirichlet(),
+            BoundaryConditions::default(),
         ),
-        (
-            include_str!("data/reference_samples_robin.json"),
-            reference::robin(),
-        ),
+        (include_str!("data/reference_samples_robin.json"), robin()),
     ] {
         let p = solve(&mesh, &bcs);
         let (points, peers) = peer_samples(file);
@@ -136,12 +141,12 @@ const ROBIN_1M: [[f64; 6]; 2] = [
 #[test]
 #[ignore = "1M triangles: about 10 s in release; run with --ignored"]
 fn agrees_with_peers_at_1m_triangles() {
-    let mesh = Arc::new(reference::reference_mesh(0.000132));
+    let mesh = Arc::new(reference_mesh(0.000132));
     eprintln!("{} triangles", mesh.triangles().len());
     let (points, _) = peer_samples(include_str!("data/reference_samples_dirichlet.json"));
     for (bcs, values) in [
-        (reference::dirichlet(), DIRICHLET_1M),
-        (reference::robin(), ROBIN_1M),
+        (BoundaryConditions::default(), DIRICHLET_1M),
+        (robin(), ROBIN_1M),
     ] {
         let p = solve(&mesh, &bcs);
         for (name, phi) in ["python 1M", "freefem 1M"].iter().zip(values) {

@@ -5,11 +5,12 @@ mod common;
 
 use std::sync::Arc;
 
-use common::{Side, square_with_hole, three_part_tags};
+use common::{square_with_hole, three_part_tags};
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, FemError, Ordering,
     Potential, RobinMass, Solver, blend, offdiagonal_sign_violations, solve_potential,
 };
+use harmonic_fixtures::{Diagonals, Grid, Side};
 use harmonic_mesh::{BoundaryTag, Mesh, Point, Vector};
 
 fn grid(n: usize) -> Arc<Mesh> {
@@ -204,10 +205,7 @@ fn constant_potential_is_rejected_with_a_reason() {
 #[test]
 fn robin_only_is_well_posed() {
     // Robin with b/a > 0 everywhere anchors the potential without any Dirichlet part.
-    let mesh = Arc::new(square_with_hole(8, 0.0, 0.0, |s| match s {
-        Side::Hole => BoundaryTag::Obstacle(0),
-        _ => BoundaryTag::Wall,
-    }));
+    let mesh = Arc::new(square_with_hole(8, 0.0, 0.0, |_| BoundaryTag::Wall));
     let bcs = BoundaryConditions {
         walls: BoundaryCondition::Robin {
             a: 1.0,
@@ -382,32 +380,15 @@ fn systems_and_solutions_are_checked_against_their_assembler() {
 fn psi_keeps_precision_in_a_long_corridor() {
     let (len, per_unit) = (20usize, 8usize);
     let (nx, ny) = (len * per_unit, per_unit);
-    let h = 1.0 / per_unit as f64;
-    let id = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
-    let mut vertices = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            vertices.push(Point::new(i as f64 * h, j as f64 * h));
-        }
-    }
-    let mut triangles = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
-    let mut boundary = Vec::new();
-    for i in 0..nx {
-        boundary.push((id(i, 0), id(i + 1, 0), BoundaryTag::Wall));
-        boundary.push((id(i, ny), id(i + 1, ny), BoundaryTag::Wall));
-    }
-    for j in 0..ny {
-        boundary.push((id(0, j), id(0, j + 1), BoundaryTag::Goal(0)));
-        boundary.push((id(nx, j), id(nx, j + 1), BoundaryTag::Wall));
-    }
-    let mesh = Arc::new(Mesh::from_parts(vertices, triangles, &boundary).expect("mesh"));
+    let grid = Grid::new(nx, ny, 1.0 / per_unit as f64).with_diagonals(Diagonals::Rising);
+    let id = |i: usize, j: usize| grid.vertex(i, j);
+    let mesh = Arc::new(
+        grid.parts(|side| match side {
+            Side::Left => BoundaryTag::Goal(0),
+            _ => BoundaryTag::Wall,
+        })
+        .mesh(),
+    );
     let p = solve_potential(Arc::clone(&mesh), &BoundaryConditions::default()).expect("solve");
     let centre: Vec<f64> = (0..=nx).map(|i| p.psi()[id(i, ny / 2) as usize]).collect();
     assert!(centre[1..nx].iter().all(|&s| s > 0.0));

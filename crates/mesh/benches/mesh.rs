@@ -8,11 +8,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use harmonic_mesh::{Domain, MeshOptions};
 use std::hint::black_box;
 
-#[path = "../tests/common/mod.rs"]
-mod common;
-
 fn bench(c: &mut Criterion) {
-    let spec = common::reference();
+    let spec = harmonic_fixtures::reference_disc();
     let sizes = [
         ("3k", 0.045),
         ("30k", 0.0044),

@@ -5,16 +5,13 @@
 
 use harmonic_mesh::{Domain, MeshOptions};
 
-#[path = "../tests/common/mod.rs"]
-mod common;
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_area: f64 = std::env::args()
         .nth(1)
         .map(|s| s.parse())
         .transpose()?
         .unwrap_or(0.0044);
-    let spec = common::reference();
+    let spec = harmonic_fixtures::reference_disc();
     let flags: Vec<String> = std::env::args().skip(2).collect();
     let opts = MeshOptions {
         max_area: Some(max_area),

@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use harmonic_fixtures::{p, rect, reference_disc};
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Part, Point, Shape,
 };
@@ -255,15 +256,6 @@ fn each_invalid_input_has_its_error() {
     ));
 }
 
-/// Whether segment ab lies on an edge of the closed polygon.
-fn on_polygon(a: Point, b: Point, poly: &[Point]) -> bool {
-    let n = poly.len();
-    (0..n).any(|k| {
-        seg_dist(a, poly[k], poly[(k + 1) % n]) < 1e-9
-            && seg_dist(b, poly[k], poly[(k + 1) % n]) < 1e-9
-    })
-}
-
 #[test]
 fn merged_obstacles_keep_their_input_tags() {
     let o0 = rect(2.0, 2.0, 5.0, 4.0);
@@ -306,12 +298,12 @@ fn merged_obstacles_keep_their_input_tags() {
         let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
         seen.insert(e.tag);
         let ok = match e.tag {
-            BoundaryTag::Wall => on_polygon(a, b, &spec.workspace),
-            BoundaryTag::Obstacle(0) => on_polygon(a, b, &o0),
-            BoundaryTag::Obstacle(1) => on_polygon(a, b, &o1),
-            BoundaryTag::Obstacle(2) => on_polygon(a, b, &o2),
-            BoundaryTag::Obstacle(3) => on_polygon(a, b, &o3),
-            BoundaryTag::Goal(0) => on_polygon(a, b, &rect(1.0, 8.0, 2.0, 9.0)),
+            BoundaryTag::Wall => on_ring_edge(a, b, &spec.workspace),
+            BoundaryTag::Obstacle(0) => on_ring_edge(a, b, &o0),
+            BoundaryTag::Obstacle(1) => on_ring_edge(a, b, &o1),
+            BoundaryTag::Obstacle(2) => on_ring_edge(a, b, &o2),
+            BoundaryTag::Obstacle(3) => on_ring_edge(a, b, &o3),
+            BoundaryTag::Goal(0) => on_ring_edge(a, b, &rect(1.0, 8.0, 2.0, 9.0)),
             t => panic!("unexpected tag {t}"),
         };
         assert!(ok, "{} edge {a} {b}", e.tag);
@@ -437,7 +429,7 @@ fn robot_radius_inflates_obstacles_and_shrinks_walls() {
 
 #[test]
 fn clearance_is_exact() {
-    let domain = Domain::new(&reference(), &opts()).unwrap();
+    let domain = Domain::new(&reference_disc(), &opts()).unwrap();
     assert!((domain.distance_to_obstacles(p(1.0, 9.0)) - 1.0).abs() < 1e-12);
     assert!((domain.distance_to_obstacles(p(3.5, 5.0)) - 0.5).abs() < 1e-12);
     // The goal boundary does not count: (8.5, 1.8) is 0.15 from the goal, but 1.5 from the

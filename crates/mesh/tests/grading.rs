@@ -3,7 +3,8 @@
 
 mod common;
 
-use common::{check_invariants_with_bridges, p, reference};
+use common::check_invariants_with_bridges;
+use harmonic_fixtures::{p, reference_disc};
 use harmonic_mesh::{Domain, Grading, Mesh, MeshError, MeshOptions, Point};
 
 const MAX_AREA: f64 = 0.02;
@@ -19,7 +20,7 @@ fn options(grading: Option<Grading>) -> MeshOptions {
 }
 
 fn mesh_of(opts: &MeshOptions) -> (Domain, Mesh) {
-    let domain = Domain::new(&reference(), opts).expect("valid scene");
+    let domain = Domain::new(&reference_disc(), opts).expect("valid scene");
     let (mesh, report) = domain.mesh(opts).expect("meshes");
     assert!(report.refinement_complete, "{report:?}");
     check_invariants_with_bridges(&mesh, domain.free_area(), 1e-9, report.bridges_remaining)
@@ -166,7 +167,7 @@ fn a_radius_larger_than_the_scene_refines_everything_to_the_goal_factor() {
 
 #[test]
 fn bad_grading_options_are_refused() {
-    let spec = reference();
+    let spec = reference_disc();
     for (grading, name) in [
         ((0.0, 0.5, 1.0), "grading.near_goal"),
         ((f64::NAN, 0.5, 1.0), "grading.near_goal"),

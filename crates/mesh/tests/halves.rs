@@ -5,6 +5,8 @@
 mod common;
 
 use common::*;
+use harmonic_fixtures::{p, rect};
+use harmonic_mesh::geom::ring_distance;
 use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, Shape};
 
 fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
@@ -27,10 +29,7 @@ fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
     for e in mesh.boundary_edges() {
         let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
         let m = (a + b.coords) * 0.5;
-        let on_ring = |ring: &[harmonic_mesh::Point]| {
-            let n = ring.len();
-            (0..n).any(|k| seg_dist(m, ring[k], ring[(k + 1) % n]) < 1e-9)
-        };
+        let on_ring = |ring: &[harmonic_mesh::Point]| ring_distance(ring, m) < 1e-9;
         let ok = match e.tag {
             BoundaryTag::Wall => on_ring(&spec.workspace),
             BoundaryTag::Obstacle(i) => match &spec.obstacles[i as usize] {

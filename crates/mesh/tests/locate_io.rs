@@ -1,27 +1,14 @@
 //! Point location against brute force, Triangle file round trips and serde.
 
-mod common;
-
-use common::*;
+use harmonic_fixtures::{Rng, p, reference_disc};
 use harmonic_mesh::{Domain, Mesh, MeshOptions, Point, io};
-
-/// A small deterministic generator (xorshift64*), enough for test points.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 fn reference_mesh(max_area: f64) -> (Domain, Mesh) {
     let opts = MeshOptions {
         max_area: Some(max_area),
         ..MeshOptions::default()
     };
-    let domain = Domain::new(&reference(), &opts).unwrap();
+    let domain = Domain::new(&reference_disc(), &opts).unwrap();
     let (mesh, _) = domain.mesh(&opts).unwrap();
     (domain, mesh)
 }
@@ -35,16 +22,16 @@ fn locate_agrees_with_brute_force() {
     for i in 0..10_000 {
         // Points over a slightly larger box, plus some exactly on mesh vertices and edges.
         let q = match i % 10 {
-            0 => mesh.vertices()[(rng.next() * mesh.vertices().len() as f64) as usize],
+            0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
             1 => {
-                let t = mesh.triangles()[(rng.next() * mesh.triangles().len() as f64) as usize];
+                let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
                 let (a, b) = (
                     mesh.vertices()[t[0] as usize],
                     mesh.vertices()[t[1] as usize],
                 );
                 a + (b - a) * 0.5
             }
-            _ => Point::new(rng.next() * 10.4 - 0.2, rng.next() * 10.4 - 0.2),
+            _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
         };
         let brute: Vec<u32> = (0..mesh.triangles().len() as u32)
             .filter(|&t| mesh.triangle_contains(t, q))
@@ -140,7 +127,7 @@ fn serde_round_trip() {
         back.locate(p(1.0, 1.0), None),
         mesh.locate(p(1.0, 1.0), None)
     );
-    let spec = reference();
+    let spec = reference_disc();
     let json = serde_json::to_string(&spec).unwrap();
     assert_eq!(
         serde_json::from_str::<harmonic_mesh::DomainSpec>(&json).unwrap(),

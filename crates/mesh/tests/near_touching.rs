@@ -5,7 +5,8 @@
 
 mod common;
 
-use common::{area, check_invariants_with_bridges, p, rect};
+use common::check_invariants_with_bridges;
+use harmonic_fixtures::{area, p, rect};
 use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, Point, Shape};
 
 fn opts() -> MeshOptions {
@@ -247,7 +248,8 @@ mod random {
     //! or slanted) or from an earlier obstacle's edge: a typed input error or a valid mesh,
     //! never a triangulation failure.
 
-    use super::common::{check_invariants_with_bridges, p};
+    use super::common::check_invariants_with_bridges;
+    use harmonic_fixtures::p;
     use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Point, Shape};
     use proptest::prelude::*;
 

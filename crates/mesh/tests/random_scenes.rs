@@ -4,6 +4,7 @@
 mod common;
 
 use common::*;
+use harmonic_fixtures::{p, rect};
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Point, Shape,
 };
@@ -27,12 +28,7 @@ fn obstacle() -> impl Strategy<Value = Obs> {
 /// polygon, so within the sagitta of the circle).
 fn on_shape(a: Point, b: Point, o: &Obs, h: f64) -> bool {
     match *o {
-        Obs::Box(x, y, w, hh) => {
-            let r = rect(x, y, x + w, y + hh);
-            (0..4).any(|k| {
-                seg_dist(a, r[k], r[(k + 1) % 4]) < 1e-9 && seg_dist(b, r[k], r[(k + 1) % 4]) < 1e-9
-            })
-        }
+        Obs::Box(x, y, w, hh) => on_ring_edge(a, b, &rect(x, y, x + w, y + hh)),
         Obs::Circle(x, y, r) => {
             let c = p(x, y);
             let sag = h * h / (8.0 * r) + 1e-9;

@@ -4,11 +4,13 @@
 mod common;
 
 use common::*;
+use harmonic_fixtures::{area, p, reference_disc};
+use harmonic_mesh::geom::polyline_length;
 use harmonic_mesh::{BoundaryTag, Domain, MeshOptions, Point};
 
 /// Free area from the inputs: 100 − obstacles − the 12-gon goal (r = 0.15).
 fn exact_free_area(goal_sides: usize) -> f64 {
-    let spec = reference();
+    let spec = reference_disc();
     let mut a = 100.0;
     for o in &spec.obstacles {
         if let harmonic_mesh::Shape::Polygon(pts) = o {
@@ -20,16 +22,10 @@ fn exact_free_area(goal_sides: usize) -> f64 {
 }
 
 fn check_tags_on_inputs(mesh: &harmonic_mesh::Mesh) {
-    let spec = reference();
+    let spec = reference_disc();
     for e in mesh.boundary_edges() {
         let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
-        let on = |poly: &[Point]| {
-            let n = poly.len();
-            (0..n).any(|k| {
-                seg_dist(a, poly[k], poly[(k + 1) % n]) < 1e-9
-                    && seg_dist(b, poly[k], poly[(k + 1) % n]) < 1e-9
-            })
-        };
+        let on = |poly: &[Point]| on_ring_edge(a, b, poly);
         match e.tag {
             BoundaryTag::Wall => assert!(on(&spec.workspace), "wall edge {a} {b}"),
             BoundaryTag::Obstacle(i) => match &spec.obstacles[i as usize] {
@@ -60,7 +56,7 @@ fn run(max_area: f64, prefill: bool) {
 }
 
 fn run_with(opts: MeshOptions) {
-    let spec = reference();
+    let spec = reference_disc();
     let max_area = opts.max_area.expect("an area bound");
     let domain = Domain::new(&spec, &opts).expect("domain");
     let exact = exact_free_area(12);
@@ -107,7 +103,7 @@ fn reference_in_two_halves() {
             ..MeshOptions::default()
         };
         run_with(opts.clone());
-        let domain = Domain::new(&reference(), &opts).expect("domain");
+        let domain = Domain::new(&reference_disc(), &opts).expect("domain");
         let (halves, report) = domain.mesh(&opts).expect("mesh");
         // A cut near the middle of free space.
         let (axis, at) = report.seam.expect("made in two halves");
@@ -139,7 +135,7 @@ fn triangle_counts_are_close_to_triangle() {
             prefill,
             ..opts.clone()
         };
-        let (mesh, _) = Domain::new(&reference(), &opts)
+        let (mesh, _) = Domain::new(&reference_disc(), &opts)
             .unwrap()
             .mesh(&opts)
             .unwrap();
@@ -156,11 +152,11 @@ fn vertices_are_in_hilbert_order() {
         max_area: Some(0.0044),
         ..MeshOptions::default()
     };
-    let (mesh, _) = Domain::new(&reference(), &opts)
+    let (mesh, _) = Domain::new(&reference_disc(), &opts)
         .unwrap()
         .mesh(&opts)
         .unwrap();
     let v = mesh.vertices();
-    let mean: f64 = v.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>() / (v.len() - 1) as f64;
+    let mean = polyline_length(v) / (v.len() - 1) as f64;
     assert!(mean < 0.3, "mean step {mean}");
 }

@@ -1,70 +1,18 @@
 //! The bundled scenes (meshes/*.json): each meshes with its own `mesh` settings into a valid,
 //! Delaunay, 30° mesh in which every start can reach the goal.
 //!
-//! Scene parsing belongs to the facade; this reads only the geometry fields with serde_json.
+//! Scene parsing belongs to the facade; `harmonic_fixtures::plane_scene` reads only the
+//! geometry fields.
 
 mod common;
 
 use common::*;
-use harmonic_mesh::{
-    BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, MeshReport, Point, Shape,
-};
-use serde_json::Value;
-
-fn pt(v: &Value) -> Point {
-    Point::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap())
-}
-
-fn pts(v: &Value) -> Vec<Point> {
-    v.as_array().unwrap().iter().map(pt).collect()
-}
+use harmonic_fixtures::{plane_scene, reference};
+use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, MeshOptions, MeshReport, Point};
 
 fn load(name: &str) -> (DomainSpec, MeshOptions, Vec<Point>) {
-    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let obstacles = v["obstacles"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|o| {
-            if o.get("polygon").is_some() {
-                Shape::Polygon(pts(&o["polygon"]))
-            } else {
-                Shape::Circle {
-                    center: pt(&o["circle"]["center"]),
-                    radius: o["circle"]["radius"].as_f64().unwrap(),
-                }
-            }
-        })
-        .collect();
-    let goal = |g: &Value| {
-        if let Some(p) = g.get("polygon") {
-            GoalShape::Polygon(pts(p))
-        } else if let Some(p) = g.get("point") {
-            GoalShape::Point(pt(p))
-        } else {
-            GoalShape::Circle {
-                center: pt(&g["circle"]["center"]),
-                radius: g["circle"]["radius"].as_f64().unwrap(),
-            }
-        }
-    };
-    let goals = match &v["goal"] {
-        Value::Array(a) => a.iter().map(goal).collect(),
-        g => vec![goal(g)],
-    };
-    let spec = DomainSpec {
-        workspace: pts(&v["workspace"]),
-        obstacles,
-        goals,
-        robot_radius: v["robot"]["radius"].as_f64().unwrap_or(0.0),
-    };
-    let opts = MeshOptions {
-        max_area: v["mesh"]["max_area"].as_f64(),
-        min_angle_deg: v["mesh"]["min_angle_deg"].as_f64().unwrap_or(30.0),
-        ..MeshOptions::default()
-    };
-    (spec, opts, pts(&v["starts"]))
+    let scene = plane_scene(name);
+    (scene.spec, scene.options, scene.starts)
 }
 
 /// `cut`: whether a cut for two halves exists (none meets 50 scattered obstacles steeply

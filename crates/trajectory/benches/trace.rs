@@ -7,7 +7,8 @@ use std::sync::Arc;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use harmonic_fem::{BoundaryConditions, solve_potential};
-use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, Point, Shape};
+use harmonic_fixtures::{Cell, Grid, plane_scene};
+use harmonic_mesh::{Domain, Mesh, MeshOptions, Point};
 use harmonic_trajectory::{
     ExactOptions, Field, Locate, P1Field, SmoothOptions, SmoothP1Field, trace_exact, trace_smooth,
 };
@@ -17,40 +18,13 @@ const NY: usize = 500;
 const GOAL: (usize, usize) = (900, 250);
 
 fn grid_mesh() -> Mesh {
-    let vid = |i: usize, j: usize| (j * (NX + 1) + i) as u32;
-    let vertices = (0..=NY)
-        .flat_map(|j| (0..=NX).map(move |i| Point::new(i as f64, j as f64)))
-        .collect();
-    let is_goal = |i: usize, j: usize| i.abs_diff(GOAL.0) <= 1 && j.abs_diff(GOAL.1) <= 1;
-    let mut triangles = Vec::with_capacity(2 * NX * NY);
-    let mut boundary = Vec::new();
-    for j in 0..NY {
-        for i in 0..NX {
-            if is_goal(i, j) {
-                continue;
-            }
-            let (a, b, c, d) = (vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1));
-            if (i + j) % 2 == 0 {
-                triangles.extend([[a, b, c], [a, c, d]]);
-            } else {
-                triangles.extend([[a, b, d], [b, c, d]]);
-            }
-            let sides = [
-                ((a, b), j == 0, j > 0 && is_goal(i, j - 1)),
-                ((b, c), i + 1 == NX, i + 1 < NX && is_goal(i + 1, j)),
-                ((c, d), j + 1 == NY, j + 1 < NY && is_goal(i, j + 1)),
-                ((d, a), i == 0, i > 0 && is_goal(i - 1, j)),
-            ];
-            for ((u, v), wall, goal) in sides {
-                if wall {
-                    boundary.push((u, v, BoundaryTag::Wall));
-                } else if goal {
-                    boundary.push((u, v, BoundaryTag::Goal(0)));
-                }
-            }
-        }
-    }
-    Mesh::from_parts(vertices, triangles, &boundary).expect("the benchmark grid is a valid mesh")
+    let mut grid = Grid::new(NX, NY, 1.0);
+    grid.mark_cells(
+        GOAL.0 - 1..GOAL.0 + 2,
+        GOAL.1 - 1..GOAL.1 + 2,
+        Cell::Goal(0),
+    );
+    grid.mesh()
 }
 
 fn bench(c: &mut Criterion) {
@@ -100,37 +74,13 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-/// The reference scene's polygons (it has no circles).
-fn reference_spec() -> DomainSpec {
-    let path = format!("{}/../../meshes/reference.json", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).expect("meshes/reference.json is bundled");
-    let s: serde_json::Value = serde_json::from_str(&text).expect("the reference scene is JSON");
-    let ring = |v: &serde_json::Value| -> Vec<Point> {
-        v.as_array()
-            .expect("a ring is an array")
-            .iter()
-            .map(|p| Point::new(p[0].as_f64().unwrap_or(0.0), p[1].as_f64().unwrap_or(0.0)))
-            .collect()
-    };
-    DomainSpec {
-        workspace: ring(&s["workspace"]),
-        obstacles: s["obstacles"]
-            .as_array()
-            .expect("obstacles")
-            .iter()
-            .map(|o| Shape::Polygon(ring(&o["polygon"])))
-            .collect(),
-        goals: vec![GoalShape::Polygon(ring(&s["goal"]["polygon"]))],
-        robot_radius: 0.0,
-    }
-}
-
 fn bench_reference(c: &mut Criterion) {
     let opts = MeshOptions {
         max_area: Some(1.5e-4),
         ..MeshOptions::default()
     };
-    let domain = Domain::new(&reference_spec(), &opts).expect("the reference scene is valid");
+    let domain =
+        Domain::new(&plane_scene("reference").spec, &opts).expect("the reference scene is valid");
     let (mesh, _) = domain.mesh(&opts).expect("the reference scene meshes");
     let triangles = mesh.triangles().len();
     let potential = solve_potential(Arc::new(mesh), &BoundaryConditions::default())

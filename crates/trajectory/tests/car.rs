@@ -1,6 +1,7 @@
 mod common;
 
-use common::{Cell, Grid, Rng, laplace_psi, nodal_gradients};
+use common::{GridQueries, laplace_psi, nodal_gradients};
+use harmonic_fixtures::{Cell, Grid, Rng};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{
     CarOptions, CarSpeed, CarTarget, Collision, Footprint, P1Field, SmoothP1Field, TraceError,

@@ -1,6 +1,7 @@
 mod common;
 
-use common::{Cell, Grid, Rng, laplace_psi};
+use common::{GridQueries, laplace_psi};
+use harmonic_fixtures::{Cell, Grid, Rng};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{ExactOptions, Field, Locate, P1Field, Path, TraceStatus, trace_exact};
 

@@ -1,6 +1,4 @@
-mod common;
-
-use common::{Cell, Grid};
+use harmonic_fixtures::{Cell, Grid};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{Field, Locate, P1Field, Segment, TraceError};
 

@@ -4,7 +4,8 @@
 
 mod common;
 
-use common::{Cell, Grid};
+use common::GridQueries;
+use harmonic_fixtures::{Cell, Grid};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{
     CarOptions, ExactOptions, Field, Locate, P1Field, SmoothOptions, TraceStatus, drive,

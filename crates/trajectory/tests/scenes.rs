@@ -2,72 +2,16 @@
 //! `harmonic_fem` with the scene's boundary conditions (and variants), followed by the exact
 //! and smooth tracers and the car.
 
-mod common;
-
 use std::sync::Arc;
 
-use common::Rng;
 use harmonic_fem::{BoundaryCondition, BoundaryConditions, Potential, solve_potential};
+use harmonic_fixtures::{Rng, mesh_file, plane_scene};
 use harmonic_mesh::{Domain, DomainSpec, GoalShape, Mesh, MeshOptions, Point, Shape};
 use harmonic_trajectory::{
     CarOptions, ExactOptions, Field, Locate, P1Field, SmoothOptions, SmoothP1Field, TraceStatus,
     drive, max_pose_curvature, path_metrics, trace_exact, trace_smooth,
 };
 use serde_json::Value;
-
-fn pt(v: &Value) -> Point {
-    Point::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap())
-}
-
-fn ring(v: &Value) -> Vec<Point> {
-    v.as_array().unwrap().iter().map(pt).collect()
-}
-
-/// Reads the geometry of a bundled scene file (the facade owns the full format).
-fn load(name: &str) -> DomainSpec {
-    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let s: Value = serde_json::from_str(&text).unwrap();
-    let shape = |o: &Value| {
-        if let Some(p) = o.get("polygon") {
-            Shape::Polygon(ring(p))
-        } else {
-            let c = &o["circle"];
-            Shape::Circle {
-                center: pt(&c["center"]),
-                radius: c["radius"].as_f64().unwrap(),
-            }
-        }
-    };
-    let goal = |o: &Value| {
-        if let Some(p) = o.get("polygon") {
-            GoalShape::Polygon(ring(p))
-        } else if let Some(p) = o.get("point") {
-            GoalShape::Point(pt(p))
-        } else {
-            let c = &o["circle"];
-            GoalShape::Circle {
-                center: pt(&c["center"]),
-                radius: c["radius"].as_f64().unwrap(),
-            }
-        }
-    };
-    let goals = match &s["goal"] {
-        Value::Array(a) => a.iter().map(goal).collect(),
-        g => vec![goal(g)],
-    };
-    DomainSpec {
-        workspace: ring(&s["workspace"]),
-        obstacles: s["obstacles"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(shape)
-            .collect(),
-        goals,
-        robot_radius: 0.0,
-    }
-}
 
 fn condition(v: &Value) -> BoundaryCondition {
     if let Some(d) = v.get("dirichlet") {
@@ -87,7 +31,7 @@ fn condition(v: &Value) -> BoundaryCondition {
 
 /// The scene's boundary conditions (defaults where absent).
 fn conditions(name: &str) -> BoundaryConditions {
-    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
+    let path = mesh_file(&format!("{name}.json"));
     let s: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut bcs = BoundaryConditions::default();
     let b = &s["boundary"];
@@ -108,7 +52,7 @@ fn setup(name: &str, bcs: &BoundaryConditions) -> (Domain, Potential) {
         max_area: Some(0.01),
         ..MeshOptions::default()
     };
-    let domain = Domain::new(&load(name), &opts).unwrap();
+    let domain = Domain::new(&plane_scene(name).spec, &opts).unwrap();
     let (mesh, _) = domain.mesh(&opts).unwrap();
     let potential = solve_potential(Arc::new(mesh), bcs).unwrap();
     (domain, potential)
@@ -131,12 +75,14 @@ fn random_free(domain: &Domain, rng: &mut Rng, n: usize, clearance: f64) -> Vec<
 
 /// Every segment stays in free space: sampled points lie in the closed free set (up to
 /// rounding on walls and obstacle boundaries). The path's
-/// last point lies on the goal's boundary up to rounding, so it is checked 1e-9 back.
+/// last point lies on the goal's boundary up to rounding, so it is checked 1e-9 back (unless
+/// the last step has no length, as from a start on the goal's boundary: then it has no
+/// direction to back off along, and its point was checked as the step's first).
 fn assert_in_free_space(domain: &Domain, pts: &[Point], what: &str) {
     for (i, w) in pts.windows(2).enumerate() {
         for k in 0..=8 {
             let mut q = w[0] + (w[1] - w[0]) * (k as f64 / 8.0);
-            if k == 8 && i + 2 == pts.len() {
+            if k == 8 && i + 2 == pts.len() && w[1] != w[0] {
                 q = w[1] + (w[0] - w[1]).normalize() * 1e-9;
             }
             // Points on a wall or obstacle boundary count as free, up to rounding.

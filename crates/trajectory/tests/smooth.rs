@@ -1,6 +1,7 @@
 mod common;
 
-use common::{Cell, Grid, Rng, laplace_psi, nodal_gradients};
+use common::{GridQueries, laplace_psi, nodal_gradients};
+use harmonic_fixtures::{Cell, Grid, Rng};
 use harmonic_mesh::Point;
 use harmonic_trajectory::{
     Field, P1Field, Path, SmoothOptions, SmoothP1Field, TraceError, TraceStatus, trace_smooth,

@@ -1,65 +1,17 @@
-//! Scenes shared by the integration tests (Rust equivalents of the bundled JSON scenes).
-#![allow(dead_code)]
+//! Checks shared by the mesh crate's integration tests: the invariants every mesh must
+//! satisfy, and whether a boundary edge lies on an input ring. Scenes, rectangles and areas
+//! are `harmonic_fixtures`'s, distances `harmonic_mesh::geom`'s.
+#![allow(dead_code)] // each test binary uses a subset
 
-use harmonic_mesh::{BoundaryTag, DomainSpec, GoalShape, Mesh, Point, Shape};
+use harmonic_mesh::geom::{point_segment_distance, ring_edges};
+use harmonic_mesh::{Mesh, Point};
 
-pub fn p(x: f64, y: f64) -> Point {
-    Point::new(x, y)
-}
-
-pub fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Point> {
-    vec![p(x0, y0), p(x1, y0), p(x1, y1), p(x0, y1)]
-}
-
-/// meshes/reference.json: square [0,10]², five obstacles, goal disc (8.5, 1.5) r 0.15.
-pub fn reference() -> DomainSpec {
-    DomainSpec {
-        workspace: rect(0.0, 0.0, 10.0, 10.0),
-        obstacles: vec![
-            Shape::Polygon(rect(2.0, 2.0, 3.0, 8.0)),
-            Shape::Polygon(rect(5.0, 4.0, 9.0, 5.0)),
-            Shape::Polygon(vec![p(4.0, 7.0), p(7.0, 7.0), p(6.0, 9.0)]),
-            Shape::Polygon(vec![
-                p(5.5, 1.0),
-                p(7.0, 1.0),
-                p(7.0, 3.0),
-                p(6.5, 3.0),
-                p(6.5, 1.5),
-                p(5.5, 1.5),
-            ]),
-            Shape::Polygon(vec![
-                p(3.6, 2.4),
-                p(4.6, 2.2),
-                p(4.9, 3.1),
-                p(4.2, 3.7),
-                p(3.5, 3.2),
-            ]),
-        ],
-        goals: vec![GoalShape::Circle {
-            center: p(8.5, 1.5),
-            radius: 0.15,
-        }],
-        robot_radius: 0.0,
-    }
-}
-
-/// Shoelace area of a polygon (positive if counter-clockwise).
-pub fn area(poly: &[Point]) -> f64 {
-    let n = poly.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (poly[i], poly[(i + 1) % n]);
-            a.x * b.y - b.x * a.y
-        })
-        .sum::<f64>()
-        * 0.5
-}
-
-/// Distance from p to segment ab.
-pub fn seg_dist(p: Point, a: Point, b: Point) -> f64 {
-    let ab = b - a;
-    let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
-    (a + ab * t - p).norm()
+/// Whether the segment `ab` lies on one edge of the closed `ring` (both ends within 1e-9 of
+/// it).
+pub fn on_ring_edge(a: Point, b: Point, ring: &[Point]) -> bool {
+    ring_edges(ring).any(|(u, v)| {
+        point_segment_distance(a, u, v) < 1e-9 && point_segment_distance(b, u, v) < 1e-9
+    })
 }
 
 /// Checks the invariants every mesh must satisfy, returning a description of the first failure.
@@ -147,6 +99,5 @@ pub fn check_invariants_with_bridges(
             found / 2
         ));
     }
-    let _ = BoundaryTag::Wall;
     Ok(())
 }

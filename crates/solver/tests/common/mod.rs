@@ -1,7 +1,9 @@
-//! Helpers shared by the integration tests: dense reference solves and random SPD matrices.
+//! Helpers shared by the solver's integration tests: dense reference solves and random SPD
+//! matrices (drawn with `harmonic_fixtures::Rng`, re-exported here for the tests).
 #![allow(dead_code)] // each test binary uses a subset
 #![allow(clippy::needless_range_loop)] // dense reference code reads best with indices
 
+pub use harmonic_fixtures::Rng;
 use harmonic_solver::SymmetricCsc;
 
 /// Dense copy of a sparse symmetric matrix (row-major n×n).
@@ -68,20 +70,6 @@ pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> SymmetricCsc
         col_ptr.push(row_idx.len());
     }
     SymmetricCsc::try_new(n, col_ptr, row_idx, values).unwrap()
-}
-
-/// Small deterministic PRNG (xorshift64*), so tests need no extra dependency.
-pub struct Rng(pub u64);
-impl Rng {
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn below(&mut self, n: usize) -> usize {
-        ((self.next_f64() * n as f64) as usize).min(n - 1)
-    }
 }
 
 /// Random sparse strictly diagonally dominant symmetric matrix with positive diagonal (SPD),

@@ -1,104 +1,10 @@
-//! Hand-built test meshes: structured triangulated grids with cells removed as obstacles
-//! and goals, and potentials on them.
+//! Helpers of the trajectory tests on `harmonic_fixtures` grids (cells removed as obstacles
+//! and goals): potentials solved without the FEM crate, nodal gradients, and grid queries
+//! (segments against obstacle cells, clearance, random free points).
 #![allow(dead_code)] // each test binary uses a different part of this module
 
+use harmonic_fixtures::{Cell, Grid, Rng};
 use harmonic_mesh::{BoundaryTag, Mesh, Point};
-
-/// What a grid cell is.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Cell {
-    Free,
-    Obstacle(u32),
-    Goal(u32),
-}
-
-/// A grid of `nx × ny` square cells of side `h` with origin (0, 0).
-pub struct Grid {
-    pub nx: usize,
-    pub ny: usize,
-    pub h: f64,
-    pub cells: Vec<Cell>,
-}
-
-impl Grid {
-    pub fn new(nx: usize, ny: usize, h: f64) -> Self {
-        Grid {
-            nx,
-            ny,
-            h,
-            cells: vec![Cell::Free; nx * ny],
-        }
-    }
-    /// Marks the cells whose centres lie in `[x0, x1] × [y0, y1]`.
-    pub fn mark(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, c: Cell) {
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                let (cx, cy) = ((i as f64 + 0.5) * self.h, (j as f64 + 0.5) * self.h);
-                if cx >= x0 && cx <= x1 && cy >= y0 && cy <= y1 {
-                    self.cells[j * self.nx + i] = c;
-                }
-            }
-        }
-    }
-    pub fn cell(&self, i: isize, j: isize) -> Option<Cell> {
-        if i < 0 || j < 0 || i as usize >= self.nx || j as usize >= self.ny {
-            None
-        } else {
-            Some(self.cells[j as usize * self.nx + i as usize])
-        }
-    }
-    /// The cell holding `p` (None outside).
-    pub fn cell_at(&self, p: Point) -> Option<Cell> {
-        let i = (p.x / self.h).floor() as isize;
-        let j = (p.y / self.h).floor() as isize;
-        self.cell(i, j)
-    }
-    /// Triangulates the free cells (each split along alternating diagonals so the mesh is
-    /// not all one way) and tags their boundary edges.
-    pub fn mesh(&self) -> Mesh {
-        let vid = |i: usize, j: usize| (j * (self.nx + 1) + i) as u32;
-        let mut vertices = Vec::new();
-        for j in 0..=self.ny {
-            for i in 0..=self.nx {
-                vertices.push(Point::new(i as f64 * self.h, j as f64 * self.h));
-            }
-        }
-        let mut triangles = Vec::new();
-        let mut boundary = Vec::new();
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                if self.cells[j * self.nx + i] != Cell::Free {
-                    continue;
-                }
-                let (a, b, c, d) = (vid(i, j), vid(i + 1, j), vid(i + 1, j + 1), vid(i, j + 1));
-                if (i + j) % 2 == 0 {
-                    triangles.push([a, b, c]);
-                    triangles.push([a, c, d]);
-                } else {
-                    triangles.push([a, b, d]);
-                    triangles.push([b, c, d]);
-                }
-                let (ii, jj) = (i as isize, j as isize);
-                for (edge, nb) in [
-                    ((a, b), self.cell(ii, jj - 1)),
-                    ((b, c), self.cell(ii + 1, jj)),
-                    ((c, d), self.cell(ii, jj + 1)),
-                    ((d, a), self.cell(ii - 1, jj)),
-                ] {
-                    let tag = match nb {
-                        None => BoundaryTag::Wall,
-                        Some(Cell::Free) => continue,
-                        Some(Cell::Obstacle(k)) => BoundaryTag::Obstacle(k),
-                        Some(Cell::Goal(g)) => BoundaryTag::Goal(g),
-                    };
-                    boundary.push((edge.0, edge.1, tag));
-                }
-            }
-        }
-        // Drop vertices no triangle uses? Keep them: from_parts accepts isolated vertices.
-        Mesh::from_parts(vertices, triangles, &boundary).expect("grid mesh is valid")
-    }
-}
 
 /// Solves the discrete Laplace problem on the mesh (P1 stiffness, Gauss–Seidel) with ψ = 1 on
 /// goal vertices and ψ = 0 on wall and obstacle vertices; returns ψ (increases toward goals).
@@ -146,17 +52,6 @@ pub fn laplace_psi(mesh: &Mesh, sweeps: usize) -> Vec<f64> {
     psi
 }
 
-/// A tiny deterministic generator (xorshift) so tests need no extra dependency.
-pub struct Rng(pub u64);
-impl Rng {
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// Whether the open segment `a → b` passes through the open interior of the axis-aligned
 /// rectangle `[x0, x1] × [y0, y1]` (touching its boundary is allowed). Liang–Barsky clipping.
 pub fn segment_enters_rect(a: Point, b: Point, x0: f64, y0: f64, x1: f64, y1: f64) -> bool {
@@ -190,9 +85,18 @@ pub fn segment_enters_rect(a: Point, b: Point, x0: f64, y0: f64, x1: f64, y1: f6
     m.x > x0 && m.x < x1 && m.y > y0 && m.y < y1
 }
 
-impl Grid {
-    /// Whether segment `a → b` passes through the interior of an obstacle (or goal) cell.
-    pub fn segment_hits_obstacle(&self, a: Point, b: Point) -> bool {
+/// Queries the trajectory tests ask of a grid scene (corner at the origin, as they build it).
+pub trait GridQueries {
+    /// Whether segment `a → b` passes through the interior of an obstacle cell.
+    fn segment_hits_obstacle(&self, a: Point, b: Point) -> bool;
+    /// `count` random points in free cells.
+    fn random_free(&self, rng: &mut Rng, count: usize) -> Vec<Point>;
+    /// Distance from `p` to the nearest obstacle cell or the outer wall.
+    fn clearance(&self, p: Point) -> f64;
+}
+
+impl GridQueries for Grid {
+    fn segment_hits_obstacle(&self, a: Point, b: Point) -> bool {
         (0..self.ny).any(|j| {
             (0..self.nx).any(|i| {
                 matches!(self.cells[j * self.nx + i], Cell::Obstacle(_))
@@ -207,8 +111,8 @@ impl Grid {
             })
         })
     }
-    /// Random points in free cells.
-    pub fn random_free(&self, rng: &mut Rng, count: usize) -> Vec<Point> {
+
+    fn random_free(&self, rng: &mut Rng, count: usize) -> Vec<Point> {
         let w = self.nx as f64 * self.h;
         let hgt = self.ny as f64 * self.h;
         let mut out = Vec::new();
@@ -219,6 +123,22 @@ impl Grid {
             }
         }
         out
+    }
+
+    fn clearance(&self, p: Point) -> f64 {
+        let (w, hgt) = (self.nx as f64 * self.h, self.ny as f64 * self.h);
+        let mut d = p.x.min(w - p.x).min(p.y).min(hgt - p.y);
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                if let Cell::Obstacle(_) = self.cells[j * self.nx + i] {
+                    let (x0, y0) = (i as f64 * self.h, j as f64 * self.h);
+                    let dx = (x0 - p.x).max(p.x - x0 - self.h).max(0.0);
+                    let dy = (y0 - p.y).max(p.y - y0 - self.h).max(0.0);
+                    d = d.min(dx.hypot(dy));
+                }
+            }
+        }
+        d
     }
 }
 
@@ -241,23 +161,4 @@ pub fn nodal_gradients(mesh: &Mesh, values: &[f64]) -> Vec<harmonic_mesh::Vector
         .zip(w)
         .map(|(g, w)| if w > 0.0 { g / w } else { *g })
         .collect()
-}
-
-impl Grid {
-    /// Distance from `p` to the nearest obstacle cell or the outer wall.
-    pub fn clearance(&self, p: Point) -> f64 {
-        let (w, hgt) = (self.nx as f64 * self.h, self.ny as f64 * self.h);
-        let mut d = p.x.min(w - p.x).min(p.y).min(hgt - p.y);
-        for j in 0..self.ny {
-            for i in 0..self.nx {
-                if let Cell::Obstacle(_) = self.cells[j * self.nx + i] {
-                    let (x0, y0) = (i as f64 * self.h, j as f64 * self.h);
-                    let dx = (x0 - p.x).max(p.x - x0 - self.h).max(0.0);
-                    let dy = (y0 - p.y).max(p.y - y0 - self.h).max(0.0);
-                    d = d.min(dx.hypot(dy));
-                }
-            }
-        }
-        d
-    }
 }
