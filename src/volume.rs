@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use harmonic_fem::volume::{
     NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeFemError, VolumePotential,
-    VolumeSolveMethod, scene_conditions, solve_volume,
+    scene_conditions, solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumePath, VolumeTraceStatus,
@@ -188,22 +188,24 @@ impl VolumePlanner {
         let assemble_ms = millis(t);
 
         let t = Instant::now();
-        let (psi, _) = solve_volume(&system, VolumeSolveMethod::Auto)?;
-        let mut potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
-        let mut clamped_edges = 0;
-        // Stuffed meshes keep a few obtuse boundary tetrahedra; where their positive
-        // off-diagonals let the Galerkin field have an interior extremum, the M-matrix with
-        // those weights clamped restores the discrete maximum principle.
-        if potential.interior_local_extrema() > 0 {
-            let options = VolumeAssemblyOptions {
-                negative_weights: NegativeWeights::Clamp,
-            };
-            let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), &bcs, options)?;
-            let system = assembler.assemble(&bcs)?;
-            clamped_edges = system.clamped_edges();
-            let (psi, _) = solve_volume(&system, VolumeSolveMethod::Auto)?;
-            potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
-        }
+        // Stuffed meshes keep a few obtuse tetrahedra; where their positive off-diagonals let
+        // the Galerkin field have an interior extremum (or ψ is too flat for Cholesky), the
+        // planning solve redoes it on the M-matrix with those weights clamped.
+        let (potential, _, clamped) =
+            solve_assembled_for_planning(Arc::clone(&mesh), &bcs, &system)?;
+        let clamped_edges = if clamped {
+            VolumeAssembler::with_options(
+                Arc::clone(&mesh),
+                &bcs,
+                VolumeAssemblyOptions {
+                    negative_weights: NegativeWeights::Clamp,
+                },
+            )?
+            .assemble(&bcs)?
+            .clamped_edges()
+        } else {
+            0
+        };
         P1VolumeField::ascending(&mesh, potential.psi())?;
         let solve_ms = millis(t);
 

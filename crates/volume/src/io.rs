@@ -139,10 +139,28 @@ pub fn projections_svg(mesh: &TetMesh, paths: &[Vec<Point>]) -> String {
                 BoundaryTag::Obstacle(_) => "#555555",
                 BoundaryTag::Goal(_) => "#2ca02c",
             };
-            let q = f.vertices.map(|v| map(&mesh.vertices()[v as usize]));
+            let corners = f.vertices.map(|v| mesh.vertices()[v as usize]);
+            let q = corners.map(|p| map(&p));
+            // A face seen edge-on (a wall parallel to the viewing axis) has no area in this
+            // projection: draw its outline instead, so such obstacles still show.
+            let area3 = (corners[1] - corners[0])
+                .cross(&(corners[2] - corners[0]))
+                .norm();
+            let area2 = ((q[1].0 - q[0].0) * (q[2].1 - q[0].1)
+                - (q[1].1 - q[0].1) * (q[2].0 - q[0].0))
+                .abs();
+            let edge_on = area2 < 0.05 * area3 * scale * scale;
+            let (fill_opacity, stroke) = if edge_on {
+                (
+                    "0",
+                    format!("stroke=\"{fill}\" stroke-opacity=\"0.5\" stroke-width=\"0.8\""),
+                )
+            } else {
+                ("0.06", "stroke=\"none\"".to_string())
+            };
             let _ = writeln!(
                 s,
-                "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" fill=\"{fill}\" fill-opacity=\"0.06\" stroke=\"none\"/>",
+                "<polygon points=\"{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}\" fill=\"{fill}\" fill-opacity=\"{fill_opacity}\" {stroke}/>",
                 q[0].0, q[0].1, q[1].0, q[1].1, q[2].0, q[2].1
             );
         }

@@ -141,7 +141,19 @@ pub fn solve_volume_potential_with_report(
 ) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
     let assembler = VolumeAssembler::new(Arc::clone(&mesh), bcs)?;
     let system = assembler.assemble(bcs)?;
-    let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
+    solve_assembled_for_planning(mesh, bcs, &system)
+}
+
+/// The planning solve of [`solve_volume_potential_with_report`] for a `system` already
+/// assembled from `bcs` on `mesh` with the Galerkin stiffness (so a caller can time the
+/// assembly apart): solve, and redo with the clamped M-matrix where the field has an interior
+/// extremum or is too flat for a Cholesky solve.
+pub fn solve_assembled_for_planning(
+    mesh: Arc<TetMesh>,
+    bcs: &BoundaryConditions,
+    system: &VolumeSystem,
+) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
+    let (psi, report) = solve_volume(system, VolumeSolveMethod::Auto)?;
     let flat = {
         let free = system.free_vertices();
         let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
