@@ -23,13 +23,18 @@
 //! nested-dissection order restricted to them); when the robot has moved on far enough, the
 //! replan numbers them in that nested-dissection order and computes a fresh minimum-degree
 //! order to keep.
+//!
+//! The two policies live in the crates that own them: the lattice's geometry and its
+//! structured P1 system are [`harmonic_fem::StructuredGrid`], the kept order and its reuse
+//! rule are [`harmonic_solver::KeptOrder`]. This module decides what is blocked, builds the
+//! local mesh, and traces.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use harmonic_fem::Potential;
+use harmonic_fem::{Potential, StructuredGrid, VertexRole};
 use harmonic_mesh::{BoundaryTag, Domain, Mesh, NO_NEIGHBOR, Point};
-use harmonic_solver::{AccurateLdlt, MMatrix, Ordering, SymmetricCsc};
+use harmonic_solver::{AccurateLdlt, KeptOrder, MMatrix, Ordering};
 use harmonic_trajectory::{
     ExactOptions, Path, SmoothOptions, SmoothP1Field, TraceStatus, Tracer, descend,
 };
@@ -112,6 +117,8 @@ pub(crate) struct LatticePlan {
 pub(crate) struct Lattice {
     h: f64,
     cells: usize,
+    /// The window's `cells × cells` grid: its triangles and its structured P1 system.
+    grid: StructuredGrid,
     /// The robot's radius (sensed obstacles are grown by it).
     robot_radius: f64,
     /// The known map's goal regions as polygons: holes of its free space, but free for the
@@ -120,9 +127,9 @@ pub(crate) struct Lattice {
     /// A nested-dissection order of all `(cells + 1)²` lattice vertices (of the 5-point
     /// stencil's graph), computed once: each replan numbers its unknowns in this order.
     order: Vec<usize>,
-    /// The minimum-degree elimination order of an earlier window's unknowns, reused while
-    /// it covers most of the current ones.
-    elimination: Option<EliminationOrder>,
+    /// The minimum-degree elimination order of an earlier window's unknowns by global
+    /// lattice vertex, reused while it covers most of the current ones.
+    elimination: Option<KeptOrder<(i64, i64)>>,
     known: HashMap<(i64, i64), Vec<bool>>,
 }
 
@@ -134,39 +141,12 @@ impl Lattice {
     /// A lattice of `cells × cells` cells of side `h`, for a map whose goal regions are
     /// `goal_rings`.
     pub fn new(h: f64, cells: usize, robot_radius: f64, goal_rings: Vec<Vec<[f64; 2]>>) -> Lattice {
-        let side = cells + 1;
-        let n = side * side;
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(4 * n);
-        col_ptr.push(0);
-        for v in 0..n {
-            let (i, j) = (v % side, v / side);
-            if j > 0 {
-                row_idx.push(v - side);
-            }
-            if i > 0 {
-                row_idx.push(v - 1);
-            }
-            if i + 1 < side {
-                row_idx.push(v + 1);
-            }
-            if j + 1 < side {
-                row_idx.push(v + side);
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let nnz = row_idx.len();
-        let pattern = SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])
-            .expect("the 5-point pattern is valid: sorted rows, mirrored by construction");
-        let coords = (0..n).map(|v| [(v % side) as f64, (v / side) as f64]);
-        let order = Ordering::NestedDissection {
-            coords: coords.collect(),
-        }
-        .permutation(&pattern)
-        .expect("one coordinate pair per lattice vertex");
+        let grid = StructuredGrid::new(cells, cells, h);
+        let order = grid.nested_dissection();
         Lattice {
             h,
             cells,
+            grid,
             robot_radius,
             goal_rings,
             order,
@@ -298,7 +278,8 @@ impl Lattice {
         let t = std::time::Instant::now();
         let (psi, fresh) = system.solve()?;
         if let Some(order) = fresh {
-            self.elimination = Some(EliminationOrder::new(&window, &order));
+            let keys = order.into_iter().map(|v| window.global(v));
+            self.elimination = Some(KeptOrder::new(keys));
         }
         let potential =
             Potential::new(Arc::clone(&mesh), psi, 1.0).map_err(|_| LatticeMiss::Solve)?;
@@ -461,7 +442,7 @@ impl Lattice {
                 }
                 LatticeGoal::Point(p) => {
                     if let Some(tri) = self.triangle_at(*p, window) {
-                        let verts = self.triangle_vertices(tri);
+                        let verts = self.grid.triangle_vertices(tri);
                         if verts.iter().all(|&v| !blocked[v]) {
                             for v in verts {
                                 is_goal[v] = true;
@@ -480,9 +461,9 @@ impl Lattice {
     /// What each lattice triangle is: removed (a blocked vertex), part of the goal's hole
     /// (kept, touching a goal vertex) or part of the local mesh.
     fn classify(&self, blocked: &[bool], is_goal: &[bool]) -> Vec<Kind> {
-        (0..2 * self.cells * self.cells)
+        (0..self.grid.triangle_count())
             .map(|tri| {
-                let verts = self.triangle_vertices(tri);
+                let verts = self.grid.triangle_vertices(tri);
                 if verts.iter().any(|&v| blocked[v]) {
                     Kind::Removed
                 } else if verts.iter().any(|&v| is_goal[v]) {
@@ -510,7 +491,7 @@ impl Lattice {
         let mut number = vec![NO_NEIGHBOR; kind.len()];
         for (tri, _) in kind.iter().enumerate().filter(|(_, k)| **k == Kind::Mesh) {
             number[tri] = triangles.len() as u32;
-            let local = self.triangle_vertices(tri).map(|v| {
+            let local = self.grid.triangle_vertices(tri).map(|v| {
                 if index[v] == u32::MAX {
                     index[v] = vertices.len() as u32;
                     vertices.push(window.point(v));
@@ -523,7 +504,7 @@ impl Lattice {
         for (tri, _) in kind.iter().enumerate().filter(|(_, k)| **k == Kind::Mesh) {
             let local = triangles[number[tri] as usize];
             let mut across = [NO_NEIGHBOR; 3];
-            for (k, other) in self.neighbors(tri).into_iter().enumerate() {
+            for (k, other) in self.grid.triangle_neighbors(tri).into_iter().enumerate() {
                 let tag = match other.map(|u| kind[u]) {
                     Some(Kind::Mesh) => {
                         across[k] = other.map_or(NO_NEIGHBOR, |u| number[u]);
@@ -545,12 +526,11 @@ impl Lattice {
 
     /// The local mesh's Dirichlet problem on the lattice. The unknowns are the kept mesh's
     /// interior vertices (5-point rows); every other vertex is held at its value (1 on the
-    /// goal's boundary, else 0) and moves to the right-hand side.
+    /// goal's boundary, else 0) and moves to the right-hand side, or is off the mesh.
     ///
     /// The unknowns are numbered in the kept minimum-degree order of an earlier window while it
-    /// ranks at least 70 % of them (a vertex new to it goes just before its first ranked
-    /// neighbour, one with none last); otherwise in the lattice's nested-dissection order, and
-    /// the solve computes a fresh minimum-degree order to keep.
+    /// ranks at least 70 % of them ([`KeptOrder::order_for`]); otherwise in the lattice's
+    /// nested-dissection order, and the solve computes a fresh minimum-degree order to keep.
     fn system(
         &self,
         mesh: &Mesh,
@@ -558,126 +538,50 @@ impl Lattice {
         window: &Window,
     ) -> Result<LocalSystem, LatticeMiss> {
         let tags = mesh.vertex_tags();
-        let held = |v: usize| -> Option<f64> {
-            match index[v] {
-                u32::MAX => Some(0.0),
+        let roles: Vec<VertexRole> = index
+            .iter()
+            .map(|&m| match m {
+                u32::MAX => VertexRole::Removed,
                 m => match tags[m as usize] {
-                    None => None,
-                    Some(BoundaryTag::Goal(_)) => Some(1.0),
-                    Some(_) => Some(0.0),
+                    None => VertexRole::Unknown,
+                    Some(BoundaryTag::Goal(_)) => VertexRole::Prescribed(1.0),
+                    Some(_) => VertexRole::Prescribed(0.0),
                 },
-            }
-        };
-        let side = self.side();
-        let rank = |v: usize| {
-            self.elimination
-                .as_ref()
-                .map_or(u32::MAX, |e| e.rank_at(window.global(v)))
-        };
-        let mut ranked = 0usize;
-        let mut keyed: Vec<(u64, usize)> = Vec::new();
-        for v in (0..index.len()).filter(|&v| held(v).is_none()) {
-            let key = match rank(v) {
-                u32::MAX => {
-                    let (i, j) = (v % side, v / side);
-                    let neighbours = [
-                        (i > 0).then(|| v - 1),
-                        (i + 1 < side).then(|| v + 1),
-                        (j > 0).then(|| v - side),
-                        (j + 1 < side).then(|| v + side),
-                    ];
-                    match neighbours.into_iter().flatten().map(rank).min() {
-                        Some(r) if r != u32::MAX => u64::from(r) << 1,
-                        _ => u64::MAX,
-                    }
-                }
-                r => {
-                    ranked += 1;
-                    (u64::from(r) << 1) | 1
-                }
+            })
+            .collect();
+        let unknown = |v: usize| roles[v] == VertexRole::Unknown;
+        let kept = self.elimination.as_ref().and_then(|kept| {
+            let vertices: Vec<usize> = (0..index.len()).filter(|&v| unknown(v)).collect();
+            let keys: Vec<(i64, i64)> = vertices.iter().map(|&v| window.global(v)).collect();
+            let neighbours = |k: usize| {
+                let near = self.grid.vertex_neighbors(vertices[k]);
+                near.map(|u| window.global(u))
             };
-            keyed.push((key, v));
-        }
-        let reuse = ranked >= 1 && 10 * ranked >= 7 * keyed.len();
-        let lattice_vertex: Vec<usize> = if reuse {
-            // Keys are below 2 side² (or MAX): a counting sort (stable, so ties keep the
-            // window's row-by-row order).
-            let last = 2 * index.len();
-            let bucket = |key: u64| usize::try_from(key).map_or(last, |k| k.min(last));
-            let mut start = vec![0usize; last + 2];
-            for &(key, _) in &keyed {
-                start[bucket(key) + 1] += 1;
-            }
-            for b in 0..=last {
-                start[b + 1] += start[b];
-            }
-            let mut sorted = vec![0usize; keyed.len()];
-            for &(key, v) in &keyed {
-                let slot = &mut start[bucket(key)];
-                sorted[*slot] = v;
-                *slot += 1;
-            }
-            sorted
-        } else {
-            self.order
-                .iter()
-                .copied()
-                .filter(|&v| held(v).is_none())
-                .collect()
-        };
-        let mut position = vec![u32::MAX; index.len()];
-        let mut unknowns = Vec::with_capacity(lattice_vertex.len());
-        for &v in &lattice_vertex {
-            position[v] = unknowns.len() as u32;
-            unknowns.push(index[v]);
-        }
-        let m = unknowns.len();
-        let mut col_ptr = Vec::with_capacity(m + 1);
-        let mut row_idx = Vec::with_capacity(4 * m);
-        let mut excess = vec![0.0; m];
-        let mut rhs = vec![0.0; m];
-        col_ptr.push(0);
-        for (c, &v) in lattice_vertex.iter().enumerate() {
-            // An interior vertex of the kept mesh has all its triangles kept, so it is not on
-            // the window's border and has four lattice neighbours.
-            let (i, j) = (v % side, v / side);
-            if i == 0 || j == 0 || i + 1 == side || j + 1 == side {
-                return Err(LatticeMiss::Solve);
-            }
-            let start = row_idx.len();
-            for u in [v - side, v - 1, v + 1, v + side] {
-                match position[u] {
-                    u32::MAX => {
-                        excess[c] += 1.0;
-                        rhs[c] += held(u).unwrap_or(0.0);
-                    }
-                    r => row_idx.push(r as usize),
-                }
-            }
-            row_idx[start..].sort_unstable();
-            col_ptr.push(row_idx.len());
-        }
-        let matrix = if m > 0 {
-            let values = vec![1.0; row_idx.len()];
-            let offdiag = SymmetricCsc::try_from_symmetric_pattern(m, col_ptr, row_idx, values)
-                .map_err(|_| LatticeMiss::Solve)?;
-            Some(MMatrix::try_new(offdiag, excess).map_err(|_| LatticeMiss::Solve)?)
-        } else {
-            None
-        };
+            let perm = kept.order_for(&keys, neighbours)?;
+            Some(perm.into_iter().map(|k| vertices[k]).collect::<Vec<_>>())
+        });
+        let fresh_order = kept.is_none();
+        let order =
+            kept.unwrap_or_else(|| self.order.iter().copied().filter(|&v| unknown(v)).collect());
+        let system = self
+            .grid
+            .system(&roles, Some(&order))
+            .map_err(|_| LatticeMiss::Solve)?;
+        let (matrix, rhs, lattice_vertex) = system.into_parts();
+        let unknowns = lattice_vertex.iter().map(|&v| index[v]).collect();
         // ψ at the mesh's vertices: the held values now, the unknowns' after the solve.
         let mut psi = vec![0.0; mesh.vertices().len()];
-        for (v, &k) in index.iter().enumerate() {
-            if k != u32::MAX {
-                psi[k as usize] = held(v).unwrap_or(0.0);
+        for (&k, role) in index.iter().zip(&roles) {
+            if let VertexRole::Prescribed(value) = *role {
+                psi[k as usize] = value;
             }
         }
         Ok(LocalSystem {
-            matrix,
+            matrix: (matrix.n() > 0).then_some(matrix),
             rhs,
             unknowns,
             lattice_vertex,
-            fresh_order: !reuse,
+            fresh_order,
             psi,
         })
     }
@@ -705,6 +609,7 @@ impl Lattice {
         let from = Point::new(from[0], from[1]);
         let distance = |v: usize| (window.point(v) - from).norm();
         let Some(v) = self
+            .grid
             .triangle_vertices(tri)
             .into_iter()
             .filter(|&v| is_goal[v])
@@ -715,7 +620,7 @@ impl Lattice {
         let mut targets = vec![window.point(v)];
         let point_beyond = points().find(|&p| {
             self.triangle_at(p, window)
-                .is_some_and(|t| self.triangle_vertices(t).contains(&v))
+                .is_some_and(|t| self.grid.triangle_vertices(t).contains(&v))
         });
         if let Some(p) = point_beyond {
             targets.push(Point::new(p[0], p[1]));
@@ -725,7 +630,7 @@ impl Lattice {
 
     /// Whether the closed triangle `tri` holds `p`, with an orientation tolerance `tol`.
     fn closed_triangle_holds(&self, tri: usize, window: &Window, p: [f64; 2], tol: f64) -> bool {
-        let [a, b, c] = self.triangle_vertices(tri).map(|v| window.point(v));
+        let [a, b, c] = self.grid.triangle_vertices(tri).map(|v| window.point(v));
         let p = Point::new(p[0], p[1]);
         [(a, b), (b, c), (c, a)]
             .iter()
@@ -757,56 +662,7 @@ impl Lattice {
     fn triangle_at(&self, p: [f64; 2], window: &Window) -> Option<usize> {
         let (gi0, gj0) = window.origin;
         let (x, y) = (p[0] / self.h - gi0 as f64, p[1] / self.h - gj0 as f64);
-        let n = self.cells as f64;
-        if !(x >= 0.0 && y >= 0.0 && x <= n && y <= n) {
-            return None;
-        }
-        let (i, j) = (
-            (x.floor() as usize).min(self.cells - 1),
-            (y.floor() as usize).min(self.cells - 1),
-        );
-        // Below the diagonal (x − i ≥ y − j): the lower-right triangle.
-        let upper = y - j as f64 > x - i as f64;
-        Some(2 * (j * self.cells + i) + upper as usize)
-    }
-
-    /// Lattice vertices of triangle `tri`, counter-clockwise: cell `(i, j)`'s lower-right
-    /// triangle is `(i, j), (i+1, j), (i+1, j+1)`, its upper-left `(i, j), (i+1, j+1), (i, j+1)`.
-    fn triangle_vertices(&self, tri: usize) -> [usize; 3] {
-        let side = self.side();
-        let cell = tri / 2;
-        let (i, j) = (cell % self.cells, cell / self.cells);
-        let v00 = j * side + i;
-        let (v10, v01, v11) = (v00 + 1, v00 + side, v00 + side + 1);
-        if tri.is_multiple_of(2) {
-            [v00, v10, v11]
-        } else {
-            [v00, v11, v01]
-        }
-    }
-
-    /// The triangles across the edges opposite each local vertex of `tri` (`None` at the
-    /// window's border).
-    fn neighbors(&self, tri: usize) -> [Option<usize>; 3] {
-        let n = self.cells;
-        let cell = tri / 2;
-        let (i, j) = (cell % n, cell / n);
-        let lower = |i: usize, j: usize| 2 * (j * n + i);
-        if tri.is_multiple_of(2) {
-            // Opposite v00: the right side; opposite v10: the diagonal; opposite v11: the bottom.
-            [
-                (i + 1 < n).then(|| lower(i + 1, j) + 1),
-                Some(tri + 1),
-                (j > 0).then(|| lower(i, j - 1) + 1),
-            ]
-        } else {
-            // Opposite v00: the top; opposite v11: the left side; opposite v01: the diagonal.
-            [
-                (j + 1 < n).then(|| lower(i, j + 1)),
-                (i > 0).then(|| lower(i - 1, j)),
-                Some(tri - 1),
-            ]
-        }
+        self.grid.triangle_at(x, y)
     }
 }
 
@@ -852,43 +708,6 @@ impl LocalSystem {
             self.psi[k as usize] = value;
         }
         Ok((self.psi, fresh))
-    }
-}
-
-/// A minimum-degree elimination order of one window's unknowns, by global lattice vertex.
-struct EliminationOrder {
-    /// Global index of that window's lower-left vertex.
-    origin: (i64, i64),
-    /// Vertices per side of the window.
-    side: usize,
-    /// Rank in the order of each of that window's vertices (row by row; `u32::MAX` for those
-    /// that were not unknowns).
-    rank: Vec<u32>,
-}
-
-impl EliminationOrder {
-    /// The order `order` (window vertices, first eliminated first) of `window`'s unknowns.
-    fn new(window: &Window, order: &[usize]) -> Self {
-        let mut rank = vec![u32::MAX; window.side * window.side];
-        for (r, &v) in order.iter().enumerate() {
-            rank[v] = r as u32;
-        }
-        EliminationOrder {
-            origin: window.origin,
-            side: window.side,
-            rank,
-        }
-    }
-
-    /// Rank of global lattice vertex `(gi, gj)` (`u32::MAX` if it is not ranked).
-    fn rank_at(&self, (gi, gj): (i64, i64)) -> u32 {
-        let (i, j) = (gi - self.origin.0, gj - self.origin.1);
-        let side = self.side as i64;
-        if (0..side).contains(&i) && (0..side).contains(&j) {
-            self.rank[(j * side + i) as usize]
-        } else {
-            u32::MAX
-        }
     }
 }
 

@@ -106,6 +106,7 @@ mod assemble;
 mod bc;
 mod potential;
 mod solve;
+mod structured;
 pub mod volume;
 
 pub use assemble::{
@@ -117,6 +118,7 @@ pub use potential::{Evaluation, LocalExtrema, Potential, blend, interior_local_e
 pub use solve::{
     AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
 };
+pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
 pub use harmonic_solver::Ordering;
