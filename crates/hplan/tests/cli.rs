@@ -4,27 +4,15 @@
 
 use std::path::PathBuf;
 
-use assert_cmd::Command;
-use serde_json::Value;
+mod common;
 
-fn hplan() -> Command {
-    Command::cargo_bin("hplan").expect("the hplan binary is built")
-}
+use common::{hplan, run_json};
+use serde_json::Value;
 
 fn scenes() -> Vec<PathBuf> {
     let v = harmonic_fixtures::plane_scenes();
     assert!(v.len() >= 6, "expected the bundled scenes, found {v:?}");
     v
-}
-
-fn run_json(args: &[&str]) -> Value {
-    let out = hplan().args(args).output().expect("hplan runs");
-    assert!(
-        out.status.success(),
-        "hplan {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
 }
 
 type Seg = ([f64; 2], [f64; 2]);

@@ -3,7 +3,9 @@
 
 use std::path::PathBuf;
 
-use assert_cmd::Command;
+mod common;
+
+use common::hplan;
 
 fn root() -> PathBuf {
     harmonic_fixtures::repo_root()
@@ -14,11 +16,7 @@ fn warehouse_yaml() -> PathBuf {
 }
 
 fn hplan_fails_with_one_line(args: &[&str], fragment: &str) -> Result<(), String> {
-    let out = Command::cargo_bin("hplan")
-        .expect("the hplan binary is built")
-        .args(args)
-        .output()
-        .expect("hplan runs");
+    let out = hplan().args(args).output().expect("hplan runs");
     let stderr = String::from_utf8_lossy(&out.stderr);
     let ok = !out.status.success()
         && !stderr.contains("panicked")
@@ -89,8 +87,7 @@ fn usage_errors_fail_with_one_line() {
 
 #[test]
 fn the_command_line_plans_on_a_map() {
-    let out = Command::cargo_bin("hplan")
-        .expect("hplan is built")
+    let out = hplan()
         .args(["plan", "--map"])
         .arg(warehouse_yaml())
         .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
@@ -108,8 +105,7 @@ fn the_command_line_plans_on_a_map() {
     assert_ne!(paths[1]["status"], "reached_goal");
 
     let fails = |args: &[&str], needle: &str| {
-        let out = Command::cargo_bin("hplan")
-            .expect("hplan is built")
+        let out = hplan()
             .current_dir(root())
             .args(args)
             .output()
@@ -171,8 +167,7 @@ fn a_closed_pipe_is_not_a_panic() {
 /// clap's "required arguments were not provided:" runs on into the argument it names.
 #[test]
 fn a_missing_argument_is_named_on_the_same_line() {
-    let out = Command::cargo_bin("hplan")
-        .expect("hplan is built")
+    let out = hplan()
         .args(["plan", "--map"])
         .arg(warehouse_yaml())
         .output()

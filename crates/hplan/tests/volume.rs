@@ -2,22 +2,10 @@
 //! start to the goal, the paths stay out of the exact solids, the export has no strict
 //! interior local minimum, and bad volume scenes fail with one line.
 
-use assert_cmd::Command;
+mod common;
+
+use common::{hplan, run_json};
 use serde_json::Value;
-
-fn hplan() -> Command {
-    Command::cargo_bin("hplan").expect("the hplan binary is built")
-}
-
-fn run_json(args: &[&str]) -> Value {
-    let out = hplan().args(args).output().expect("hplan runs");
-    assert!(
-        out.status.success(),
-        "hplan {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
-}
 
 /// Signed distance to an axis-aligned box (negative inside).
 fn box_distance(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
