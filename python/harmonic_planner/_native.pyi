@@ -1,0 +1,174 @@
+"""Type stubs of harmonic_planner's native module (re-exported by ``harmonic_planner``).
+
+Bound: plane scenes (``Scene``, ``Planner``: plan, plan_many, potential, psi, gradient, mesh,
+timings, ROS maps, car-like robots) and volume scenes (``VolumePlanner``, points of shape
+(n, 3)).
+
+Not bound yet:
+- configuration-space robots (planned in the Rust crate; not there yet),
+- any-goal workspaces (planned),
+- replanning among moving obstacles (``harmonic-dynamic``), the baseline planners
+  (``harmonic-baselines``), SVG / VTK export (use ``hplan``), stage-progress callbacks.
+"""
+
+from os import PathLike
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ArrayLike = npt.ArrayLike
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+StrPath = Union[str, "PathLike[str]"]
+
+class SceneError(ValueError):
+    """Bad input: an unreadable or invalid scene or map, a scene that cannot be meshed or
+    solved, an option out of range, or an array of the wrong shape. The message is the
+    command line's without ``hplan: `` (``<file>: <error>`` for files)."""
+
+class Scene:
+    """A scene (the JSON format of ``meshes/*.json``): plane, or volume (``"dimension": 3``)."""
+
+    @staticmethod
+    def from_file(path: StrPath) -> "Scene":
+        """Reads a scene file; errors read ``<path>: <error>``."""
+    @staticmethod
+    def from_json(text: str) -> "Scene":
+        """Parses JSON text; errors name the field, line and column."""
+    @staticmethod
+    def from_dict(d: Mapping[str, Any]) -> "Scene":
+        """A scene from a dict of the file format (serialised with json.dumps(indent=1))."""
+    def to_json(self) -> str:
+        """The scene as JSON text, defaults filled in."""
+    def to_dict(self) -> Dict[str, Any]:
+        """The scene as a dict."""
+    @property
+    def dimension(self) -> int:
+        """2 for a plane scene, 3 for a volume."""
+    @property
+    def name(self) -> Optional[str]: ...
+    @property
+    def source(self) -> Optional[str]:
+        """The file it was read from, or None."""
+    @property
+    def starts(self) -> FloatArray:
+        """The scene's query points, shape (n, 2) or (n, 3)."""
+
+class Path:
+    """A planned path. ``points``: shape (n, 2), or (n, 3) from a VolumePlanner."""
+
+    @property
+    def status(self) -> str:
+        """"reached_goal", "unreachable", "stalled", "start_in_obstacle",
+        "outside_workspace" or "max_steps"."""
+    @property
+    def reached_goal(self) -> bool: ...
+    @property
+    def goal(self) -> Optional[int]: ...
+    @property
+    def tracer(self) -> str:
+        """"smooth" or "exact"."""
+    @property
+    def start(self) -> List[float]: ...
+    @property
+    def points(self) -> FloatArray: ...
+    @property
+    def length(self) -> float: ...
+    @property
+    def min_clearance(self) -> float: ...
+    @property
+    def min_gradient(self) -> float: ...
+    def __len__(self) -> int: ...
+
+class CarRun:
+    """A car-like robot's run; ``poses``: shape (n, 3) of [x, y, theta]."""
+
+    @property
+    def status(self) -> str: ...
+    @property
+    def reached_goal(self) -> bool: ...
+    @property
+    def goal(self) -> Optional[int]: ...
+    @property
+    def start(self) -> List[float]: ...
+    @property
+    def poses(self) -> FloatArray: ...
+    @property
+    def length(self) -> float: ...
+    @property
+    def min_clearance(self) -> float: ...
+    @property
+    def min_gradient(self) -> float: ...
+    @property
+    def max_curvature(self) -> float: ...
+    def __len__(self) -> int: ...
+
+class Planner:
+    """A planner for one plane scene: meshed, assembled and solved once (GIL released)."""
+
+    def __init__(self, scene: Scene, *, max_area: Optional[float] = None) -> None: ...
+    @staticmethod
+    def from_map(
+        yaml: StrPath,
+        goal: ArrayLike,
+        robot_radius: float = 0.0,
+        *,
+        max_area: Optional[float] = None,
+    ) -> "Planner":
+        """A planner on a ROS map_server YAML map towards ``goal`` (world coordinates)."""
+    def plan(self, start: ArrayLike) -> Path:
+        """A path from ``start`` (x, y) to the goal."""
+    def plan_exact(self, start: ArrayLike) -> Path:
+        """The exact (triangle-to-triangle) tracer's path."""
+    def plan_many(self, starts: ArrayLike) -> List[Path]:
+        """Paths from every row of ``starts`` (n, 2), in parallel, same order."""
+    def potential(self, points: ArrayLike) -> FloatArray:
+        """phi at points (m, 2) -> (m,), NaN outside free space."""
+    def psi(self, points: ArrayLike) -> FloatArray:
+        """psi = reference - phi at points (m, 2) -> (m,), accurate when tiny."""
+    def gradient(self, points: ArrayLike, *, smooth: bool = False) -> FloatArray:
+        """grad phi at points (m, 2) -> (m, 2), NaN outside free space."""
+    def mesh(self) -> Tuple[FloatArray, IntArray]:
+        """(vertices (V, 2) float64, triangles (T, 3) int64)."""
+    def phi_at_vertices(self) -> FloatArray:
+        """phi at every mesh vertex, (V,)."""
+    def psi_at_vertices(self) -> FloatArray:
+        """psi at every mesh vertex, (V,)."""
+    @property
+    def reference(self) -> float:
+        """The walls' value c (psi = c - phi)."""
+    @property
+    def timings(self) -> Dict[str, float]:
+        """Milliseconds: {"mesh", "assemble", "solve"}."""
+    @property
+    def source(self) -> Optional[str]: ...
+    def drive(
+        self,
+        pose: ArrayLike,
+        *,
+        wheelbase: Optional[float] = None,
+        max_steer_deg: float = 35.0,
+        step: Optional[float] = None,
+        check_footprint: bool = False,
+    ) -> CarRun:
+        """Drives a car-like robot from ``pose`` (x, y, theta) along the potential."""
+
+class VolumePlanner:
+    """A planner for one volume scene (``"dimension": 3``); points have shape (n, 3)."""
+
+    def __init__(self, scene: Scene, *, max_volume: Optional[float] = None) -> None: ...
+    def plan(self, start: ArrayLike) -> Path: ...
+    def plan_many(self, starts: ArrayLike) -> List[Path]: ...
+    def potential(self, points: ArrayLike) -> FloatArray: ...
+    def psi(self, points: ArrayLike) -> FloatArray: ...
+    def gradient(self, points: ArrayLike) -> FloatArray: ...
+    def mesh(self) -> Tuple[FloatArray, IntArray]:
+        """(vertices (V, 3) float64, tetrahedra (T, 4) int64)."""
+    def phi_at_vertices(self) -> FloatArray: ...
+    @property
+    def timings(self) -> Dict[str, float]: ...
+    @property
+    def source(self) -> Optional[str]: ...

@@ -1,0 +1,210 @@
+//! `hp.Path` (a planned path, plane or volume) and `hp.CarRun` (a car's drive).
+
+use harmonic_planner::volume::VolumePlannedPath;
+use harmonic_planner::{CarRun, PlannedPath};
+use numpy::PyArray2;
+use numpy::ndarray::Array2;
+use pyo3::prelude::*;
+
+use crate::arrays;
+
+/// A planned path from `start` down the potential.
+///
+/// `status` is one of the command line's words: "reached_goal", "unreachable", "stalled",
+/// "start_in_obstacle", "outside_workspace", "max_steps". `points` is an array of shape
+/// (n, 2) — (n, 3) for a volume — from the start; on reaching the goal the last point lies on
+/// the goal's boundary.
+#[pyclass(module = "harmonic_planner", name = "Path", frozen)]
+pub struct PyPath {
+    start: Vec<f64>,
+    status: &'static str,
+    goal: Option<u32>,
+    tracer: String,
+    length: f64,
+    min_clearance: f64,
+    min_gradient: f64,
+    dimension: usize,
+    points: Vec<f64>,
+}
+
+fn tracer_name(t: &impl serde::Serialize) -> String {
+    match serde_json::to_value(t) {
+        Ok(serde_json::Value::String(s)) => s,
+        other => format!("{other:?}"),
+    }
+}
+
+impl From<PlannedPath> for PyPath {
+    fn from(p: PlannedPath) -> PyPath {
+        PyPath {
+            start: p.start.to_vec(),
+            status: p.status.as_str(),
+            goal: p.goal,
+            tracer: tracer_name(&p.tracer),
+            length: p.length,
+            min_clearance: p.min_clearance,
+            min_gradient: p.min_gradient,
+            dimension: 2,
+            points: p.points.iter().flatten().copied().collect(),
+        }
+    }
+}
+
+impl From<VolumePlannedPath> for PyPath {
+    fn from(p: VolumePlannedPath) -> PyPath {
+        PyPath {
+            start: p.start.to_vec(),
+            status: p.status.as_str(),
+            goal: p.goal,
+            tracer: tracer_name(&p.tracer),
+            length: p.length,
+            min_clearance: p.min_clearance,
+            min_gradient: p.min_gradient,
+            dimension: 3,
+            points: p.points.iter().flatten().copied().collect(),
+        }
+    }
+}
+
+fn rows<'py>(py: Python<'py>, flat: &[f64], d: usize) -> Bound<'py, PyArray2<f64>> {
+    let array = Array2::from_shape_vec((flat.len() / d, d), flat.to_vec()).expect("n × d values");
+    PyArray2::from_owned_array(py, array)
+}
+
+#[pymethods]
+impl PyPath {
+    /// How the path ended: "reached_goal", "unreachable", "stalled", "start_in_obstacle",
+    /// "outside_workspace" or "max_steps".
+    #[getter]
+    fn status(&self) -> &'static str {
+        self.status
+    }
+    /// Whether the path reached a goal (status == "reached_goal").
+    #[getter]
+    fn reached_goal(&self) -> bool {
+        self.status == "reached_goal"
+    }
+    /// The index of the goal region reached, or None.
+    #[getter]
+    fn goal(&self) -> Option<u32> {
+        self.goal
+    }
+    /// Which tracer made the path: "smooth" (the default) or "exact" (the fallback).
+    #[getter]
+    fn tracer(&self) -> &str {
+        &self.tracer
+    }
+    /// The query point, as given (a tuple of 2 or 3 floats).
+    #[getter]
+    fn start(&self) -> Vec<f64> {
+        self.start.clone()
+    }
+    /// The path's vertices, a new float64 array of shape (n, 2) — (n, 3) for a volume.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        rows(py, &self.points, self.dimension)
+    }
+    /// Length of the polyline `points`, in scene units.
+    #[getter]
+    fn length(&self) -> f64 {
+        self.length
+    }
+    /// Smallest distance from the path to a wall or an obstacle (exact geometry).
+    #[getter]
+    fn min_clearance(&self) -> f64 {
+        self.min_clearance
+    }
+    /// Smallest |∇φ| met along the path (0 if none was met).
+    #[getter]
+    fn min_gradient(&self) -> f64 {
+        self.min_gradient
+    }
+    fn __len__(&self) -> usize {
+        self.points.len() / self.dimension
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Path(status={:?}, points={}, length={:.6}, min_clearance={:.6})",
+            self.status,
+            self.__len__(),
+            self.length,
+            self.min_clearance
+        )
+    }
+}
+
+/// A car-like robot's run along the potential: `poses` is an array of shape (n, 3) of
+/// rear-axle midpoints and headings `[x, y, theta]` (radians).
+///
+/// `status` is one of "reached_goal", "stalled", "max_steps", "collision" (with
+/// `check_footprint=True`), "start_in_obstacle", "outside_workspace", "unreachable".
+#[pyclass(module = "harmonic_planner", name = "CarRun", frozen)]
+pub struct PyCarRun {
+    run: CarRun,
+}
+
+impl From<CarRun> for PyCarRun {
+    fn from(run: CarRun) -> PyCarRun {
+        PyCarRun { run }
+    }
+}
+
+#[pymethods]
+impl PyCarRun {
+    /// How the run ended (the command line's words).
+    #[getter]
+    fn status(&self) -> &'static str {
+        self.run.status.as_str()
+    }
+    /// Whether the car reached a goal.
+    #[getter]
+    fn reached_goal(&self) -> bool {
+        self.run.status.reached_goal()
+    }
+    /// The index of the goal region reached, or None.
+    #[getter]
+    fn goal(&self) -> Option<u32> {
+        self.run.goal
+    }
+    /// The start pose `[x, y, theta]`, as given.
+    #[getter]
+    fn start(&self) -> [f64; 3] {
+        self.run.start
+    }
+    /// The poses `[x, y, theta]`, a new float64 array of shape (n, 3).
+    #[getter]
+    fn poses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        arrays::rows_f64(py, &self.run.poses)
+    }
+    /// Arc length driven.
+    #[getter]
+    fn length(&self) -> f64 {
+        self.run.length
+    }
+    /// Smallest distance from the rear-axle track to a wall or an obstacle.
+    #[getter]
+    fn min_clearance(&self) -> f64 {
+        self.run.min_clearance
+    }
+    /// Smallest |∇φ| met along the run.
+    #[getter]
+    fn min_gradient(&self) -> f64 {
+        self.run.min_gradient
+    }
+    /// Largest curvature |κ| driven (at most tan(max_steer) / wheelbase).
+    #[getter]
+    fn max_curvature(&self) -> f64 {
+        self.run.max_curvature
+    }
+    fn __len__(&self) -> usize {
+        self.run.poses.len()
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "CarRun(status={:?}, poses={}, length={:.6})",
+            self.status(),
+            self.run.poses.len(),
+            self.run.length
+        )
+    }
+}

@@ -1,0 +1,192 @@
+//! `hp.VolumePlanner`: a volume scene (`"dimension": 3`) meshed into tetrahedra, assembled,
+//! solved once, then queried with points of shape (n, 3).
+
+use std::sync::Arc;
+
+use harmonic_planner::VolumePlanner;
+use harmonic_volume::Point;
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays;
+use crate::errors::{guarded, scene_error};
+use crate::paths::PyPath;
+use crate::planner::{positive, timings_dict};
+use crate::scene::PyScene;
+
+/// A harmonic-potential planner for one volume scene (`"dimension": 3`).
+///
+/// `VolumePlanner(scene)` meshes free space into tetrahedra (isosurface stuffing), assembles
+/// P1 on them and solves — once, with the GIL released. Points are arrays of shape (n, 3).
+/// `max_volume` overrides the scene's `mesh.max_volume` (as `hplan --max-volume`).
+#[pyclass(module = "harmonic_planner", name = "VolumePlanner", frozen)]
+pub struct PyVolumePlanner {
+    planner: Arc<VolumePlanner>,
+    source: Option<String>,
+}
+
+impl PyVolumePlanner {
+    fn map_points<const K: usize>(
+        &self,
+        points: &Bound<'_, PyAny>,
+        f: impl Fn(&VolumePlanner, &Point, Option<u32>) -> Option<(u32, [f64; K])>,
+    ) -> PyResult<Vec<[f64; K]>> {
+        let points = arrays::points::<3>(points, "points")?;
+        guarded(|| {
+            let mut hint = None;
+            Ok(points
+                .iter()
+                .map(
+                    |p| match f(&self.planner, &Point::new(p[0], p[1], p[2]), hint) {
+                        Some((t, v)) => {
+                            hint = Some(t);
+                            v
+                        }
+                        None => [f64::NAN; K],
+                    },
+                )
+                .collect())
+        })
+    }
+}
+
+fn finite3(p: [f64; 3], what: &str) -> PyResult<[f64; 3]> {
+    if p.iter().all(|v| v.is_finite()) {
+        Ok(p)
+    } else {
+        Err(scene_error(format!(
+            "{what}: coordinates must be finite numbers, got {p:?}"
+        )))
+    }
+}
+
+#[pymethods]
+impl PyVolumePlanner {
+    #[new]
+    #[pyo3(signature = (scene, *, max_volume = None))]
+    fn new(py: Python<'_>, scene: &PyScene, max_volume: Option<f64>) -> PyResult<Self> {
+        let mut volume = match &scene.scene {
+            harmonic_planner::AnyScene::Volume(v) => (**v).clone(),
+            harmonic_planner::AnyScene::Plane(_) => {
+                return Err(scene_error(scene.located(
+                    "VolumePlanner works on volume scenes (\"dimension\": 3); use Planner",
+                )));
+            }
+        };
+        if let Some(v) = positive("max_volume", max_volume)? {
+            volume.mesh.max_volume = Some(v);
+        }
+        let source = scene.source.clone();
+        let shown = source.clone();
+        let planner = py.detach(move || {
+            guarded(|| {
+                VolumePlanner::new(&volume).map_err(|e| {
+                    scene_error(match &shown {
+                        Some(file) => format!("{file}: {e}"),
+                        None => e.to_string(),
+                    })
+                })
+            })
+        })?;
+        Ok(PyVolumePlanner {
+            planner: Arc::new(planner),
+            source,
+        })
+    }
+
+    /// Plans a path from `start` (x, y, z); returns a `Path` whose points have shape (n, 3).
+    fn plan(&self, start: &Bound<'_, PyAny>) -> PyResult<PyPath> {
+        let start = finite3(arrays::point::<3>(start, "start")?, "start")?;
+        guarded(|| Ok(self.planner.plan(start).into()))
+    }
+
+    /// Plans from every row of `starts` (shape (n, 3)) in parallel, GIL released; a list of
+    /// `Path` in the same order.
+    fn plan_many(&self, py: Python<'_>, starts: &Bound<'_, PyAny>) -> PyResult<Vec<PyPath>> {
+        let starts = arrays::points::<3>(starts, "starts")?;
+        for &s in &starts {
+            finite3(s, "starts")?;
+        }
+        let planner = Arc::clone(&self.planner);
+        let paths = py.detach(move || guarded(|| Ok(planner.plan_many(&starts))))?;
+        Ok(paths.into_iter().map(PyPath::from).collect())
+    }
+
+    /// φ at every row of `points` (shape (m, 3)); shape (m,), NaN outside the mesh.
+    fn potential<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let v = self.map_points::<1>(points, |pl, p, hint| {
+            let e = pl.potential().evaluate(p, hint).ok()?;
+            Some((e.tet, [e.phi]))
+        })?;
+        Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
+    }
+
+    /// ψ = c − φ at every row of `points`, accurate where it is tiny; shape (m,).
+    fn psi<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let v = self.map_points::<1>(points, |pl, p, hint| {
+            let e = pl.potential().evaluate(p, hint).ok()?;
+            Some((e.tet, [e.psi]))
+        })?;
+        Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
+    }
+
+    /// ∇φ (constant per tetrahedron) at every row of `points`; shape (m, 3).
+    fn gradient<'py>(
+        &self,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let v = self.map_points::<3>(points, |pl, p, hint| {
+            let e = pl.potential().evaluate(p, hint).ok()?;
+            let g = e.grad_psi;
+            Some((e.tet, [-g.x, -g.y, -g.z]))
+        })?;
+        Ok(arrays::rows_f64(py, &v))
+    }
+
+    /// The tetrahedral mesh: `(vertices, tetrahedra)`, float64 (V, 3) and int64 (T, 4).
+    fn mesh<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>) {
+        let mesh = self.planner.mesh();
+        let vertices: Vec<[f64; 3]> = mesh.vertices().iter().map(|p| [p.x, p.y, p.z]).collect();
+        (
+            arrays::rows_f64(py, &vertices),
+            arrays::rows_i64(py, mesh.tetrahedra()),
+        )
+    }
+
+    /// φ at every mesh vertex, shape (V,).
+    fn phi_at_vertices<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::values(py, self.planner.potential().phi_at_vertices())
+    }
+
+    /// Wall-clock milliseconds of each build stage: {"mesh", "assemble", "solve"}.
+    #[getter]
+    fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        timings_dict(py, self.planner.timings())
+    }
+
+    /// The file the scene came from, or None.
+    #[getter]
+    fn source(&self) -> Option<String> {
+        self.source.clone()
+    }
+
+    fn __repr__(&self) -> String {
+        let mesh = self.planner.mesh();
+        format!(
+            "VolumePlanner(source={}, vertices={}, tetrahedra={})",
+            crate::planner::py_repr(&self.source),
+            mesh.vertices().len(),
+            mesh.tetrahedra().len()
+        )
+    }
+}
