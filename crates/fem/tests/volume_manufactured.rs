@@ -8,39 +8,13 @@ use harmonic_fem::volume::{VolumeAssembler, VolumePotential, VolumeSolveMethod, 
 use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_volume::{
     BoundaryFace, BoundaryTag, GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid,
-    TetMesh, Vector, VolumeDomain, signed_volume,
+    TetMesh, Vector, VolumeDomain,
 };
 
 /// The unit cube cut into n³ cubes of 6 Kuhn tetrahedra each; x = 0 is goal 0, x = 1 is
 /// obstacle 0, the other faces are walls.
 fn kuhn(n: usize) -> TetMesh {
-    let idx = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
-    let h = 1.0 / n as f64;
-    let mut v = Vec::new();
-    for k in 0..=n {
-        for j in 0..=n {
-            for i in 0..=n {
-                v.push(Point::new(i as f64 * h, j as f64 * h, k as f64 * h));
-            }
-        }
-    }
-    let mut tets = Vec::new();
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let c = |b: usize| idx(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-                for [a, b] in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
-                    let mut t = [c(0), c(a), c(b), c(7)];
-                    let p = t.map(|x| v[x as usize]);
-                    if signed_volume(&p[0], &p[1], &p[2], &p[3]) < 0.0 {
-                        t.swap(1, 2);
-                    }
-                    tets.push(t);
-                }
-            }
-        }
-    }
-    TetMesh::new(v, tets, &|p: &Point| {
+    harmonic_fixtures::kuhn_cube(n, &|p: &Point| {
         if p.x < 1e-12 {
             BoundaryTag::Goal(0)
         } else if p.x > 1.0 - 1e-12 {
@@ -49,7 +23,6 @@ fn kuhn(n: usize) -> TetMesh {
             BoundaryTag::Wall
         }
     })
-    .expect("valid cube mesh")
 }
 
 fn outward(mesh: &TetMesh, f: &BoundaryFace) -> Vector {

@@ -72,20 +72,11 @@ fn solver_costs() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(0.3);
+    let (workspace, hole) = harmonic_fixtures::torus_solids();
     let domain = VolumeDomain::new(
-        Solid::new_box(
-            SolidRole::Workspace,
-            Point::new(0.0, 0.0, 0.0),
-            Point::new(10.0, 10.0, 10.0),
-        )
-        .unwrap(),
+        workspace,
         vec![
-            Solid::new_box(
-                SolidRole::Obstacle(0),
-                Point::new(3.0, 3.0, -1.0),
-                Point::new(7.0, 7.0, 11.0),
-            )
-            .unwrap(),
+            hole,
             Solid::new_sphere(SolidRole::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0).unwrap(),
         ],
         vec![GoalRegion::Point(Point::new(9.0, 9.0, 9.0))],

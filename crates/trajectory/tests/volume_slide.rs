@@ -2,44 +2,17 @@
 //! the floor, then slides along it to the goal face — exactly, so the length is known.
 
 use harmonic_trajectory::volume::{ExactVolumeOptions, P1VolumeField, trace_exact_volume};
-use harmonic_volume::{BoundaryTag, Point, TetMesh, signed_volume};
+use harmonic_volume::{BoundaryTag, Point, TetMesh};
 
 /// The unit cube in n³ Kuhn cubes; the face x = 1 is the goal.
 fn cube(n: usize) -> TetMesh {
-    let idx = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
-    let h = 1.0 / n as f64;
-    let mut v = Vec::new();
-    for k in 0..=n {
-        for j in 0..=n {
-            for i in 0..=n {
-                v.push(Point::new(i as f64 * h, j as f64 * h, k as f64 * h));
-            }
-        }
-    }
-    let mut tets = Vec::new();
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let c = |b: usize| idx(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-                for [a, b] in [[1, 3], [1, 5], [2, 3], [2, 6], [4, 5], [4, 6]] {
-                    let mut t = [c(0), c(a), c(b), c(7)];
-                    let p = t.map(|x| v[x as usize]);
-                    if signed_volume(&p[0], &p[1], &p[2], &p[3]) < 0.0 {
-                        t.swap(1, 2);
-                    }
-                    tets.push(t);
-                }
-            }
-        }
-    }
-    TetMesh::new(v, tets, &|p: &Point| {
+    harmonic_fixtures::kuhn_cube(n, &|p: &Point| {
         if p.x > 1.0 - 1e-12 {
             BoundaryTag::Goal(0)
         } else {
             BoundaryTag::Wall
         }
     })
-    .unwrap()
 }
 
 #[test]

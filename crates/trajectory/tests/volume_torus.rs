@@ -12,35 +12,18 @@ use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumePath, trace_exact_volume,
     trace_smooth_volume,
 };
-use harmonic_volume::{
-    GoalRegion, MeshOptions, Point, PointClass, Solid, SolidRole, SphereSolid, VolumeDomain,
-};
+use harmonic_volume::{GoalRegion, MeshOptions, Point, PointClass, SphereSolid, VolumeDomain};
 
 const R: f64 = 0.25;
 
 fn torus() -> VolumeDomain {
-    VolumeDomain::new(
-        Solid::new_box(
-            SolidRole::Workspace,
-            Point::new(0.0, 0.0, 0.0),
-            Point::new(10.0, 10.0, 10.0),
-        )
-        .unwrap(),
-        vec![
-            Solid::new_box(
-                SolidRole::Obstacle(0),
-                Point::new(3.0, 3.0, -1.0),
-                Point::new(7.0, 7.0, 11.0),
-            )
-            .unwrap(),
-        ],
-        vec![GoalRegion::Sphere(SphereSolid {
+    harmonic_fixtures::torus_domain(
+        GoalRegion::Sphere(SphereSolid {
             center: Point::new(5.0, 1.5, 5.0),
             radius: 0.8,
-        })],
+        }),
         R,
     )
-    .unwrap()
 }
 
 /// Signed distance of a point to the obstacle box (exact, analytic).

@@ -6,28 +6,13 @@ use harmonic_volume::{
 };
 
 fn torus(robot: f64) -> VolumeDomain {
-    VolumeDomain::new(
-        Solid::new_box(
-            SolidRole::Workspace,
-            Point::new(0.0, 0.0, 0.0),
-            Point::new(10.0, 10.0, 10.0),
-        )
-        .unwrap(),
-        vec![
-            Solid::new_box(
-                SolidRole::Obstacle(0),
-                Point::new(3.0, 3.0, -1.0),
-                Point::new(7.0, 7.0, 11.0),
-            )
-            .unwrap(),
-        ],
-        vec![GoalRegion::Sphere(SphereSolid {
+    harmonic_fixtures::torus_domain(
+        GoalRegion::Sphere(SphereSolid {
             center: Point::new(9.0, 9.0, 9.0),
             radius: 0.6,
-        })],
+        }),
         robot,
     )
-    .unwrap()
 }
 
 fn spheres() -> VolumeDomain {
