@@ -48,12 +48,14 @@ if plt is None:
 else:
     vertices, triangles = planner.mesh()
     tri = mtri.Triangulation(vertices[:, 0], vertices[:, 1], triangles)
-    phi = planner.phi_at_vertices()
+    # phi is within 1e-6 of 1 over most of the scene (the far field is exponentially flat), so
+    # plot the isolines of log10(psi) = log10(1 - phi), which psi keeps exact there.
+    log_psi = np.log10(np.clip(planner.psi_at_vertices(), 1e-12, None))
     fig, ax = plt.subplots(figsize=(7, 7))
-    ax.tricontourf(tri, phi, levels=40, cmap="viridis")
-    # Isolines of log(psi) resolve the flat far field, where phi is within 1e-6 of 1.
-    psi = np.clip(planner.psi_at_vertices(), 1e-300, None)
-    ax.tricontour(tri, np.log10(psi), levels=25, colors="white", linewidths=0.5)
+    levels = np.linspace(-12, 0, 25)
+    filled = ax.tricontourf(tri, log_psi, levels=levels, cmap="viridis")
+    ax.tricontour(tri, log_psi, levels=levels, colors="black", linewidths=0.3)
+    fig.colorbar(filled, ax=ax, shrink=0.8, label="log10(1 - phi)")
     for path in paths:
         ax.plot(path.points[:, 0], path.points[:, 1], color="red", linewidth=1.5)
         ax.plot(*path.points[0], "o", color="red")

@@ -8,6 +8,7 @@ use harmonic_planner::{CarParams, Planner, Point, Scene, Timings};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rayon::prelude::*;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
@@ -76,29 +77,27 @@ impl PyPlanner {
         })
     }
 
-    /// Evaluates `f` at every point (NaN where it returns None), walking the mesh from the
-    /// previous point's triangle.
+    /// Evaluates `f` at every point (NaN where it returns None). Each point is located
+    /// afresh (the mesh's bucket grid is O(1); walking from the previous point's triangle
+    /// only pays for polylines). Large arrays are split across threads with the GIL released.
     fn map_points<const K: usize>(
         &self,
+        py: Python<'_>,
         points: &Bound<'_, PyAny>,
-        f: impl Fn(&Planner, Point, Option<u32>) -> Option<(u32, [f64; K])>,
+        f: impl Fn(&Planner, Point) -> Option<[f64; K]> + Sync + Send,
     ) -> PyResult<Vec<[f64; K]>> {
         let points = arrays::points::<2>(points, "points")?;
-        guarded(|| {
-            let mut hint = None;
-            Ok(points
-                .iter()
-                .map(|p| match f(&self.planner, Point::new(p[0], p[1]), hint) {
-                    Some((t, v)) => {
-                        hint = Some(t);
-                        v
-                    }
-                    None => [f64::NAN; K],
-                })
-                .collect())
-        })
+        let planner = &*self.planner;
+        let one = |p: &[f64; 2]| f(planner, Point::new(p[0], p[1])).unwrap_or([f64::NAN; K]);
+        if points.len() < PARALLEL_FROM {
+            return guarded(|| Ok(points.iter().map(one).collect()));
+        }
+        py.detach(|| guarded(|| Ok(points.par_iter().map(one).collect())))
     }
 }
+
+/// Arrays of at least this many points are evaluated in parallel.
+pub(crate) const PARALLEL_FROM: usize = 4096;
 
 #[pymethods]
 impl PyPlanner {
@@ -175,9 +174,8 @@ impl PyPlanner {
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let v = self.map_points::<1>(points, |pl, p, hint| {
-            let e = pl.potential().evaluate(p, hint).ok()?;
-            Some((e.triangle, [e.phi]))
+        let v = self.map_points::<1>(py, points, |pl, p| {
+            Some([pl.potential().evaluate(p, None).ok()?.phi])
         })?;
         Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
     }
@@ -190,9 +188,8 @@ impl PyPlanner {
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let v = self.map_points::<1>(points, |pl, p, hint| {
-            let e = pl.potential().evaluate(p, hint).ok()?;
-            Some((e.triangle, [e.psi]))
+        let v = self.map_points::<1>(py, points, |pl, p| {
+            Some([pl.potential().evaluate(p, None).ok()?.psi])
         })?;
         Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
     }
@@ -207,16 +204,16 @@ impl PyPlanner {
         points: &Bound<'py, PyAny>,
         smooth: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let v = self.map_points::<2>(points, |pl, p, hint| {
+        let v = self.map_points::<2>(py, points, move |pl, p| {
             let pot = pl.potential();
-            let t = pot.locate(p, hint).ok()?;
+            let t = pot.locate(p, None).ok()?;
             let g = if smooth {
                 pot.recovered_gradient_psi_at(p, Some(t)).ok()?
             } else {
                 pot.triangle_gradient_psi(t)
             };
             // ∇φ = −∇ψ.
-            Some((t, [-g.x, -g.y]))
+            Some([-g.x, -g.y])
         })?;
         Ok(arrays::rows_f64(py, &v))
     }

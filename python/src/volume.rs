@@ -8,11 +8,12 @@ use harmonic_volume::Point;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rayon::prelude::*;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
 use crate::paths::PyPath;
-use crate::planner::{positive, timings_dict};
+use crate::planner::{PARALLEL_FROM, positive, timings_dict};
 use crate::scene::PyScene;
 
 /// A harmonic-potential planner for one volume scene (`"dimension": 3`).
@@ -27,27 +28,20 @@ pub struct PyVolumePlanner {
 }
 
 impl PyVolumePlanner {
+    /// As `Planner`'s: each point located afresh, large arrays in parallel without the GIL.
     fn map_points<const K: usize>(
         &self,
+        py: Python<'_>,
         points: &Bound<'_, PyAny>,
-        f: impl Fn(&VolumePlanner, &Point, Option<u32>) -> Option<(u32, [f64; K])>,
+        f: impl Fn(&VolumePlanner, &Point) -> Option<[f64; K]> + Sync + Send,
     ) -> PyResult<Vec<[f64; K]>> {
         let points = arrays::points::<3>(points, "points")?;
-        guarded(|| {
-            let mut hint = None;
-            Ok(points
-                .iter()
-                .map(
-                    |p| match f(&self.planner, &Point::new(p[0], p[1], p[2]), hint) {
-                        Some((t, v)) => {
-                            hint = Some(t);
-                            v
-                        }
-                        None => [f64::NAN; K],
-                    },
-                )
-                .collect())
-        })
+        let planner = &*self.planner;
+        let one = |p: &[f64; 3]| f(planner, &Point::new(p[0], p[1], p[2])).unwrap_or([f64::NAN; K]);
+        if points.len() < PARALLEL_FROM {
+            return guarded(|| Ok(points.iter().map(one).collect()));
+        }
+        py.detach(|| guarded(|| Ok(points.par_iter().map(one).collect())))
     }
 }
 
@@ -119,9 +113,8 @@ impl PyVolumePlanner {
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let v = self.map_points::<1>(points, |pl, p, hint| {
-            let e = pl.potential().evaluate(p, hint).ok()?;
-            Some((e.tet, [e.phi]))
+        let v = self.map_points::<1>(py, points, |pl, p| {
+            Some([pl.potential().evaluate(p, None).ok()?.phi])
         })?;
         Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
     }
@@ -132,9 +125,8 @@ impl PyVolumePlanner {
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let v = self.map_points::<1>(points, |pl, p, hint| {
-            let e = pl.potential().evaluate(p, hint).ok()?;
-            Some((e.tet, [e.psi]))
+        let v = self.map_points::<1>(py, points, |pl, p| {
+            Some([pl.potential().evaluate(p, None).ok()?.psi])
         })?;
         Ok(arrays::values(py, v.into_iter().map(|[x]| x).collect()))
     }
@@ -145,10 +137,9 @@ impl PyVolumePlanner {
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let v = self.map_points::<3>(points, |pl, p, hint| {
-            let e = pl.potential().evaluate(p, hint).ok()?;
-            let g = e.grad_psi;
-            Some((e.tet, [-g.x, -g.y, -g.z]))
+        let v = self.map_points::<3>(py, points, |pl, p| {
+            let g = pl.potential().evaluate(p, None).ok()?.grad_psi;
+            Some([-g.x, -g.y, -g.z])
         })?;
         Ok(arrays::rows_f64(py, &v))
     }

@@ -204,3 +204,19 @@ def test_exact_tracer(planner, obstacles):
     phi = planner.potential(path.points[:-1])
     finite = phi[~np.isnan(phi)]
     assert np.all(np.diff(finite) <= 1e-12), "phi decreases along the exact path"
+
+
+def test_large_arrays_match_small_ones(planner):
+    # From 4096 points on, evaluation runs in parallel without the GIL: same answers.
+    rng = np.random.default_rng(3)
+    points = rng.uniform(-1.0, 11.0, size=(10_000, 2))
+    big = planner.potential(points)
+    small = np.concatenate([planner.potential(c) for c in np.array_split(points, 10)])
+    np.testing.assert_array_equal(big, small)
+    assert np.isnan(big).any() and (~np.isnan(big)).any()
+    g_big = planner.gradient(points)
+    g_small = np.concatenate([planner.gradient(c) for c in np.array_split(points, 10)])
+    np.testing.assert_array_equal(g_big, g_small)
+    # Non-contiguous and integer inputs are converted.
+    np.testing.assert_array_equal(planner.potential(points[::2]), big[::2])
+    assert planner.potential(np.array([[1, 9]])).shape == (1,)
