@@ -14,6 +14,10 @@ pub(crate) struct SegmentIndex {
     tree: RTree<Seg>,
 }
 
+fn finite(p: Point) -> bool {
+    p.x.is_finite() && p.y.is_finite()
+}
+
 fn pt(p: [f64; 2]) -> Point {
     Point::new(p[0], p[1])
 }
@@ -40,8 +44,12 @@ impl SegmentIndex {
             .map(|s| (pt(s.geom().from), pt(s.geom().to), s.data))
     }
 
-    /// The nearest segment to `p`: its distance and payload.
+    /// The nearest segment to `p`: its distance and payload (`None` for a non-finite `p`,
+    /// which the R-tree cannot order).
     pub(crate) fn nearest(&self, p: Point) -> Option<(f64, u32)> {
+        if !finite(p) {
+            return None;
+        }
         self.tree.nearest_neighbor(&[p.x, p.y]).map(|s| {
             (
                 point_segment_dist2(p, pt(s.geom().from), pt(s.geom().to)).sqrt(),
@@ -50,8 +58,12 @@ impl SegmentIndex {
         })
     }
 
-    /// Distance from `p` to the nearest segment (infinity if there is none).
+    /// Distance from `p` to the nearest segment (infinity if there is none, NaN for a
+    /// non-finite `p`).
     pub(crate) fn distance(&self, p: Point) -> f64 {
+        if !finite(p) {
+            return f64::NAN;
+        }
         self.tree
             .nearest_neighbor(&[p.x, p.y])
             .map_or(f64::INFINITY, |s| {
@@ -59,8 +71,12 @@ impl SegmentIndex {
             })
     }
 
-    /// Distance from the segment `ab` to the nearest segment (0 if they meet).
+    /// Distance from the segment `ab` to the nearest segment (0 if they meet; NaN if an end
+    /// is not finite).
     pub(crate) fn segment_distance(&self, a: Point, b: Point) -> f64 {
+        if !(finite(a) && finite(b)) {
+            return f64::NAN;
+        }
         let mut best = self.distance(a).min(self.distance(b));
         if !best.is_finite() || best == 0.0 {
             return best;
@@ -81,5 +97,21 @@ impl SegmentIndex {
         let lo = Point::new(p.x, p.y);
         let hi = Point::new(x_max.max(p.x) + 1.0, p.y);
         even_odd(self.in_box(lo, hi).map(|(a, b, _)| (a, b)), p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The R-tree panics when asked to order a NaN distance; queries answer NaN instead.
+    #[test]
+    fn non_finite_points_get_nan_not_a_panic() {
+        let index = SegmentIndex::new([(Point::new(0.0, 0.0), Point::new(1.0, 0.0), 0)]);
+        let nan = Point::new(f64::NAN, 0.5);
+        assert!(index.distance(nan).is_nan());
+        assert!(index.nearest(nan).is_none());
+        assert!(index.segment_distance(nan, Point::new(0.5, 0.5)).is_nan());
+        assert_eq!(index.distance(Point::new(0.5, 2.0)), 2.0);
     }
 }
