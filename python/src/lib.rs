@@ -26,5 +26,13 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<paths::PyPath>()?;
     m.add_class::<paths::PyCarRun>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(_panic_at_the_boundary, m)?)?;
     Ok(())
+}
+
+/// Panics inside the boundary on purpose, so the tests can check that a Rust panic becomes a
+/// `SceneError` ("internal error: …") instead of unwinding into the interpreter.
+#[pyfunction]
+fn _panic_at_the_boundary() -> PyResult<()> {
+    errors::guarded(|| panic!("a deliberate panic"))
 }

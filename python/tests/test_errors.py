@@ -161,3 +161,10 @@ def test_same_message_as_the_command_line(tmp_path, content):
     with pytest.raises(hp.SceneError) as info:
         hp.Planner(hp.Scene.from_file(f))
     assert "hplan: " + str(info.value) == expected
+
+
+def test_a_panic_becomes_a_scene_error(planner):
+    from harmonic_planner import _native
+
+    assert raises(_native._panic_at_the_boundary) == "internal error: a deliberate panic"
+    still_answers(planner)
