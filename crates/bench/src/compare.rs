@@ -529,32 +529,31 @@ fn sphere_world(scene: &Scene) -> Option<(Disc, Vec<Disc>)> {
     ))
 }
 
-impl Arena {
-    /// Builds the scene's domain and every requested planner, timing each build. The FEM
-    /// planners use the scene's mesh options with their boundary conditions replaced; the
-    /// grid planners share one raster of the domain; the attractive/repulsive and panel
-    /// planners get the domain's (inflated, merged) polygons and the first goal's centroid,
-    /// with their lengths and gains scaled to the scene's size and the goal counted as
-    /// reached within the goal region's inradius.
-    pub fn new(scene: &Scene, options: &CompareOptions) -> Result<Arena, CompareError> {
-        let name = scene.name.clone().unwrap_or_else(|| "scene".into());
-        let mesh_err = |source| CompareError::Mesh {
-            scene: name.clone(),
-            source,
-        };
-        let domain = Domain::new(&scene.domain_spec(), &scene.mesh_options()).map_err(mesh_err)?;
+/// What the attractive/repulsive, panel and navigation planners are given: the domain's
+/// largest workspace ring and its obstacles as polygons, the first goal's centroid and
+/// inradius, and a length scale (a tenth of the domain's size).
+struct Shapes {
+    goal: Point,
+    goal_radius: f64,
+    scale: f64,
+    workspace: Vec<Point>,
+    obstacles: Vec<Vec<Point>>,
+}
+
+impl Shapes {
+    /// The shapes of `domain` (the scene `name`'s, for the error without a goal).
+    fn of(domain: &Domain, name: &str) -> Result<Shapes, CompareError> {
         let goal_ring = domain
             .goal_polygons()
             .first()
             .map(|r| r.exterior.clone())
             .ok_or_else(|| CompareError::NoGoal {
-                scene: name.clone(),
+                scene: name.to_string(),
             })?;
         let goal = centroid(&goal_ring);
         let goal_radius = ring_distance(&goal_ring, goal);
         let (lo, hi) = domain.bounding_box();
         let size = (hi.x - lo.x).max(hi.y - lo.y);
-        let s = size / 10.0;
         let workspace = domain
             .workspace_rings()
             .iter()
@@ -564,125 +563,194 @@ impl Arena {
             })
             .map(|r| r.exterior.clone())
             .unwrap_or_default();
-        let obstacles: Vec<Vec<Point>> = domain
+        let obstacles = domain
             .obstacle_polygons()
             .iter()
             .map(|r| r.exterior.clone())
             .collect();
+        Ok(Shapes {
+            goal,
+            goal_radius,
+            scale: size / 10.0,
+            workspace,
+            obstacles,
+        })
+    }
+}
 
-        let mut contestants = Vec::new();
-        let mut notes = Vec::new();
-        let mut raster: Option<(Raster, f64)> = None;
-        for &kind in &options.planners {
-            let baseline = |source| CompareError::Baseline {
-                scene: name.clone(),
-                planner: kind.name(),
-                source,
-            };
-            let t = Instant::now();
-            let engine = match kind {
-                PlannerKind::FemDirichlet | PlannerKind::FemRobin => {
-                    let mut variant = scene.clone();
-                    let c = if kind == PlannerKind::FemDirichlet {
-                        Condition::Dirichlet(1.0)
-                    } else {
-                        Condition::Robin {
-                            a: 1.0,
-                            b: 1.0,
-                            g: 1.0,
-                        }
-                    };
-                    variant.boundary.walls = Some(c);
-                    variant.boundary.obstacles = Some(c);
-                    variant.boundary.goal = Some(Condition::Dirichlet(0.0));
-                    for o in &mut variant.obstacles {
-                        o.boundary = None;
+/// The scene with every wall and obstacle under the FEM planner `kind`'s condition
+/// (Dirichlet 1, or Robin ∂φ/∂n + φ = 1) and the goal at Dirichlet 0, per-part overrides
+/// dropped.
+fn fem_variant(scene: &Scene, kind: PlannerKind) -> Scene {
+    let mut variant = scene.clone();
+    let c = if kind == PlannerKind::FemDirichlet {
+        Condition::Dirichlet(1.0)
+    } else {
+        Condition::Robin {
+            a: 1.0,
+            b: 1.0,
+            g: 1.0,
+        }
+    };
+    variant.boundary.walls = Some(c);
+    variant.boundary.obstacles = Some(c);
+    variant.boundary.goal = Some(Condition::Dirichlet(0.0));
+    for o in &mut variant.obstacles {
+        o.boundary = None;
+    }
+    for g in &mut variant.goal.0 {
+        g.boundary = None;
+    }
+    variant
+}
+
+/// Builds the planners of one arena in turn: the grid planners share one raster (built by the
+/// first of them and timed with it), planners that do not apply leave a note.
+struct Builder<'a> {
+    scene: &'a Scene,
+    name: &'a str,
+    domain: &'a Domain,
+    shapes: &'a Shapes,
+    options: &'a CompareOptions,
+    /// The raster and the milliseconds it took, once built.
+    raster: Option<(Raster, f64)>,
+    notes: Vec<String>,
+}
+
+impl Builder<'_> {
+    /// The planner `kind`, timed; `None` (with a note) where it does not apply.
+    fn contestant(&mut self, kind: PlannerKind) -> Result<Option<Contestant>, CompareError> {
+        let name = self.name;
+        let baseline = |source| CompareError::Baseline {
+            scene: name.to_string(),
+            planner: kind.name(),
+            source,
+        };
+        let Shapes {
+            goal,
+            goal_radius,
+            scale: s,
+            ..
+        } = *self.shapes;
+        let (workspace, obstacles) = (&self.shapes.workspace, &self.shapes.obstacles);
+        let t = Instant::now();
+        let engine = match kind {
+            PlannerKind::FemDirichlet | PlannerKind::FemRobin => {
+                let variant = fem_variant(self.scene, kind);
+                let planner = Planner::new(&variant).map_err(|source| CompareError::Plan {
+                    scene: name.to_string(),
+                    source,
+                })?;
+                Engine::Fem(Box::new(planner))
+            }
+            PlannerKind::GridSor | PlannerKind::Wavefront => {
+                let (r, raster_ms) = match &self.raster {
+                    Some(r) => r.clone(),
+                    None => {
+                        let r = Raster::from_domain(self.domain, self.options.grid_n)
+                            .map_err(baseline)?;
+                        let made = (r, millis(t));
+                        self.raster = Some(made.clone());
+                        made
                     }
-                    for g in &mut variant.goal.0 {
-                        g.boundary = None;
-                    }
-                    let planner = Planner::new(&variant).map_err(|source| CompareError::Plan {
-                        scene: name.clone(),
-                        source,
-                    })?;
-                    Engine::Fem(Box::new(planner))
-                }
-                PlannerKind::GridSor | PlannerKind::Wavefront => {
-                    let (r, raster_ms) = match &raster {
-                        Some(r) => r.clone(),
-                        None => {
-                            let r =
-                                Raster::from_domain(&domain, options.grid_n).map_err(baseline)?;
-                            let made = (r, millis(t));
-                            raster = Some(made.clone());
-                            made
-                        }
-                    };
-                    let t = Instant::now();
-                    let engine = if kind == PlannerKind::GridSor {
-                        Engine::Grid(Box::new(
-                            GridHarmonic::solve(r, &SorOptions::default()).map_err(baseline)?,
-                        ))
-                    } else {
-                        Engine::Wave(Box::new(Wavefront::new(r, Connectivity::Eight)))
-                    };
-                    contestants.push(Contestant {
-                        kind,
-                        build_ms: raster_ms + millis(t),
-                        engine,
-                    });
-                    continue;
-                }
-                PlannerKind::AttractiveRepulsive => {
-                    let opts = PotentialFieldOptions {
-                        d_star: 2.0 * s,
-                        q_star: s,
-                        eta: s.powi(4),
-                        goal_tolerance: goal_radius,
-                        ..PotentialFieldOptions::default()
-                    };
-                    Engine::Apf(
-                        PotentialField::new(&workspace, &obstacles, goal, opts)
-                            .map_err(baseline)?,
-                    )
-                }
-                PlannerKind::Panel => {
-                    let opts = PanelOptions {
-                        max_panel_length: 0.25 * s,
+                };
+                let t = Instant::now();
+                let engine = if kind == PlannerKind::GridSor {
+                    Engine::Grid(Box::new(
+                        GridHarmonic::solve(r, &SorOptions::default()).map_err(baseline)?,
+                    ))
+                } else {
+                    Engine::Wave(Box::new(Wavefront::new(r, Connectivity::Eight)))
+                };
+                return Ok(Some(Contestant {
+                    kind,
+                    build_ms: raster_ms + millis(t),
+                    engine,
+                }));
+            }
+            PlannerKind::AttractiveRepulsive => {
+                let opts = PotentialFieldOptions {
+                    d_star: 2.0 * s,
+                    q_star: s,
+                    eta: s.powi(4),
+                    goal_tolerance: goal_radius,
+                    ..PotentialFieldOptions::default()
+                };
+                Engine::Apf(
+                    PotentialField::new(workspace, obstacles, goal, opts).map_err(baseline)?,
+                )
+            }
+            PlannerKind::Panel => {
+                let opts = PanelOptions {
+                    max_panel_length: 0.25 * s,
+                    step: 0.02 * s,
+                    goal_tolerance: goal_radius,
+                    ..PanelOptions::default()
+                };
+                Engine::Panel(
+                    PanelPlanner::new(workspace, obstacles, goal, opts).map_err(baseline)?,
+                )
+            }
+            PlannerKind::NavigationFunction => match sphere_world(self.scene) {
+                Some((world, discs)) => {
+                    let nav = NavigationFunction::new(world, discs, goal, 6.0).map_err(baseline)?;
+                    let opts = NavigationOptions {
                         step: 0.02 * s,
                         goal_tolerance: goal_radius,
-                        ..PanelOptions::default()
+                        ..NavigationOptions::default()
                     };
-                    Engine::Panel(
-                        PanelPlanner::new(&workspace, &obstacles, goal, opts).map_err(baseline)?,
-                    )
+                    Engine::Nav(nav, opts)
                 }
-                PlannerKind::NavigationFunction => match sphere_world(scene) {
-                    Some((world, discs)) => {
-                        let nav =
-                            NavigationFunction::new(world, discs, goal, 6.0).map_err(baseline)?;
-                        let opts = NavigationOptions {
-                            step: 0.02 * s,
-                            goal_tolerance: goal_radius,
-                            ..NavigationOptions::default()
-                        };
-                        Engine::Nav(nav, opts)
-                    }
-                    None => {
-                        notes.push(format!(
-                            "{name}: navigation function not run: it needs a sphere world (a \
-                             disc workspace with circular obstacles only)"
-                        ));
-                        continue;
-                    }
-                },
-            };
-            contestants.push(Contestant {
-                kind,
-                build_ms: millis(t),
-                engine,
-            });
+                None => {
+                    self.notes.push(format!(
+                        "{name}: navigation function not run: it needs a sphere world (a \
+                         disc workspace with circular obstacles only)"
+                    ));
+                    return Ok(None);
+                }
+            },
+        };
+        Ok(Some(Contestant {
+            kind,
+            build_ms: millis(t),
+            engine,
+        }))
+    }
+}
+
+impl Arena {
+    /// Builds the scene's domain and every requested planner, timing each build. The FEM
+    /// planners use the scene's mesh options with their boundary conditions replaced; the
+    /// grid planners share one raster of the domain; the attractive/repulsive and panel
+    /// planners get the domain's (inflated, merged) polygons and the first goal's centroid,
+    /// with their lengths and gains scaled to the scene's size and the goal counted as
+    /// reached within the goal region's inradius.
+    pub fn new(scene: &Scene, options: &CompareOptions) -> Result<Arena, CompareError> {
+        let name = scene.name.clone().unwrap_or_else(|| "scene".into());
+        let domain =
+            Domain::new(&scene.domain_spec(), &scene.mesh_options()).map_err(|source| {
+                CompareError::Mesh {
+                    scene: name.clone(),
+                    source,
+                }
+            })?;
+        let shapes = Shapes::of(&domain, &name)?;
+        let mut builder = Builder {
+            scene,
+            name: &name,
+            domain: &domain,
+            shapes: &shapes,
+            options,
+            raster: None,
+            notes: Vec::new(),
+        };
+        let mut contestants = Vec::new();
+        for &kind in &options.planners {
+            if let Some(contestant) = builder.contestant(kind)? {
+                contestants.push(contestant);
+            }
         }
+        let notes = builder.notes;
         Ok(Arena {
             name,
             contestants,
