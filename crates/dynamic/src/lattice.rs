@@ -133,6 +133,7 @@ pub(crate) struct Lattice {
     known: HashMap<(i64, i64), Vec<bool>>,
 }
 
+/// Milliseconds since `t`.
 fn millis(t: std::time::Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -298,7 +299,7 @@ impl Lattice {
             .iter()
             .filter(|&&k| k == Kind::Mesh)
             .count() as u32;
-        let (mut path, tracer) = descend(
+        let (path, tracer) = descend(
             &field,
             start,
             Some(hint),
@@ -308,31 +309,7 @@ impl Lattice {
         if !matches!(path.status, TraceStatus::ReachedGoal(_)) {
             return Err(LatticeMiss::NotReached);
         }
-        // Step from where the path met the goal's hole to a goal vertex (or the goal point),
-        // inside the goal triangle it entered.
-        if let Some(&end) = path.points.last() {
-            let before = path
-                .points
-                .len()
-                .checked_sub(2)
-                .map_or(start, |k| path.points[k]);
-            let step = 1e-6 * self.h * (end - before).try_normalize(0.0).unwrap_or_default();
-            let inward = end + step;
-            let entered = self
-                .triangle_at([inward.x, inward.y], &window)
-                .filter(|&tri| kind[tri] == Kind::Goal)
-                .or_else(|| self.goal_triangle_touching(end, &window, &kind));
-            if let Some(tri) = entered {
-                let mut points = std::mem::take(&mut path.points);
-                points.extend(self.goal_targets(tri, [end.x, end.y], &is_goal, goals, &window));
-                path = Path::new(
-                    points,
-                    path.status,
-                    path.min_gradient,
-                    path.triangles_crossed,
-                );
-            }
-        }
+        let path = self.step_into_goal(path, start, &is_goal, goals, &window, &kind);
         Ok(LatticePlan {
             path,
             tracer,
@@ -343,6 +320,43 @@ impl Lattice {
             solve_ms,
             trace_ms: millis(t),
         })
+    }
+
+    /// `path` (traced from `start` to the goal's hole) completed by the step from where it met
+    /// the hole to a goal vertex (or the goal point), inside the goal triangle it entered.
+    fn step_into_goal(
+        &self,
+        mut path: Path,
+        start: Point,
+        is_goal: &[bool],
+        goals: &[LatticeGoal<'_>],
+        window: &Window,
+        kind: &[Kind],
+    ) -> Path {
+        if let Some(&end) = path.points.last() {
+            let before = path
+                .points
+                .len()
+                .checked_sub(2)
+                .map_or(start, |k| path.points[k]);
+            let step = 1e-6 * self.h * (end - before).try_normalize(0.0).unwrap_or_default();
+            let inward = end + step;
+            let entered = self
+                .triangle_at([inward.x, inward.y], window)
+                .filter(|&tri| kind[tri] == Kind::Goal)
+                .or_else(|| self.goal_triangle_touching(end, window, kind));
+            if let Some(tri) = entered {
+                let mut points = std::mem::take(&mut path.points);
+                points.extend(self.goal_targets(tri, [end.x, end.y], is_goal, goals, window));
+                path = Path::new(
+                    points,
+                    path.status,
+                    path.min_gradient,
+                    path.triangles_crossed,
+                );
+            }
+        }
+        path
     }
 
     /// Blocked vertices of `window`: the known map's (cached), then those within the robot's
@@ -779,8 +793,10 @@ mod tests {
         Domain::new(&scene.domain_spec(), &scene.mesh_options()).expect("valid domain")
     }
 
+    /// A sensed box in the window, between the robot's start and the goal.
     const BOX: [[f64; 2]; 4] = [[2.9, 1.5], [3.3, 1.5], [3.3, 2.3], [2.9, 2.3]];
 
+    /// A lattice replan in [`room`] from `robot` with [`BOX`] sensed, the goal a disc at (3.8, 2).
     fn plan(lattice: &mut Lattice, robot: [f64; 2]) -> Result<LatticePlan, LatticeMiss> {
         let goal = [LatticeGoal::Circle {
             center: [3.8, 2.0],
