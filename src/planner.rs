@@ -453,30 +453,32 @@ impl Planner {
     /// Plans a path from `start` to the goal by following the potential: the smooth tracer
     /// first; where it stalls or runs out of steps, the exact triangle-to-triangle tracer,
     /// along which φ strictly decreases.
-    pub fn plan(&self, start: [f64; 2]) -> PlannedPath {
+    /// `start` is a [`Point`] or the scene format's `[x, y]`.
+    pub fn plan(&self, start: impl Into<Point>) -> PlannedPath {
+        let start = start.into();
         let field = self.smooth_field();
         let opts = SmoothOptions::for_scale(self.scale);
-        let (path, tracer) = descend(&field, point(start), None, &opts, &ExactOptions::default());
+        let (path, tracer) = descend(&field, start, None, &opts, &ExactOptions::default());
         self.planned(start, path, tracer)
     }
 
     /// The exact tracer's path from `start` (straight within each triangle, φ strictly
     /// decreasing along it).
-    pub fn plan_exact(&self, start: [f64; 2]) -> PlannedPath {
-        let p = point(start);
-        let path = trace_exact(self.smooth_field().p1(), p, &ExactOptions::default());
+    pub fn plan_exact(&self, start: impl Into<Point>) -> PlannedPath {
+        let start = start.into();
+        let path = trace_exact(self.smooth_field().p1(), start, &ExactOptions::default());
         self.planned(start, path, Tracer::Exact)
     }
 
-    /// Plans from every start, in parallel.
-    pub fn plan_many(&self, starts: &[[f64; 2]]) -> Vec<PlannedPath> {
+    /// Plans from every start (points or `[x, y]` arrays), in parallel.
+    pub fn plan_many<P: Copy + Into<Point> + Sync>(&self, starts: &[P]) -> Vec<PlannedPath> {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: [f64; 2], path: Path, tracer: Tracer) -> PlannedPath {
+    fn planned(&self, start: Point, path: Path, tracer: Tracer) -> PlannedPath {
         let metrics = path_metrics(&path.points, |a, b| self.domain.segment_clearance(a, b));
         PlannedPath {
-            start,
+            start: [start.x, start.y],
             status: path.status,
             goal: path.goal,
             tracer,
@@ -554,7 +556,7 @@ impl Planner {
     }
 
     /// Plans from every start and reports as `hplan plan --json` does.
-    pub fn plan_report(&self, starts: &[[f64; 2]]) -> PlanReport {
+    pub fn plan_report<P: Copy + Into<Point> + Sync>(&self, starts: &[P]) -> PlanReport {
         let t = Instant::now();
         let paths = self.plan_many(starts);
         let mut timings_ms = self.timings;
