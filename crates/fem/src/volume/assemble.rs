@@ -341,13 +341,55 @@ impl VolumeAssembler {
     }
 
     /// Assembles with spatially varying values from `data` when given (see
-    /// [`VolumeBoundaryData`]).
+    /// [`VolumeBoundaryData`]). The stages: check the condition kinds, collect the prescribed
+    /// values (and the reference c), lift them to ψ, scatter the edge weights, add the Neumann
+    /// and Robin face terms, then count what keeps the matrix from being an M-matrix.
     pub fn assemble_with(
         &self,
         bcs: &BoundaryConditions,
         data: Option<VolumeBoundaryData<'_>>,
     ) -> Result<VolumeSystem, VolumeFemError> {
         bcs.validate()?;
+        self.check_kinds(bcs)?;
+        let values = FaceValues {
+            vertices: self.mesh.vertices(),
+            data,
+        };
+        let prescribed = self.prescribed(bcs, &values)?;
+        let psi_fixed = self.psi_of_prescribed(&prescribed);
+        let weight = self.edge_weights();
+        let mut parts = self.scatter_stiffness(&weight, &psi_fixed);
+        self.boundary_terms(bcs, &values, prescribed.reference, &mut parts)?;
+        let Scattered {
+            mut matrix,
+            rhs,
+            excess,
+            diag,
+            negative,
+            clamped,
+        } = parts;
+        {
+            let values = matrix.values_mut();
+            for (j, &d) in diag.iter().enumerate() {
+                values[self.diag_pos[j] as usize] = d;
+            }
+        }
+        let (positive, first) = self.negative_weights(&weight, &negative, &diag);
+        Ok(VolumeSystem {
+            matrix,
+            rhs,
+            excess,
+            psi_fixed,
+            reference: prescribed.reference,
+            not_m_matrix: first,
+            free: Arc::clone(&self.free),
+            positive_offdiagonals: positive,
+            clamped,
+        })
+    }
+
+    /// Conditions must be of the kinds the pattern was built for.
+    fn check_kinds(&self, bcs: &BoundaryConditions) -> Result<(), VolumeFemError> {
         for (&tag, &was) in &self.kinds {
             if bcs.for_tag(tag).kind() != was {
                 return Err(VolumeFemError::KindChanged {
@@ -355,38 +397,19 @@ impl VolumeAssembler {
                 });
             }
         }
+        Ok(())
+    }
+
+    /// Prescribed φ per vertex (lowest wins), the reference c (the highest level), and the
+    /// checks that every component is anchored and something drives the flow.
+    fn prescribed(
+        &self,
+        bcs: &BoundaryConditions,
+        values: &FaceValues<'_, '_>,
+    ) -> Result<Prescribed, VolumeFemError> {
         let mesh = &*self.mesh;
         let vertices = mesh.vertices();
-        let unknown_of = &self.unknown_of;
-        let value_at =
-            |bc: BoundaryCondition, f: &BoundaryFace, v: u32| -> Result<f64, VolumeFemError> {
-                let constant = match bc {
-                    BoundaryCondition::Dirichlet(v) => v,
-                    BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
-                };
-                match data {
-                    None => Ok(constant),
-                    Some(d) => {
-                        let p = vertices[v as usize];
-                        let value = d(f, &p);
-                        if value.is_finite() {
-                            Ok(value)
-                        } else {
-                            Err(VolumeFemError::NonFiniteData {
-                                part: f.tag.to_string(),
-                                x: p.x,
-                                y: p.y,
-                                z: p.z,
-                                value,
-                            })
-                        }
-                    }
-                }
-            };
-
-        // Prescribed φ (lowest wins), the reference c, and what drives the flow.
-        let nv = vertices.len();
-        let mut phi_fixed = vec![f64::INFINITY; nv];
+        let mut phi_fixed = vec![f64::INFINITY; vertices.len()];
         let mut levels: Vec<f64> = Vec::new();
         let mut flux = false;
         let mut anchored = vec![false; self.components.len()];
@@ -394,7 +417,7 @@ impl VolumeAssembler {
             let bc = bcs.for_tag(f.tag);
             let mut gv = [0.0; 3];
             for (k, slot) in gv.iter_mut().enumerate() {
-                *slot = value_at(bc, f, f.vertices[k])?;
+                *slot = values.at(bc, f, f.vertices[k])?;
             }
             match bc {
                 BoundaryCondition::Dirichlet(_) => {
@@ -441,17 +464,28 @@ impl VolumeAssembler {
         if !flux && levels.iter().all(|&l| (l - reference).abs() <= tol) {
             return Err(VolumeFemError::ConstantPotential { value: reference });
         }
-        let psi_fixed: Vec<f64> = (0..nv)
+        Ok(Prescribed {
+            phi_fixed,
+            reference,
+        })
+    }
+
+    /// ψ = c − φ at the prescribed vertices (0 at the unknowns).
+    fn psi_of_prescribed(&self, prescribed: &Prescribed) -> Vec<f64> {
+        (0..prescribed.phi_fixed.len())
             .map(|v| {
-                if unknown_of[v] == NONE && phi_fixed[v].is_finite() {
-                    reference - phi_fixed[v]
+                if self.unknown_of[v] == NONE && prescribed.phi_fixed[v].is_finite() {
+                    prescribed.reference - prescribed.phi_fixed[v]
                 } else {
                     0.0
                 }
             })
-            .collect();
+            .collect()
+    }
 
-        // Edge weights w_ij = −Σ_T V ∇λ_i·∇λ_j.
+    /// Edge weights w_ij = −Σ_T V ∇λ_i·∇λ_j.
+    fn edge_weights(&self) -> Vec<f64> {
+        let mesh = &*self.mesh;
         let mut weight = vec![0.0; self.edges.len()];
         for (t, te) in self.tet_edges.iter().enumerate() {
             let (g, vol) = mesh.barycentric_gradients(t as u32);
@@ -459,6 +493,14 @@ impl VolumeAssembler {
                 weight[te[e] as usize] -= vol * g[i].dot(&g[j]);
             }
         }
+        weight
+    }
+
+    /// The edge weights into the matrix (off-diagonals), the diagonal, and the lifting of
+    /// prescribed neighbours into the right-hand side and the excesses; negative weights are
+    /// clamped to 0 when the options say so.
+    fn scatter_stiffness(&self, weight: &[f64], psi_fixed: &[f64]) -> Scattered {
+        let unknown_of = &self.unknown_of;
         let n = self.free.len();
         let mut matrix = SymmetricCsc::zeros_like(&self.template);
         let mut rhs = vec![0.0; n];
@@ -470,7 +512,7 @@ impl VolumeAssembler {
         let round_off = 1e-12 * weight.iter().fold(0.0f64, |m, w| m.max(w.abs()));
         {
             let values = matrix.values_mut();
-            for (e, (&[a, b], &w)) in self.edges.iter().zip(&weight).enumerate() {
+            for (e, (&[a, b], &w)) in self.edges.iter().zip(weight).enumerate() {
                 let (ua, ub) = (unknown_of[a as usize], unknown_of[b as usize]);
                 let w = if clamp && w < 0.0 {
                     if (ua != NONE || ub != NONE) && w < -round_off {
@@ -505,11 +547,30 @@ impl VolumeAssembler {
                 }
             }
         }
+        Scattered {
+            matrix,
+            rhs,
+            excess,
+            diag,
+            negative,
+            clamped,
+        }
+    }
 
-        // Neumann and Robin faces: ∫ f v_i with f linear is A (2f_i + f_j + f_k)/12.
+    /// Neumann and Robin faces: ∫ f v_i with f linear is A (2f_i + f_j + f_k)/12; Robin's
+    /// lumped mass b/a · A/3 on the diagonal (and in the excess).
+    fn boundary_terms(
+        &self,
+        bcs: &BoundaryConditions,
+        values: &FaceValues<'_, '_>,
+        reference: f64,
+        parts: &mut Scattered,
+    ) -> Result<(), VolumeFemError> {
+        let mesh = &*self.mesh;
+        let vertices = mesh.vertices();
         for f in mesh.boundary_faces() {
             let bc = bcs.for_tag(f.tag);
-            let u = f.vertices.map(|v| unknown_of[v as usize]);
+            let u = f.vertices.map(|v| self.unknown_of[v as usize]);
             if u.iter().all(|&x| x == NONE) {
                 continue;
             }
@@ -520,14 +581,14 @@ impl VolumeAssembler {
                 BoundaryCondition::Neumann(_) => {
                     let mut fd = [0.0; 3];
                     for (slot, &v) in fd.iter_mut().zip(&f.vertices) {
-                        *slot = -value_at(bc, f, v)?;
+                        *slot = -values.at(bc, f, v)?;
                     }
                     (0.0, fd)
                 }
                 BoundaryCondition::Robin { a, b, .. } => {
                     let mut fd = [0.0; 3];
                     for (slot, &v) in fd.iter_mut().zip(&f.vertices) {
-                        *slot = (b * reference - value_at(bc, f, v)?) / a;
+                        *slot = (b * reference - values.at(bc, f, v)?) / a;
                     }
                     (b / a, fd)
                 }
@@ -540,23 +601,29 @@ impl VolumeAssembler {
                     continue;
                 }
                 let uk = u[k] as usize;
-                rhs[uk] += area * (fdata[k] + sum) / 12.0;
+                parts.rhs[uk] += area * (fdata[k] + sum) / 12.0;
                 if beta != 0.0 {
-                    diag[uk] += beta * area / 3.0;
-                    excess[uk] += beta * area / 3.0;
+                    parts.diag[uk] += beta * area / 3.0;
+                    parts.excess[uk] += beta * area / 3.0;
                 }
             }
         }
-        {
-            let values = matrix.values_mut();
-            for (j, &d) in diag.iter().enumerate() {
-                values[self.diag_pos[j] as usize] = d;
-            }
-        }
-        // Negative weights beyond round-off (1e-12 of the diagonal at either end).
+        Ok(())
+    }
+
+    /// Negative weights beyond round-off (1e-12 of the diagonal at either end): how many, and
+    /// the first named for the error message.
+    fn negative_weights(
+        &self,
+        weight: &[f64],
+        negative: &[usize],
+        diag: &[f64],
+    ) -> (usize, Option<String>) {
+        let vertices = self.mesh.vertices();
+        let unknown_of = &self.unknown_of;
         let mut positive = 0;
         let mut first: Option<String> = None;
-        for &e in &negative {
+        for &e in negative {
             let w = weight[e];
             let [a, b] = self.edges[e];
             let scale = [a, b]
@@ -577,16 +644,56 @@ impl VolumeAssembler {
                 }
             }
         }
-        Ok(VolumeSystem {
-            matrix,
-            rhs,
-            excess,
-            psi_fixed,
-            reference,
-            not_m_matrix: first,
-            free: Arc::clone(&self.free),
-            positive_offdiagonals: positive,
-            clamped,
-        })
+        (positive, first)
     }
+}
+
+/// The boundary values of a condition at a face's vertex: the condition's constant, or the
+/// caller's data there (which must be finite).
+struct FaceValues<'m, 'd> {
+    vertices: &'m [Point],
+    data: Option<VolumeBoundaryData<'d>>,
+}
+
+impl FaceValues<'_, '_> {
+    fn at(&self, bc: BoundaryCondition, f: &BoundaryFace, v: u32) -> Result<f64, VolumeFemError> {
+        let constant = match bc {
+            BoundaryCondition::Dirichlet(v) => v,
+            BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
+        };
+        match self.data {
+            None => Ok(constant),
+            Some(d) => {
+                let p = self.vertices[v as usize];
+                let value = d(f, &p);
+                if value.is_finite() {
+                    Ok(value)
+                } else {
+                    Err(VolumeFemError::NonFiniteData {
+                        part: f.tag.to_string(),
+                        x: p.x,
+                        y: p.y,
+                        z: p.z,
+                        value,
+                    })
+                }
+            }
+        }
+    }
+}
+
+/// Prescribed φ per vertex (infinity where none) and the reference value c.
+struct Prescribed {
+    phi_fixed: Vec<f64>,
+    reference: f64,
+}
+
+/// The stiffness scattered into the reduced system, before the diagonal is written.
+struct Scattered {
+    matrix: SymmetricCsc,
+    rhs: Vec<f64>,
+    excess: Vec<f64>,
+    diag: Vec<f64>,
+    negative: Vec<usize>,
+    clamped: usize,
 }
