@@ -27,8 +27,8 @@ use harmonic_fem::volume::{
     scene_conditions, solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumePath, VolumeTraceStatus,
-    trace_exact_volume, trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
+    VolumeTraceStatus, trace_exact_volume, trace_smooth_volume,
 };
 use harmonic_trajectory::{Locate, TraceError, Tracer};
 use harmonic_volume::io::PointData;
@@ -71,6 +71,9 @@ pub struct VolumePlanner {
     mesh: Arc<TetMesh>,
     report: MeshReport,
     potential: VolumePotential,
+    /// The traced field's precomputed parts (vertex → tetrahedra, recovered gradients,
+    /// components), built once so a query is only a trace.
+    field: Arc<VolumeFieldParts>,
     clamped_edges: usize,
     positive_offdiagonals: usize,
     timings: Timings,
@@ -206,7 +209,7 @@ impl VolumePlanner {
         } else {
             0
         };
-        P1VolumeField::ascending(&mesh, potential.psi())?;
+        let field = Arc::clone(P1VolumeField::ascending(&mesh, potential.psi())?.parts());
         let solve_ms = millis(t);
 
         let (lo, hi) = mesh.bounds();
@@ -216,6 +219,7 @@ impl VolumePlanner {
             mesh,
             report,
             potential,
+            field,
             clamped_edges,
             positive_offdiagonals,
             timings: Timings {
@@ -259,8 +263,8 @@ impl VolumePlanner {
             PointClass::Obstacle(_) => Locate::InObstacle,
             PointClass::OutsideWorkspace => Locate::OutsideWorkspace,
         };
-        let field = P1VolumeField::ascending(&self.mesh, self.potential.psi())
-            .expect("one finite ψ per vertex, checked when the planner was built")
+        let field = P1VolumeField::from_parts(&self.mesh, Arc::clone(&self.field))
+            .expect("the parts were built on this mesh")
             .with_outside(&classify);
         let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale));
         let (path, tracer) = match smooth {

@@ -17,6 +17,8 @@
 //! by [`VolumeField::segment`] (steps leaving free space are halved); when the step becomes too
 //! small the field's [`VolumeField::fallback_step`] (for P1 fields: exact moves) takes over.
 
+use std::sync::Arc;
+
 use harmonic_volume::{BoundaryTag, FACES, NO_NEIGHBOR, Point, TetMesh, Vector};
 use serde::{Serialize, Serializer};
 
@@ -149,12 +151,20 @@ pub type OutsideClassifier<'a> = &'a (dyn Fn(&Point) -> Locate<u32> + Sync);
 /// A P1 field on a tetrahedral mesh: nodal values (decreasing toward the goal), borrowed mesh.
 pub struct P1VolumeField<'a> {
     mesh: &'a TetMesh,
+    parts: Arc<VolumeFieldParts>,
+    outside: Option<OutsideClassifier<'a>>,
+}
+
+/// What a [`P1VolumeField`] computes once from its mesh and values (vertex → tetrahedra,
+/// recovered gradients, components): O(mesh) work that a planner keeps and shares between
+/// queries ([`P1VolumeField::parts`], [`P1VolumeField::from_parts`]).
+#[derive(Debug)]
+pub struct VolumeFieldParts {
     values: Vec<f64>,
     /// Vertex → tetrahedra (CSR).
     vt_start: Vec<u32>,
     vt: Vec<u32>,
     nodal: Vec<Vector>,
-    outside: Option<OutsideClassifier<'a>>,
     /// Per tetrahedron: its component; per component: whether it has a goal face.
     component: Vec<u32>,
     component_goal: Vec<bool>,
@@ -163,7 +173,7 @@ pub struct P1VolumeField<'a> {
 impl std::fmt::Debug for P1VolumeField<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("P1VolumeField")
-            .field("vertices", &self.values.len())
+            .field("vertices", &self.parts.values.len())
             .finish_non_exhaustive()
     }
 }
@@ -268,13 +278,38 @@ impl<'a> P1VolumeField<'a> {
         }
         Ok(P1VolumeField {
             mesh,
-            values,
-            vt_start,
-            vt,
-            nodal,
+            parts: Arc::new(VolumeFieldParts {
+                values,
+                vt_start,
+                vt,
+                nodal,
+                component,
+                component_goal,
+            }),
             outside: None,
-            component,
-            component_goal,
+        })
+    }
+
+    /// The precomputed parts, to build further fields on the same mesh and values without
+    /// redoing them ([`P1VolumeField::from_parts`]).
+    pub fn parts(&self) -> &Arc<VolumeFieldParts> {
+        &self.parts
+    }
+
+    /// A field from parts computed earlier on `mesh` (cheap: no pass over the mesh).
+    pub fn from_parts(mesh: &'a TetMesh, parts: Arc<VolumeFieldParts>) -> Result<Self, TraceError> {
+        let (nv, nt) = (mesh.vertices().len(), mesh.tetrahedra().len());
+        if parts.values.len() != nv || parts.component.len() != nt {
+            return Err(TraceError::LengthMismatch {
+                what: "field parts",
+                expected: nv,
+                got: parts.values.len(),
+            });
+        }
+        Ok(P1VolumeField {
+            mesh,
+            parts,
+            outside: None,
         })
     }
 
@@ -287,11 +322,14 @@ impl<'a> P1VolumeField<'a> {
     pub fn tet_gradient(&self, t: u32) -> Vector {
         let (g, _) = self.mesh.barycentric_gradients(t);
         let tet = self.mesh.tetrahedra()[t as usize];
-        (0..4).map(|k| g[k] * self.values[tet[k] as usize]).sum()
+        (0..4)
+            .map(|k| g[k] * self.parts.values[tet[k] as usize])
+            .sum()
     }
 
     fn vertex_tets(&self, v: u32) -> &[u32] {
-        &self.vt[self.vt_start[v as usize] as usize..self.vt_start[v as usize + 1] as usize]
+        let p = &self.parts;
+        &p.vt[p.vt_start[v as usize] as usize..p.vt_start[v as usize + 1] as usize]
     }
 
     /// The tetrahedra containing every vertex of `sigma`.
@@ -314,7 +352,9 @@ impl<'a> P1VolumeField<'a> {
     fn interpolate(&self, t: u32, p: &Point) -> f64 {
         let l = self.mesh.barycentric(t, p);
         let tet = self.mesh.tetrahedra()[t as usize];
-        (0..4).map(|k| l[k] * self.values[tet[k] as usize]).sum()
+        (0..4)
+            .map(|k| l[k] * self.parts.values[tet[k] as usize])
+            .sum()
     }
 
     /// Walks the straight segment `a → b` from tetrahedron `t` (holding `a`) through the
@@ -362,7 +402,7 @@ impl<'a> P1VolumeField<'a> {
     }
 
     fn goal_reachable(&self, t: u32) -> bool {
-        self.component_goal[self.component[t as usize] as usize]
+        self.parts.component_goal[self.parts.component[t as usize] as usize]
     }
 }
 
@@ -396,7 +436,9 @@ impl VolumeField for P1VolumeField<'_> {
     fn gradient(&self, cell: u32, p: &Point) -> Vector {
         let l = self.mesh.barycentric(cell, p);
         let tet = self.mesh.tetrahedra()[cell as usize];
-        (0..4).map(|k| self.nodal[tet[k] as usize] * l[k]).sum()
+        (0..4)
+            .map(|k| self.parts.nodal[tet[k] as usize] * l[k])
+            .sum()
     }
     fn segment(&self, cell: u32, from: &Point, to: &Point) -> Segment<u32> {
         self.walk_segment(cell, from, to)
@@ -634,7 +676,10 @@ impl<'f, 'a> Exact<'f, 'a> {
                 if !at.sigma.iter().all(|s| *s == a || *s == b) {
                     continue;
                 }
-                let (va, vb) = (self.field.values[a as usize], self.field.values[b as usize]);
+                let (va, vb) = (
+                    self.field.parts.values[a as usize],
+                    self.field.parts.values[b as usize],
+                );
                 let (lo, hi) = if va < vb { (a, b) } else { (b, a) };
                 if va == vb || at.sigma == [lo] {
                     continue;
