@@ -230,6 +230,43 @@ impl Cholesky {
         );
         Ok(())
     }
+
+    /// Solves `A X = B` for a block of `k` right-hand sides in place, laid out row-major as
+    /// for [`crate::AccurateLdlt::solve_block_in_place`] (`x[i * k + c]`: unknown `i` of
+    /// column `c`).
+    pub fn solve_block_in_place(&self, x: &mut [f64], k: usize) -> Result<(), SolverError> {
+        let inner = &self.symbolic.inner;
+        let n = self.symbolic.n();
+        if k == 0 {
+            return Ok(());
+        }
+        if Some(x.len()) != n.checked_mul(k) {
+            return Err(SolverError::DimensionMismatch {
+                what: "right-hand side block (n × k, row-major)",
+                expected: n.saturating_mul(k),
+                found: x.len(),
+            });
+        }
+        if !self.valid {
+            return Err(SolverError::StaleFactor);
+        }
+        if let Some(index) = x.iter().position(|v| !v.is_finite()) {
+            return Err(SolverError::NonFinite {
+                what: "right-hand side block",
+                index,
+            });
+        }
+        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(k, Par::Seq);
+        let mut mem = MemBuffer::try_new(req)
+            .map_err(|_| SolverError::Backend("out of memory for solve workspace".into()))?;
+        LltRef::new(&inner.faer, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_row_major_slice_mut(x, n, k),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+        Ok(())
+    }
 }
 
 /// Convenience: analyse with [`Ordering::Amd`], factor and solve `A x = b` once.

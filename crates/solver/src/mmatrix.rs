@@ -16,6 +16,8 @@
 //! non-negative numbers, so the computed solution has a small *entrywise* relative error,
 //! whatever its dynamic range (down to the floating-point underflow threshold).
 
+mod block;
+
 use std::sync::Arc;
 
 use crate::csc::{Pattern, SymmetricCsc};
