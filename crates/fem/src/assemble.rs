@@ -696,12 +696,44 @@ impl Assembler {
         data: Option<BoundaryData<'_>>,
         system: &mut LinearSystem,
     ) -> Result<(), FemError> {
+        self.assemble_levels(bcs, data, None, system)
+    }
+
+    /// Assembles the system of a mesh that has no goal yet, for goals chosen later as sets of
+    /// its vertices held at φ = `goal_value` ([`crate::GoalSolver`]): the goal's level joins
+    /// the walls' in choosing the reference `c` of ψ = c − φ, so ψ is what a mesh with that
+    /// goal would give. The goal's vertices are unknowns here.
+    pub fn assemble_for_goals(
+        &self,
+        bcs: &BoundaryConditions,
+        goal_value: f64,
+    ) -> Result<LinearSystem, FemError> {
+        if !goal_value.is_finite() {
+            return Err(FemError::NonFinite {
+                part: "goal".into(),
+                what: "Dirichlet value".into(),
+                value: goal_value,
+            });
+        }
+        let mut system = self.empty_system();
+        self.assemble_levels(bcs, None, Some(goal_value), &mut system)?;
+        Ok(system)
+    }
+
+    fn assemble_levels(
+        &self,
+        bcs: &BoundaryConditions,
+        data: Option<BoundaryData<'_>>,
+        goal_level: Option<f64>,
+        system: &mut LinearSystem,
+    ) -> Result<(), FemError> {
         self.check_compatible(bcs, system)?;
         let values = BoundaryValues {
             vertices: self.mesh.vertices(),
             data,
         };
-        let drive = self.prescribed_phi(bcs, &values, &mut system.psi_fixed)?;
+        let mut drive = self.prescribed_phi(bcs, &values, &mut system.psi_fixed)?;
+        drive.levels.extend(goal_level);
         self.check_anchored(&drive.anchored_by_robin)?;
         let reference = drive.reference()?;
         self.psi_of_prescribed(reference, &mut system.psi_fixed);

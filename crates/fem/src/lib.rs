@@ -104,6 +104,7 @@
 
 mod assemble;
 mod bc;
+mod goals;
 mod potential;
 mod solve;
 mod structured;
@@ -114,6 +115,7 @@ pub use assemble::{
     offdiagonal_sign_violations,
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
+pub use goals::{BLOCK_COLUMNS, GoalReport, GoalSolution, GoalSolver, MAX_GOAL_RIM};
 pub use potential::{Evaluation, LocalExtrema, Potential, blend, interior_local_extrema};
 pub use solve::{
     AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
@@ -238,6 +240,57 @@ pub enum FemError {
     /// non-negative primary data.
     #[error("the accurate (M-matrix) solve does not apply: {0}")]
     NotMMatrix(NotMMatrix),
+    /// [`GoalSolver::new`] needs the goal held by a Dirichlet value (its vertices are held
+    /// at that level).
+    #[error(
+        "goals chosen later are held at a Dirichlet value: give the goal a Dirichlet condition"
+    )]
+    GoalNotDirichlet,
+    /// [`GoalSolver::new`] was given a mesh that already has goal edges.
+    #[error(
+        "the mesh already has a goal; a goal solver needs a mesh without one (goals come later, as vertices)"
+    )]
+    GoalInMesh,
+    /// Without a goal nothing holds the potential: every wall is Neumann.
+    #[error(
+        "the walls hold nothing (only Neumann conditions around ({x}, {y})), so without a goal the system is singular and cannot be factored once for all goals; give the walls a Dirichlet or Robin (b/a > 0) part, or build the planner with its goal"
+    )]
+    WallsHoldNothing {
+        /// A vertex of the unheld part.
+        x: f64,
+        /// A vertex of the unheld part.
+        y: f64,
+    },
+    /// A goal with no vertex.
+    #[error("goal {goal} holds no mesh vertex")]
+    EmptyGoal {
+        /// The goal's index in the request.
+        goal: usize,
+    },
+    /// A goal names a vertex whose value is already prescribed (on a Dirichlet wall) or
+    /// that is not a vertex of the mesh's triangles.
+    #[error("goal {goal}: vertex {vertex} is not free (on a Dirichlet wall, or not a mesh vertex)")]
+    GoalVertexNotFree {
+        /// The goal's index in the request.
+        goal: usize,
+        /// The vertex.
+        vertex: u32,
+    },
+    /// A goal region whose rim needs more columns than allowed.
+    #[error(
+        "goal {goal} has {rim} vertices on its rim, more than {max}; use a smaller goal region"
+    )]
+    GoalTooLarge {
+        /// The goal's index in the request.
+        goal: usize,
+        /// Its rim size.
+        rim: usize,
+        /// The limit ([`MAX_GOAL_RIM`]).
+        max: usize,
+    },
+    /// The goal's small dense system could not be solved (non-finite fluxes).
+    #[error("the goal's flux system is singular")]
+    GoalSingular,
     /// The sparse solver failed.
     #[error("linear solve failed: {0}")]
     Solver(#[from] harmonic_solver::SolverError),

@@ -99,21 +99,21 @@ mod tests {
         let n = a.n();
         let mut col_ptr = vec![0];
         let (mut rows, mut vals) = (Vec::new(), Vec::new());
-        let mut excess = vec![0.0; n];
+        let mut excess = Vec::with_capacity(n);
         for j in 0..n {
             let (r, v) = a.column(j);
-            let mut sum = 0.0;
+            let (mut diagonal, mut sum) = (0.0, 0.0);
             for (&i, &x) in r.iter().zip(v) {
                 if i != j {
                     rows.push(i);
                     vals.push(-x);
                     sum += -x;
                 } else {
-                    excess[j] = x;
+                    diagonal = x;
                 }
             }
-            excess[j] -= sum;
-            excess[j] = excess[j].max(0.0) + if j < nx { 1.0 } else { 0.0 };
+            let ground = if j < nx { 1.0 } else { 0.0 };
+            excess.push(f64::max(diagonal - sum, 0.0) + ground);
             col_ptr.push(rows.len());
         }
         let w = SymmetricCsc::try_new(n, col_ptr, rows, vals).expect("valid pattern");
