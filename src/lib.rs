@@ -36,6 +36,7 @@ pub mod planner;
 pub mod render;
 pub mod scene;
 pub mod volume;
+pub mod workspace;
 
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;
@@ -48,3 +49,4 @@ pub use planner::{
 };
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};
+pub use workspace::{Goal, GoalError, Workspace, WorkspaceTimings};

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
-    interior_local_extrema,
+    interior_local_extrema, interior_local_extrema_except,
 };
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
@@ -33,6 +33,9 @@ pub enum PlanError {
     /// A tracer or car option is out of range.
     #[error(transparent)]
     Trace(#[from] harmonic_trajectory::TraceError),
+    /// A goal given to a [`crate::Workspace`] is not usable.
+    #[error(transparent)]
+    Goal(#[from] crate::workspace::GoalError),
 }
 
 /// A stage of [`Planner::with_options`], reported to [`PlannerOptions::on_stage`].
@@ -97,14 +100,44 @@ pub struct Timings {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct Planner {
-    domain: Domain,
-    mesh: Arc<Mesh>,
-    mesh_report: MeshReport,
-    quality: QualityReport,
-    potential: Potential,
-    nodal_gradients: Vec<harmonic_mesh::Vector>,
-    timings: Timings,
-    scale: f64,
+    pub(crate) domain: Arc<Domain>,
+    pub(crate) mesh: Arc<Mesh>,
+    pub(crate) mesh_report: MeshReport,
+    pub(crate) quality: QualityReport,
+    pub(crate) potential: Potential,
+    pub(crate) nodal_gradients: Vec<harmonic_mesh::Vector>,
+    pub(crate) timings: Timings,
+    pub(crate) scale: f64,
+    /// Goals held as mesh vertices (a planner from a [`crate::Workspace`]); `None` when the
+    /// goals are regions of the mesh's boundary.
+    pub(crate) vertex_goals: Option<Arc<VertexGoals>>,
+}
+
+impl std::fmt::Debug for Planner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Planner")
+            .field("vertices", &self.mesh.vertices().len())
+            .field("triangles", &self.mesh.triangles().len())
+            .field(
+                "vertex_goals",
+                &self.vertex_goals.as_ref().map(|g| g.ends.len()),
+            )
+            .field("timings", &self.timings)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Goals held as mesh vertices: which goal each vertex belongs to and where each ends.
+#[derive(Clone, Debug)]
+pub(crate) struct VertexGoals {
+    /// Per vertex: its goal, or [`harmonic_trajectory::NOT_A_GOAL`].
+    pub(crate) goal_of: Vec<u32>,
+    /// Per goal: the point a path ends on (a point goal's point), if any.
+    pub(crate) ends: Vec<Option<Point>>,
+    /// Per goal: where to draw it.
+    pub(crate) markers: Vec<Point>,
+    /// How the field was solved.
+    pub(crate) report: Option<harmonic_fem::GoalReport>,
 }
 
 /// One planned path, as the `hplan plan --json` contract prints it.
@@ -410,7 +443,7 @@ impl Planner {
         let (lo, hi) = domain.bounding_box();
         let scale = (hi.x - lo.x).max(hi.y - lo.y);
         Ok(Planner {
-            domain,
+            domain: Arc::new(domain),
             mesh,
             mesh_report,
             quality,
@@ -423,6 +456,7 @@ impl Planner {
                 trace: 0.0,
             },
             scale,
+            vertex_goals: None,
         })
     }
 
@@ -438,16 +472,30 @@ impl Planner {
     pub fn potential(&self) -> &Potential {
         &self.potential
     }
-    /// Time spent meshing, assembling and solving.
+    /// Time spent meshing, assembling and solving. For a planner from a
+    /// [`crate::Workspace`] only `solve` is its own (the goal's solve and gradient recovery);
+    /// the workspace's stages are [`crate::Workspace::timings`].
     pub fn timings(&self) -> Timings {
         self.timings
+    }
+
+    /// For a planner from a [`crate::Workspace`]: how its goal's field was solved.
+    pub fn goal_report(&self) -> Option<harmonic_fem::GoalReport> {
+        self.vertex_goals.as_ref().and_then(|g| g.report)
     }
 
     /// The potential as a smooth field (recovered gradients); its inputs were checked by
     /// [`Planner::with_options`].
     fn smooth_field(&self) -> SmoothP1Field<'_> {
-        SmoothP1Field::ascending(&self.mesh, self.potential.psi(), &self.nodal_gradients)
-            .expect("one finite ψ and gradient per vertex, checked when the planner was built")
+        let field =
+            SmoothP1Field::ascending(&self.mesh, self.potential.psi(), &self.nodal_gradients)
+                .expect("one finite ψ and gradient per vertex, checked when the planner was built");
+        match &self.vertex_goals {
+            Some(goals) => field
+                .with_goal_vertices(&goals.goal_of)
+                .expect("one goal mark per vertex, made with the planner"),
+            None => field,
+        }
     }
 
     /// Plans a path from `start` to the goal by following the potential: the smooth tracer
@@ -475,7 +523,10 @@ impl Planner {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: Point, path: Path, tracer: Tracer) -> PlannedPath {
+    fn planned(&self, start: Point, mut path: Path, tracer: Tracer) -> PlannedPath {
+        if let (TraceStatus::ReachedGoal(j), Some(goals)) = (path.status, &self.vertex_goals) {
+            self.finish_at_vertex_goal(&mut path.points, j, goals);
+        }
         let metrics = path_metrics(&path.points, |a, b| self.domain.segment_clearance(a, b));
         PlannedPath {
             start: [start.x, start.y],
@@ -486,6 +537,49 @@ impl Planner {
             min_clearance: finite_or_zero(metrics.min_clearance),
             min_gradient: finite_or_zero(path.min_gradient),
             points: path.points.iter().map(|p| [p.x, p.y]).collect(),
+        }
+    }
+
+    /// A path that entered a triangle of vertex goal `j` goes on, straight within that
+    /// triangle, to the goal's nearest held vertex there, and from it to the goal's point when
+    /// that lies in a triangle of the vertex; each segment is checked clear of the exact
+    /// geometry before it is added.
+    fn finish_at_vertex_goal(&self, points: &mut Vec<Point>, j: u32, goals: &VertexGoals) {
+        let Some(&last) = points.last() else {
+            return;
+        };
+        let mesh = &self.mesh;
+        let Some(t) = mesh.locate(last, None) else {
+            return;
+        };
+        let around = std::iter::once(t).chain(
+            mesh.neighbors()[t as usize]
+                .into_iter()
+                .filter(|&n| n != harmonic_mesh::NO_NEIGHBOR),
+        );
+        let nearest = around
+            .flat_map(|u| mesh.triangles()[u as usize])
+            .filter(|&v| goals.goal_of[v as usize] == j)
+            .map(|v| (v, (mesh.vertices()[v as usize] - last).norm()))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((v, _)) = nearest else {
+            return;
+        };
+        let at = mesh.vertices()[v as usize];
+        if self.domain.segment_clearance(last, at) <= 0.0 {
+            return;
+        }
+        if at != last {
+            points.push(at);
+        }
+        if let Some(end) = goals.ends.get(j as usize).copied().flatten()
+            && end != at
+            && mesh
+                .locate(end, None)
+                .is_some_and(|u| mesh.triangles()[u as usize].contains(&v))
+            && self.domain.segment_clearance(at, end) > 0.0
+        {
+            points.push(end);
         }
     }
 
@@ -549,7 +643,15 @@ impl Planner {
             PotentialSummary {
                 min: lo,
                 max: hi,
-                interior_local_minima: interior_local_extrema(&self.mesh, psi).minima,
+                interior_local_minima: match &self.vertex_goals {
+                    None => interior_local_extrema(&self.mesh, psi).minima,
+                    Some(g) => {
+                        interior_local_extrema_except(&self.mesh, psi, |v| {
+                            g.goal_of[v as usize] != harmonic_trajectory::NOT_A_GOAL
+                        })
+                        .minima
+                    }
+                },
                 min_psi: finite_or_zero(min_psi),
             },
         )
@@ -638,7 +740,14 @@ impl Planner {
         let picture = crate::render::Picture {
             workspace: rings!(self.domain.workspace_rings()),
             obstacles: rings!(self.domain.obstacle_polygons()),
-            goals: rings!(self.domain.goal_polygons()),
+            goals: match &self.vertex_goals {
+                None => rings!(self.domain.goal_polygons()),
+                Some(g) => g
+                    .markers
+                    .iter()
+                    .map(|&c| marker(c, 0.01 * self.scale))
+                    .collect(),
+            },
             mesh: Some(&self.mesh),
             show_mesh: opts.show_mesh,
             psi: Some(self.potential.psi()),
@@ -680,6 +789,16 @@ impl Default for SvgOptions {
             title: None,
         }
     }
+}
+
+/// A small 16-gon around `c`: how a goal held at mesh vertices is drawn.
+fn marker(c: Point, r: f64) -> Vec<Point> {
+    (0..16)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / 16.0;
+            Point::new(c.x + r * a.cos(), c.y + r * a.sin())
+        })
+        .collect()
 }
 
 pub(crate) fn tag_name(tag: BoundaryTag) -> String {

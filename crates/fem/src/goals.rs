@@ -356,13 +356,10 @@ impl GoalSolver {
         })
     }
 
-    /// One goal's field wrapped as a [`Potential`].
-    pub fn potential(&self, solution: &GoalSolution) -> Result<Potential, FemError> {
-        Potential::new(
-            Arc::clone(&self.mesh),
-            solution.psi.clone(),
-            self.system.reference(),
-        )
+    /// A goal's ψ (from [`GoalSolver::solve`] or [`GoalSolver::solve_fresh`]) as a
+    /// [`Potential`] on the mesh.
+    pub fn potential_of(&self, psi: Vec<f64>) -> Result<Potential, FemError> {
+        Potential::new(Arc::clone(&self.mesh), psi, self.system.reference())
     }
 
     /// The same goal solved from scratch, for checks: the goal's vertices eliminated from the

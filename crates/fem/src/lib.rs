@@ -116,7 +116,10 @@ pub use assemble::{
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 pub use goals::{BLOCK_COLUMNS, GoalReport, GoalSolution, GoalSolver, MAX_GOAL_RIM};
-pub use potential::{Evaluation, LocalExtrema, Potential, blend, interior_local_extrema};
+pub use potential::{
+    Evaluation, LocalExtrema, Potential, blend, interior_local_extrema,
+    interior_local_extrema_except,
+};
 pub use solve::{
     AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
 };

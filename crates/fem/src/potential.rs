@@ -218,6 +218,16 @@ pub struct LocalExtrema {
 /// discrete maximum principle says both counts are zero for a harmonic potential on a mesh
 /// whose stiffness is an M-matrix.
 pub fn interior_local_extrema(mesh: &Mesh, psi: &[f64]) -> LocalExtrema {
+    interior_local_extrema_except(mesh, psi, |_| false)
+}
+
+/// [`interior_local_extrema`] over the interior vertices that are not `excluded`: for a
+/// field whose goal is held at interior vertices, which are its maxima of ψ by design.
+pub fn interior_local_extrema_except(
+    mesh: &Mesh,
+    psi: &[f64],
+    excluded: impl Fn(u32) -> bool,
+) -> LocalExtrema {
     let nv = mesh.vertices().len().min(psi.len());
     // Per vertex: the smallest and largest ψ among its neighbours.
     let mut lo = vec![f64::INFINITY; nv];
@@ -235,7 +245,7 @@ pub fn interior_local_extrema(mesh: &Mesh, psi: &[f64]) -> LocalExtrema {
         }
     }
     let tags = mesh.vertex_tags();
-    let interior = (0..nv).filter(|&v| tags[v].is_none() && lo[v] <= hi[v]);
+    let interior = (0..nv).filter(|&v| tags[v].is_none() && lo[v] <= hi[v] && !excluded(v as u32));
     interior.fold(LocalExtrema::default(), |mut e, v| {
         e.minima += usize::from(psi[v] > hi[v]);
         e.maxima += usize::from(psi[v] < lo[v]);

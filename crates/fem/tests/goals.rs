@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, FemError, GoalSolver,
-    SolveMethod,
+    SolveMethod, interior_local_extrema_except,
 };
 use harmonic_fixtures::reference_disc;
 use harmonic_mesh::{Domain, DomainSpec, Mesh, MeshOptions, Point};
@@ -97,21 +97,8 @@ fn each_goal_equals_a_fresh_solve_of_its_vertices_entrywise() {
 
 /// Interior vertices off the goal where ψ is a strict local extremum among its neighbours.
 fn extrema_off_the_goal(mesh: &Mesh, psi: &[f64], goal: &[u32]) -> usize {
-    let n = mesh.vertices().len();
-    let (mut lo, mut hi) = (vec![f64::INFINITY; n], vec![f64::NEG_INFINITY; n]);
-    for t in mesh.triangles() {
-        for k in 0..3 {
-            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-            lo[a] = lo[a].min(psi[b]);
-            hi[a] = hi[a].max(psi[b]);
-            lo[b] = lo[b].min(psi[a]);
-            hi[b] = hi[b].max(psi[a]);
-        }
-    }
-    (0..n)
-        .filter(|&v| mesh.vertex_tags()[v].is_none() && !goal.contains(&(v as u32)))
-        .filter(|&v| psi[v] > hi[v] || psi[v] < lo[v])
-        .count()
+    let e = interior_local_extrema_except(mesh, psi, |v| goal.contains(&v));
+    e.minima + e.maxima
 }
 
 #[test]

@@ -329,6 +329,9 @@ impl Tracer<'_, '_> {
 
     /// Descends through triangle `t` from `p` along `-g` to the exit edge or vertex.
     fn face(&mut self, t: u32, p: Point, g: Vector) -> Next {
+        if let Some(j) = self.field.goal_of_triangle(t) {
+            return Next::Done(TraceStatus::ReachedGoal(j));
+        }
         let gn = magnitude(g);
         if !(gn > 0.0 && gn.is_finite()) {
             return Next::Stuck(p, t);
@@ -491,6 +494,13 @@ impl Tracer<'_, '_> {
         let field = self.field;
         let mesh = field.mesh();
         if let Some(BoundaryTag::Goal(j)) = mesh.vertex_tags()[v as usize] {
+            return Next::Done(TraceStatus::ReachedGoal(j));
+        }
+        if let Some(j) = field
+            .goal_vertices()
+            .map(|g| g[v as usize])
+            .filter(|&j| j != crate::field::NOT_A_GOAL)
+        {
             return Next::Done(TraceStatus::ReachedGoal(j));
         }
         self.collect_star(v, t);

@@ -159,7 +159,13 @@ pub struct P1Field<'a> {
     mesh: &'a Mesh,
     values: &'a [f64],
     sign: f64,
+    /// Per vertex: the goal it belongs to, or [`NOT_A_GOAL`]; `None` when the goals are the
+    /// mesh's goal-tagged boundary edges.
+    goal_vertices: Option<&'a [u32]>,
 }
+
+/// Marks a vertex that belongs to no goal in [`P1Field::with_goal_vertices`].
+pub const NOT_A_GOAL: u32 = u32::MAX;
 
 impl<'a> P1Field<'a> {
     /// A field whose nodal `values` decrease toward the goal (the robot descends them).
@@ -202,7 +208,43 @@ impl<'a> P1Field<'a> {
                 index: i,
             });
         }
-        Ok(P1Field { mesh, values, sign })
+        Ok(P1Field {
+            mesh,
+            values,
+            sign,
+            goal_vertices: None,
+        })
+    }
+
+    /// The same field with its goals given as mesh vertices instead of goal-tagged boundary
+    /// edges: `goal_of[v]` is the goal vertex `v` belongs to, or [`NOT_A_GOAL`]. A path reaches
+    /// goal `j` when it enters a triangle with a vertex of goal `j` (inside that triangle the
+    /// straight segment to the vertex stays in free space). For fields whose goals are held
+    /// vertices of a mesh with no goal boundary, as a goal chosen after the mesh gives.
+    ///
+    /// Errors if there is not one entry per mesh vertex.
+    pub fn with_goal_vertices(self, goal_of: &'a [u32]) -> Result<Self, TraceError> {
+        check_len("goal vertices", self.mesh.vertices().len(), goal_of.len())?;
+        Ok(P1Field {
+            goal_vertices: Some(goal_of),
+            ..self
+        })
+    }
+
+    /// The goal a vertex of triangle `t` belongs to, when the goals are vertices (the first
+    /// such vertex's goal); `None` otherwise.
+    #[inline]
+    pub fn goal_of_triangle(&self, t: u32) -> Option<u32> {
+        let marks = self.goal_vertices?;
+        self.mesh.triangles()[t as usize]
+            .iter()
+            .map(|&v| marks[v as usize])
+            .find(|&g| g != NOT_A_GOAL)
+    }
+
+    /// Per vertex, the goal it belongs to, when the goals are vertices.
+    pub fn goal_vertices(&self) -> Option<&'a [u32]> {
+        self.goal_vertices
     }
 
     /// The mesh the field lives on.
@@ -330,6 +372,9 @@ impl<'a> P1Field<'a> {
                 let probe = from + d + Vector::new(-d.y, d.x);
                 match self.walk(probe, t) {
                     Some(u) => {
+                        if let Some(j) = self.goal_of_triangle(u) {
+                            return Segment::Goal(j);
+                        }
                         t = u;
                         continue;
                     }
@@ -343,6 +388,9 @@ impl<'a> P1Field<'a> {
                     _ => Segment::Blocked,
                 };
             }
+            if let Some(j) = self.goal_of_triangle(n) {
+                return Segment::Goal(j);
+            }
             t = n;
         }
         Segment::Blocked
@@ -352,6 +400,14 @@ impl<'a> P1Field<'a> {
     pub(crate) fn component_has_goal(&self, t: u32) -> bool {
         let comps = self.mesh.triangle_components();
         let c = comps[t as usize];
+        if let Some(marks) = self.goal_vertices {
+            return self
+                .mesh
+                .triangles()
+                .iter()
+                .zip(comps)
+                .any(|(tri, &ct)| ct == c && tri.iter().any(|&v| marks[v as usize] != NOT_A_GOAL));
+        }
         self.mesh
             .boundary_edges()
             .iter()
@@ -380,16 +436,20 @@ impl P1Field<'_> {
         if n == 0 || !p.x.is_finite() || !p.y.is_finite() {
             return Locate::OutsideWorkspace;
         }
+        let inside = |t: u32| match self.goal_of_triangle(t) {
+            Some(j) => Locate::Goal(j),
+            None => Locate::Inside(t),
+        };
         if let Some(t) = hint
             .filter(|&t| (t as usize) < n)
             .and_then(|h| self.walk(p, h))
         {
-            return Locate::Inside(t);
+            return inside(t);
         }
         // No hint, or the walk met the boundary (non-convex free space): the mesh's own
         // bucket-grid location.
         if let Some(t) = self.mesh.locate(p, None) {
-            return Locate::Inside(t);
+            return inside(t);
         }
         self.classify_outside(p)
     }
@@ -462,6 +522,14 @@ impl<'a> SmoothP1Field<'a> {
             });
         }
         Ok(SmoothP1Field { p1, gradients })
+    }
+
+    /// The same field with its goals given as mesh vertices ([`P1Field::with_goal_vertices`]).
+    pub fn with_goal_vertices(self, goal_of: &'a [u32]) -> Result<Self, TraceError> {
+        Ok(SmoothP1Field {
+            p1: self.p1.with_goal_vertices(goal_of)?,
+            ..self
+        })
     }
 
     /// The underlying piecewise-linear field (what the exact tracer follows).

@@ -1,0 +1,201 @@
+//! Any goal in milliseconds: the reference scene's walls factored once ([`Workspace`]), then
+//! 20 random goals each answered by a blocked solve, against what a new goal costs without
+//! it (a new mesh and a new factorisation: [`Planner::new`]) and checked against a fresh
+//! factorisation with the same goal vertices held.
+//!
+//! ```text
+//! cargo run --release --example goals -- [--json] [--goals N] [--max-area A]...
+//! ```
+//!
+//! Prints one row per mesh size (by default about 30 k and 300 k triangles):
+//! `{"rows": [{"triangles", "rebuild_ms", "per_goal_ms", "per_goal_blocked_ms",
+//! "max_relative_difference", "paths", "paths_reached", "status_differences",
+//! "max_length_difference"}]}` — `per_goal_ms` one goal at a
+//! time, `per_goal_blocked_ms` all goals in one call, both including the gradient recovery
+//! a planner needs; `rebuild_ms` the mean of three full builds with the goal in the mesh;
+//! `max_relative_difference` the largest entrywise difference of ψ from the fresh solve, and
+//! the paths from four starts per goal compared with the fresh planner's (status, length).
+
+use std::time::Instant;
+
+use harmonic_planner::scene::{Goals, Region};
+use harmonic_planner::{Goal, Planner, Point, Scene, Workspace};
+use serde::Serialize;
+
+#[derive(Serialize)]
+struct Row {
+    max_area: f64,
+    triangles: usize,
+    factor_ms: f64,
+    rebuild_ms: f64,
+    per_goal_ms: f64,
+    per_goal_blocked_ms: f64,
+    max_relative_difference: f64,
+    paths: usize,
+    paths_reached: usize,
+    /// Paths whose status differs from the fresh planner's.
+    status_differences: usize,
+    /// Largest relative difference of a path's length from the fresh planner's.
+    max_length_difference: f64,
+}
+
+/// A small deterministic generator (the same goals on every run).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn random_free_points(ws: &Workspace, n: usize, rng: &mut Lcg) -> Vec<Point> {
+    let mut out = Vec::with_capacity(n);
+    while out.len() < n {
+        let p = Point::new(10.0 * rng.next(), 10.0 * rng.next());
+        if ws.domain().contains_free(p) && ws.domain().distance_to_obstacles(p) > 0.05 {
+            out.push(p);
+        }
+    }
+    out
+}
+
+fn max_relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.abs().max(y.abs()) > 0.0)
+        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
+        .fold(0.0, f64::max)
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn row(base: &Scene, max_area: f64, n_goals: usize) -> Result<Row, Box<dyn std::error::Error>> {
+    let mut scene = base.clone();
+    scene.mesh.max_area = Some(max_area);
+    let ws = Workspace::new(&scene)?;
+    let mut rng = Lcg(2026);
+    let goals = random_free_points(&ws, n_goals, &mut rng);
+    let starts = random_free_points(&ws, 4, &mut rng);
+
+    // One goal at a time.
+    let t = Instant::now();
+    let planners = goals
+        .iter()
+        .map(|&g| ws.planner(&Goal::point(g)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let per_goal_ms = ms(t) / n_goals as f64;
+    // All goals in one call (their columns in shared blocks).
+    let t = Instant::now();
+    let blocked = ws.planners(&goals.iter().map(|&g| Goal::point(g)).collect::<Vec<_>>())?;
+    let per_goal_blocked_ms = ms(t) / n_goals as f64;
+
+    let mut worst: f64 = 0.0;
+    let (mut paths, mut reached, mut status_differences) = (0, 0, 0);
+    let mut length_difference: f64 = 0.0;
+    for ((g, one), many) in goals.iter().zip(&planners).zip(&blocked) {
+        let fresh = ws.fresh_planner(&Goal::point(*g))?;
+        for p in [one, many] {
+            worst = worst.max(max_relative_difference(
+                p.potential().psi(),
+                fresh.potential().psi(),
+            ));
+        }
+        for &s in &starts {
+            let (a, b) = (one.plan(s), fresh.plan(s));
+            paths += 1;
+            if a.status.reached_goal() {
+                reached += 1;
+            }
+            if a.status != b.status {
+                status_differences += 1;
+            }
+            length_difference = length_difference.max((a.length - b.length).abs() / b.length);
+        }
+    }
+
+    // What a new goal costs without the workspace: a planner built with the goal in its mesh.
+    let t = Instant::now();
+    let rebuilds = 3.min(n_goals);
+    for g in &goals[..rebuilds] {
+        let mut with_goal = scene.clone();
+        with_goal.goal = Goals(vec![Region {
+            point: Some([g.x, g.y]),
+            ..Region::default()
+        }]);
+        Planner::new(&with_goal)?;
+    }
+    let rebuild_ms = ms(t) / rebuilds as f64;
+
+    Ok(Row {
+        max_area,
+        triangles: ws.mesh().triangles().len(),
+        factor_ms: ws.timings().factor,
+        rebuild_ms,
+        per_goal_ms,
+        per_goal_blocked_ms,
+        max_relative_difference: worst,
+        paths,
+        paths_reached: reached,
+        status_differences,
+        max_length_difference: length_difference,
+    })
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let json = args.iter().any(|a| a == "--json");
+    let mut n_goals = 20;
+    let mut areas = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--json" => {}
+            "--goals" => n_goals = it.next().ok_or("--goals needs N")?.parse()?,
+            "--max-area" => areas.push(it.next().ok_or("--max-area needs A")?.parse::<f64>()?),
+            other => return Err(format!("unknown argument `{other}`").into()),
+        }
+    }
+    if n_goals == 0 {
+        return Err("--goals must be at least 1".into());
+    }
+    if areas.is_empty() {
+        // About 30 k and 300 k triangles on the reference scene.
+        areas = vec![0.0045, 0.00045];
+    }
+    let scene = Scene::from_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/meshes/reference.json"
+    ))?;
+    let rows = areas
+        .iter()
+        .map(|&a| row(&scene, a, n_goals))
+        .collect::<Result<Vec<_>, _>>()?;
+    if json {
+        println!("{}", serde_json::json!({ "rows": rows }));
+    } else {
+        println!(
+            "| triangles | factor ms | rebuild ms | per goal ms | per goal, blocked ms | ψ vs fresh | paths reached | length vs fresh |"
+        );
+        println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
+        for r in &rows {
+            println!(
+                "| {} | {:.0} | {:.0} | {:.1} | {:.1} | {:.1e} | {}/{} | {:.1e} |",
+                r.triangles,
+                r.factor_ms,
+                r.rebuild_ms,
+                r.per_goal_ms,
+                r.per_goal_blocked_ms,
+                r.max_relative_difference,
+                r.paths_reached,
+                r.paths,
+                r.max_length_difference
+            );
+        }
+    }
+    Ok(())
+}

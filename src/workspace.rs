@@ -1,0 +1,456 @@
+//! A map or scene kept in memory with its walls factored once: any goal, later, by a few
+//! solves.
+//!
+//! [`Workspace::new`] meshes a scene's free space without its goals, assembles the walls'
+//! conditions and factors that system once ([`harmonic_fem::GoalSolver`]). A goal is then a
+//! set of mesh vertices held at the goal's value: [`Workspace::planner`] gives a
+//! [`Planner`] for it — the same queries, tracers, reports and pictures as a planner built
+//! with the goal in its mesh — at the cost of a blocked triangular solve instead of a new
+//! mesh and a new factorisation. Several goals at once come two ways:
+//! [`Workspace::planners`] (independent goals, their columns solved together) and
+//! [`Workspace::planner_for_any`] (one field whose goal is the set: a robot goes to whichever
+//! the potential leads it to).
+//!
+//! ```
+//! use harmonic_planner::{Goal, Point, Scene, Workspace};
+//! let scene = Scene::from_json(r#"{
+//!     "workspace": [[0, 0], [4, 0], [4, 4], [0, 4]],
+//!     "obstacles": [{"polygon": [[1.5, 1], [2.5, 1], [2.5, 3], [1.5, 3]]}],
+//!     "goal": {"point": [3.5, 2]},
+//!     "mesh": {"max_area": 0.01}
+//! }"#)?;
+//! let workspace = Workspace::new(&scene)?;
+//! for at in [Point::new(3.5, 2.0), Point::new(0.5, 3.5), Point::new(2.0, 0.5)] {
+//!     let planner = workspace.planner(&Goal::point(at))?;
+//!     let path = planner.plan([0.5, 0.5]);
+//!     assert!(path.status.reached_goal());
+//!     assert_eq!(*path.points.last().unwrap(), [at.x, at.y]); // ends on the goal point
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use harmonic_fem::{Assembler, AssemblyOptions, GoalReport, GoalSolver, SolveMethod};
+use harmonic_mesh::{Domain, DomainSpec, Mesh, MeshReport, NO_NEIGHBOR, Point, QualityReport};
+use harmonic_trajectory::{NOT_A_GOAL, SmoothP1Field};
+use serde::Serialize;
+
+use crate::planner::{PlanError, Planner, PlannerOptions, Stage, Timings, VertexGoals};
+use crate::scene::Scene;
+
+/// A goal for a [`Workspace`]: mesh vertices to hold at the goal's value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Goal {
+    /// A point of free space: the free vertices of the triangle holding it, and every free
+    /// vertex within `radius` of it. A path ends exactly on the point.
+    Point {
+        /// The goal point.
+        at: Point,
+        /// Also hold the vertices this close to `at` (0: only the triangle's).
+        radius: f64,
+    },
+    /// A region given as its mesh vertices (a path ends on one of them).
+    Vertices(Vec<u32>),
+}
+
+impl Goal {
+    /// The point goal at `at` (the triangle holding it).
+    pub fn point(at: impl Into<Point>) -> Goal {
+        Goal::Point {
+            at: at.into(),
+            radius: 0.0,
+        }
+    }
+}
+
+/// Why a [`Goal`] cannot be used on a workspace.
+#[derive(Debug, thiserror::Error)]
+pub enum GoalError {
+    /// A goal point that is not a finite point, or a negative or non-finite radius.
+    #[error("goal {goal}: ({x}, {y}) with radius {radius} is not a finite point with a radius ≥ 0")]
+    NotFinite {
+        /// The goal's index in the request.
+        goal: usize,
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+        /// The radius.
+        radius: f64,
+    },
+    /// A goal point outside the mesh of free space (in an obstacle, within the robot's radius
+    /// of one, beyond the walls, or in a part of the map that was not traced).
+    #[error(
+        "goal {goal}: ({x}, {y}) is not in the free space of this workspace (in an obstacle, within the robot's radius of one, or outside the walls)"
+    )]
+    OutsideFreeSpace {
+        /// The goal's index in the request.
+        goal: usize,
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+    },
+    /// Every vertex near the goal point lies on a wall held at its own value.
+    #[error(
+        "goal {goal}: every mesh vertex near ({x}, {y}) lies on a wall, so nothing can be held at the goal's value there; move the goal away from the wall or refine the mesh"
+    )]
+    OnTheWall {
+        /// The goal's index in the request.
+        goal: usize,
+        /// The point.
+        x: f64,
+        /// The point.
+        y: f64,
+    },
+    /// A vertex index beyond the mesh.
+    #[error("goal {goal}: vertex {vertex} is not a vertex of the mesh ({count} vertices)")]
+    NoSuchVertex {
+        /// The goal's index in the request.
+        goal: usize,
+        /// The vertex.
+        vertex: u32,
+        /// The mesh's vertex count.
+        count: usize,
+    },
+    /// No goal was given.
+    #[error("no goal given")]
+    NoGoal,
+}
+
+/// Wall-clock time of a workspace's stages, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct WorkspaceTimings {
+    /// Validating the scene and meshing its free space.
+    pub mesh: f64,
+    /// Assembling the walls' system.
+    pub assemble: f64,
+    /// Ordering and factoring it (once for every goal).
+    pub factor: f64,
+}
+
+/// A scene's free space meshed and its walls' system factored once; goals come later.
+pub struct Workspace {
+    domain: Arc<Domain>,
+    mesh: Arc<Mesh>,
+    mesh_report: MeshReport,
+    quality: QualityReport,
+    goals: GoalSolver,
+    timings: WorkspaceTimings,
+    scale: f64,
+}
+
+impl std::fmt::Debug for Workspace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Workspace")
+            .field("triangles", &self.mesh.triangles().len())
+            .field("goals", &self.goals)
+            .finish_non_exhaustive()
+    }
+}
+
+fn millis(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl Workspace {
+    /// Meshes `scene`'s free space without its goals (they are ignored: goals come later,
+    /// from [`Workspace::planner`]), assembles its walls and obstacles under the scene's
+    /// conditions and factors the system once. The goals' condition must be Dirichlet (the
+    /// default φ = 0); walls and obstacles may be Dirichlet, Robin or Neumann as long as some
+    /// part holds the potential (see [`harmonic_fem::GoalSolver`]).
+    pub fn new(scene: &Scene) -> Result<Workspace, PlanError> {
+        Workspace::with_options(scene, &PlannerOptions::default())
+    }
+
+    /// [`Workspace::new`] with options (a stage observer).
+    pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Workspace, PlanError> {
+        let stage = |s: Stage| {
+            if let Some(observe) = &options.on_stage {
+                observe(s);
+            }
+        };
+        stage(Stage::Meshing);
+        let t = Instant::now();
+        let mesh_options = scene.mesh_options();
+        let spec = DomainSpec {
+            goals: Vec::new(),
+            ..scene.domain_spec()
+        };
+        let domain = Domain::new(&spec, &mesh_options)?;
+        let (mesh, mesh_report) = domain.mesh(&mesh_options)?;
+        let mesh = Arc::new(mesh);
+        let mesh_ms = millis(t);
+
+        stage(Stage::Assembling);
+        let t = Instant::now();
+        let bcs = scene.boundary_conditions();
+        let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
+        let assemble_ms = millis(t);
+
+        stage(Stage::Solving);
+        let t = Instant::now();
+        let goals = GoalSolver::new(&assembler, &bcs, SolveMethod::Auto)?;
+        let factor_ms = millis(t);
+        stage(Stage::Done);
+
+        let quality = mesh.quality();
+        let (lo, hi) = domain.bounding_box();
+        Ok(Workspace {
+            domain: Arc::new(domain),
+            mesh,
+            mesh_report,
+            quality,
+            goals,
+            timings: WorkspaceTimings {
+                mesh: mesh_ms,
+                assemble: assemble_ms,
+                factor: factor_ms,
+            },
+            scale: (hi.x - lo.x).max(hi.y - lo.y),
+        })
+    }
+
+    /// The mesh of free space (no goal in it).
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The validated free space.
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+
+    /// Time spent meshing, assembling and factoring.
+    pub fn timings(&self) -> WorkspaceTimings {
+        self.timings
+    }
+
+    /// The kept factorisation: accurate (M-matrix LDLᵀ) or Cholesky.
+    pub fn method(&self) -> SolveMethod {
+        self.goals.method()
+    }
+
+    /// The mesh vertices `goal` holds (goal `index` of a request, for error messages).
+    pub fn goal_vertices(&self, goal: &Goal, index: usize) -> Result<Vec<u32>, GoalError> {
+        let mesh = &self.mesh;
+        let system = self.goals.system();
+        let free = |v: u32| system.unknown_of(v).is_some();
+        match goal {
+            Goal::Vertices(vs) => {
+                if let Some(&v) = vs.iter().find(|&&v| v as usize >= mesh.vertices().len()) {
+                    return Err(GoalError::NoSuchVertex {
+                        goal: index,
+                        vertex: v,
+                        count: mesh.vertices().len(),
+                    });
+                }
+                Ok(vs.clone())
+            }
+            &Goal::Point { at, radius } => {
+                if !(at.x.is_finite() && at.y.is_finite() && radius.is_finite() && radius >= 0.0) {
+                    return Err(GoalError::NotFinite {
+                        goal: index,
+                        x: at.x,
+                        y: at.y,
+                        radius,
+                    });
+                }
+                let t = mesh.locate(at, None).ok_or(GoalError::OutsideFreeSpace {
+                    goal: index,
+                    x: at.x,
+                    y: at.y,
+                })?;
+                let mut held: Vec<u32> = mesh.triangles()[t as usize]
+                    .into_iter()
+                    .filter(|&v| free(v))
+                    .collect();
+                if radius > 0.0 {
+                    held.extend(self.vertices_within(t, at, radius).filter(|&v| free(v)));
+                }
+                if held.is_empty() {
+                    // A triangle with all three vertices on walls (a narrow passage): its
+                    // neighbours' free vertices instead.
+                    held.extend(
+                        mesh.neighbors()[t as usize]
+                            .into_iter()
+                            .filter(|&n| n != NO_NEIGHBOR)
+                            .flat_map(|n| mesh.triangles()[n as usize])
+                            .filter(|&v| free(v)),
+                    );
+                }
+                held.sort_unstable();
+                held.dedup();
+                if held.is_empty() {
+                    return Err(GoalError::OnTheWall {
+                        goal: index,
+                        x: at.x,
+                        y: at.y,
+                    });
+                }
+                Ok(held)
+            }
+        }
+    }
+
+    /// The vertices within `radius` of `at`, found by growing from triangle `t` across
+    /// triangles that come within the radius.
+    fn vertices_within(&self, t: u32, at: Point, radius: f64) -> impl Iterator<Item = u32> {
+        let mesh = &self.mesh;
+        let mut seen = std::collections::HashSet::from([t]);
+        let mut stack = vec![t];
+        let mut found = Vec::new();
+        while let Some(u) = stack.pop() {
+            for v in mesh.triangles()[u as usize] {
+                if (mesh.vertices()[v as usize] - at).norm() <= radius {
+                    found.push(v);
+                }
+            }
+            for n in mesh.neighbors()[u as usize] {
+                if n != NO_NEIGHBOR && triangle_near(mesh, n, at, radius) && seen.insert(n) {
+                    stack.push(n);
+                }
+            }
+        }
+        found.into_iter()
+    }
+
+    /// A planner for `goal`: its field by a blocked solve against the kept factor.
+    pub fn planner(&self, goal: &Goal) -> Result<Planner, PlanError> {
+        Ok(self
+            .planners(std::slice::from_ref(goal))?
+            .pop()
+            .expect("one planner per goal"))
+    }
+
+    /// One planner per goal, the goals independent, their columns solved together.
+    pub fn planners(&self, goals: &[Goal]) -> Result<Vec<Planner>, PlanError> {
+        let t = Instant::now();
+        let held = goals
+            .iter()
+            .enumerate()
+            .map(|(i, g)| self.goal_vertices(g, i))
+            .collect::<Result<Vec<_>, _>>()?;
+        let solutions = self.goals.solve(&held)?;
+        let share = millis(t) / goals.len().max(1) as f64;
+        solutions
+            .into_iter()
+            .zip(goals.iter().zip(&held))
+            .map(|(solution, (goal, held))| {
+                let t = Instant::now();
+                let marks = self.marks(&[(goal, held)]);
+                let planner = self.assemble_planner(solution.psi, marks)?;
+                Ok(with_solve_time(planner, share + millis(t), solution.report))
+            })
+            .collect()
+    }
+
+    /// One planner whose goal is the whole set `goals` (goal `j` of its paths is `goals[j]`).
+    pub fn planner_for_any(&self, goals: &[Goal]) -> Result<Planner, PlanError> {
+        if goals.is_empty() {
+            return Err(GoalError::NoGoal.into());
+        }
+        let t = Instant::now();
+        let held = goals
+            .iter()
+            .enumerate()
+            .map(|(i, g)| self.goal_vertices(g, i))
+            .collect::<Result<Vec<_>, _>>()?;
+        let all: Vec<u32> = held.iter().flatten().copied().collect();
+        let solution = self.goals.solve(&[all])?.remove(0);
+        let pairs: Vec<_> = goals.iter().zip(&held).collect();
+        let planner = self.assemble_planner(solution.psi, self.marks(&pairs))?;
+        Ok(with_solve_time(planner, millis(t), solution.report))
+    }
+
+    /// The planner for `goal` from a fresh factorisation of the system with the same vertices
+    /// held (no kept factor used): what [`Workspace::planner`] must match, for checks.
+    pub fn fresh_planner(&self, goal: &Goal) -> Result<Planner, PlanError> {
+        let t = Instant::now();
+        let held = self.goal_vertices(goal, 0)?;
+        let psi = self.goals.solve_fresh(&held)?;
+        let planner = self.assemble_planner(psi, self.marks(&[(goal, &held)]))?;
+        let report = GoalReport {
+            held: held.len(),
+            columns: 0,
+            method: self.goals.method(),
+            entrywise_accurate: self.goals.method() == SolveMethod::Accurate,
+        };
+        Ok(with_solve_time(planner, millis(t), report))
+    }
+
+    /// The per-vertex goal marks, end points and markers of some goals.
+    fn marks(&self, goals: &[(&Goal, &Vec<u32>)]) -> VertexGoals {
+        let mut goal_of = vec![NOT_A_GOAL; self.mesh.vertices().len()];
+        let mut ends = Vec::with_capacity(goals.len());
+        let mut markers = Vec::with_capacity(goals.len());
+        for (j, (goal, held)) in goals.iter().enumerate() {
+            for &v in held.iter() {
+                if goal_of[v as usize] == NOT_A_GOAL {
+                    goal_of[v as usize] = j as u32;
+                }
+            }
+            let end = match goal {
+                Goal::Point { at, .. } => Some(*at),
+                Goal::Vertices(_) => None,
+            };
+            ends.push(end);
+            let centroid = held
+                .iter()
+                .map(|&v| self.mesh.vertices()[v as usize].coords)
+                .sum::<harmonic_mesh::Vector>()
+                / held.len().max(1) as f64;
+            markers.push(end.unwrap_or(Point::from(centroid)));
+        }
+        VertexGoals {
+            goal_of,
+            ends,
+            markers,
+            report: None,
+        }
+    }
+
+    /// A planner on this workspace's mesh with ψ given.
+    fn assemble_planner(&self, psi: Vec<f64>, marks: VertexGoals) -> Result<Planner, PlanError> {
+        let potential = self.goals.potential_of(psi)?;
+        let nodal_gradients = potential.nodal_gradients_psi().to_vec();
+        SmoothP1Field::ascending(&self.mesh, potential.psi(), &nodal_gradients)?;
+        Ok(Planner {
+            domain: Arc::clone(&self.domain),
+            mesh: Arc::clone(&self.mesh),
+            mesh_report: self.mesh_report.clone(),
+            quality: self.quality.clone(),
+            potential,
+            nodal_gradients,
+            timings: Timings::default(),
+            scale: self.scale,
+            vertex_goals: Some(Arc::new(marks)),
+        })
+    }
+}
+
+/// Whether triangle `t` comes within `radius` of `at` (its closest point, exactly).
+fn triangle_near(mesh: &Mesh, t: u32, at: Point, radius: f64) -> bool {
+    let [a, b, c] = mesh.triangle_points(t);
+    if mesh.triangle_contains(t, at) {
+        return true;
+    }
+    [(a, b), (b, c), (c, a)]
+        .into_iter()
+        .any(|(p, q)| harmonic_mesh::geom::point_segment_distance(at, p, q) <= radius)
+}
+
+/// A planner's timings when built from a workspace: only the goal's solve (and its gradient
+/// recovery) is its own; meshing, assembly and the factorisation are the workspace's.
+fn with_solve_time(mut planner: Planner, solve_ms: f64, report: GoalReport) -> Planner {
+    planner.timings = Timings {
+        solve: solve_ms,
+        ..Timings::default()
+    };
+    if let Some(goals) = planner.vertex_goals.as_mut() {
+        Arc::make_mut(goals).report = Some(report);
+    }
+    planner
+}
