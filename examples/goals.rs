@@ -5,7 +5,13 @@
 //!
 //! ```text
 //! cargo run --release --example goals -- [--json] [--goals N] [--max-area A]...
+//! cargo run --release --example goals -- --map MAP.yaml --robot-radius R --start X,Y... [--json]
 //! ```
+//!
+//! With `--map`, the occupancy map is loaded and traced once (around the first start), its
+//! workspace built, then `--goals N` random free points are each answered with a field and a
+//! path from one of the starts (in turn): `{"map": {"triangles", "workspace_ms",
+//! "goals", "goals_ms", "per_goal_ms", "paths_reached"}}`, the time from the loaded grid.
 //!
 //! Prints one row per mesh size (by default about 30 k and 300 k triangles):
 //! `{"rows": [{"triangles", "rebuild_ms", "per_goal_ms", "per_goal_blocked_ms",
@@ -146,22 +152,111 @@ fn row(base: &Scene, max_area: f64, n_goals: usize) -> Result<Row, Box<dyn std::
     })
 }
 
+#[derive(Serialize)]
+struct MapRow {
+    triangles: usize,
+    /// Tracing the map, meshing, assembling and factoring (once).
+    workspace_ms: f64,
+    goals: usize,
+    /// Every goal's field and one path each.
+    goals_ms: f64,
+    per_goal_ms: f64,
+    paths_reached: usize,
+}
+
+fn map_row(
+    map: &str,
+    robot_radius: f64,
+    starts: &[[f64; 2]],
+    n_goals: usize,
+) -> Result<MapRow, Box<dyn std::error::Error>> {
+    use harmonic_planner::map::{MapOptions, OccupancyMap};
+    let first = *starts
+        .first()
+        .ok_or("--map needs at least one --start X,Y")?;
+    let grid = OccupancyMap::load(map)?;
+    let t = Instant::now();
+    let scene = grid.to_scene(first, robot_radius, &MapOptions::default())?;
+    let ws = Workspace::new(&scene)?;
+    let workspace_ms = ms(t);
+    let (lo, hi) = ws.domain().bounding_box();
+    let mut rng = Lcg(2026);
+    let mut goals = Vec::with_capacity(n_goals);
+    while goals.len() < n_goals {
+        let p = Point::new(
+            lo.x + (hi.x - lo.x) * rng.next(),
+            lo.y + (hi.y - lo.y) * rng.next(),
+        );
+        if ws.domain().contains_free(p) && ws.domain().distance_to_obstacles(p) > 0.1 {
+            goals.push(p);
+        }
+    }
+    let t = Instant::now();
+    let mut reached = 0;
+    for (k, g) in goals.iter().enumerate() {
+        let planner = ws.planner(&Goal::point(*g))?;
+        if planner.plan(starts[k % starts.len()]).status.reached_goal() {
+            reached += 1;
+        }
+    }
+    let goals_ms = ms(t);
+    Ok(MapRow {
+        triangles: ws.mesh().triangles().len(),
+        workspace_ms,
+        goals: n_goals,
+        goals_ms,
+        per_goal_ms: goals_ms / n_goals as f64,
+        paths_reached: reached,
+    })
+}
+
+fn parse_point(s: &str) -> Result<[f64; 2], Box<dyn std::error::Error>> {
+    let v: Vec<f64> = s.split(',').map(str::parse).collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        &[x, y] if x.is_finite() && y.is_finite() => Ok([x, y]),
+        _ => Err(format!("expected X,Y, got `{s}`").into()),
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let json = args.iter().any(|a| a == "--json");
     let mut n_goals = 20;
     let mut areas = Vec::new();
+    let (mut map, mut robot_radius, mut starts) = (None, 0.0, Vec::new());
     let mut it = args.iter();
     while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
         match a.as_str() {
             "--json" => {}
-            "--goals" => n_goals = it.next().ok_or("--goals needs N")?.parse()?,
-            "--max-area" => areas.push(it.next().ok_or("--max-area needs A")?.parse::<f64>()?),
+            "--goals" => n_goals = value()?.parse()?,
+            "--max-area" => areas.push(value()?.parse::<f64>()?),
+            "--map" => map = Some(value()?.clone()),
+            "--robot-radius" => robot_radius = value()?.parse()?,
+            "--start" => starts.push(parse_point(value()?)?),
             other => return Err(format!("unknown argument `{other}`").into()),
         }
     }
     if n_goals == 0 {
         return Err("--goals must be at least 1".into());
+    }
+    if let Some(map) = map {
+        let row = map_row(&map, robot_radius, &starts, n_goals)?;
+        if json {
+            println!("{}", serde_json::json!({ "map": row }));
+        } else {
+            println!(
+                "{map}: {} triangles; workspace {:.0} ms once; {} goals with a path each in {:.0} ms ({:.1} ms per goal, {}/{} reached)",
+                row.triangles,
+                row.workspace_ms,
+                row.goals,
+                row.goals_ms,
+                row.per_goal_ms,
+                row.paths_reached,
+                row.goals
+            );
+        }
+        return Ok(());
     }
     if areas.is_empty() {
         // About 30 k and 300 k triangles on the reference scene.

@@ -49,4 +49,6 @@ pub use planner::{
 };
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};
-pub use workspace::{Goal, GoalError, Workspace, WorkspaceTimings};
+pub use workspace::{
+    Goal, GoalError, GoalRun, GoalTimings, GoalsReport, Workspace, WorkspaceTimings,
+};

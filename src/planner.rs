@@ -622,7 +622,7 @@ impl Planner {
         })
     }
 
-    fn summaries(&self) -> (MeshSummary, PotentialSummary) {
+    pub(crate) fn summaries(&self) -> (MeshSummary, PotentialSummary) {
         let psi = self.potential.psi();
         let c = self.potential.reference();
         let (mut lo, mut hi, mut min_psi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);

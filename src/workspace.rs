@@ -37,7 +37,10 @@ use harmonic_mesh::{Domain, DomainSpec, Mesh, MeshReport, NO_NEIGHBOR, Point, Qu
 use harmonic_trajectory::{NOT_A_GOAL, SmoothP1Field};
 use serde::Serialize;
 
-use crate::planner::{PlanError, Planner, PlannerOptions, Stage, Timings, VertexGoals};
+use crate::planner::{
+    MeshSummary, PathSummary, PlanError, PlannedPath, Planner, PlannerOptions, PotentialSummary,
+    Stage, Timings, VertexGoals,
+};
 use crate::scene::Scene;
 
 /// A goal for a [`Workspace`]: mesh vertices to hold at the goal's value.
@@ -453,4 +456,138 @@ fn with_solve_time(mut planner: Planner, solve_ms: f64, report: GoalReport) -> P
         Arc::make_mut(goals).report = Some(report);
     }
     planner
+}
+
+/// What `hplan plan` prints for several goals on one workspace.
+#[derive(Clone, Debug, Serialize)]
+pub struct GoalsReport {
+    /// The workspace's mesh.
+    pub mesh: MeshSummary,
+    /// The workspace's stages (once for every goal), in milliseconds.
+    pub timings_ms: WorkspaceTimings,
+    /// The kept factorisation: `accurate` or `cholesky`.
+    pub method: &'static str,
+    /// One entry per goal, in the order given.
+    pub goals: Vec<GoalRun>,
+}
+
+/// One goal of a [`GoalsReport`].
+#[derive(Clone, Debug, Serialize)]
+pub struct GoalRun {
+    /// The goal point `[x, y]`.
+    pub goal: [f64; 2],
+    /// Mesh vertices held at the goal's value.
+    pub held_vertices: usize,
+    /// Whether ψ is accurate entrywise (see [`harmonic_fem::GoalReport`]).
+    pub entrywise_accurate: bool,
+    /// This goal's own time: its share of the blocked solve with its gradient recovery
+    /// (`solve`) and its paths (`trace`), in milliseconds.
+    pub timings_ms: GoalTimings,
+    /// The goal's field.
+    pub potential: PotentialSummary,
+    /// One entry per start, in the order given.
+    pub paths: Vec<PlannedPath>,
+}
+
+/// A goal's own time, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct GoalTimings {
+    /// Its field: its share of the blocked solve and the gradient recovery.
+    pub solve: f64,
+    /// Its paths.
+    pub trace: f64,
+}
+
+impl Workspace {
+    /// Solves every goal point (together, block by block) and plans each one's starts:
+    /// what `hplan plan --goal X,Y --goal X,Y ...` prints. Also returns the planners (for
+    /// pictures).
+    pub fn report(
+        &self,
+        goals: &[(Point, Vec<[f64; 2]>)],
+    ) -> Result<(GoalsReport, Vec<Planner>), PlanError> {
+        let specs: Vec<Goal> = goals.iter().map(|(g, _)| Goal::point(*g)).collect();
+        let planners = self.planners(&specs)?;
+        let runs = planners
+            .iter()
+            .zip(goals)
+            .map(|(planner, (goal, starts))| {
+                let report = planner.plan_report(starts);
+                let goal_report = planner.goal_report();
+                GoalRun {
+                    goal: [goal.x, goal.y],
+                    held_vertices: goal_report.map_or(0, |r| r.held),
+                    entrywise_accurate: goal_report.is_some_and(|r| r.entrywise_accurate),
+                    timings_ms: GoalTimings {
+                        solve: report.timings_ms.solve,
+                        trace: report.timings_ms.trace,
+                    },
+                    potential: report.potential,
+                    paths: report.paths,
+                }
+            })
+            .collect();
+        let mesh = match planners.first() {
+            Some(p) => p.summaries().0,
+            None => return Err(GoalError::NoGoal.into()),
+        };
+        let method = match self.method() {
+            SolveMethod::Accurate => "accurate",
+            _ => "cholesky",
+        };
+        Ok((
+            GoalsReport {
+                mesh,
+                timings_ms: self.timings,
+                method,
+                goals: runs,
+            },
+            planners,
+        ))
+    }
+}
+
+impl GoalsReport {
+    /// A human-readable summary: the workspace, then each goal and its paths.
+    pub fn summary(&self) -> String {
+        use std::fmt::Write as _;
+        let mut s = String::new();
+        let t = &self.timings_ms;
+        let _ = writeln!(
+            s,
+            "mesh: {} vertices, {} triangles, min angle {:.1}°",
+            self.mesh.vertices, self.mesh.triangles, self.mesh.min_angle_deg
+        );
+        let _ = writeln!(
+            s,
+            "workspace: mesh {:.1} ms, assemble {:.1} ms, factor {:.1} ms ({}), once for {} goals",
+            t.mesh,
+            t.assemble,
+            t.factor,
+            self.method,
+            self.goals.len()
+        );
+        for g in &self.goals {
+            let _ = writeln!(
+                s,
+                "goal ({}, {}): {} vertices held, solve {:.1} ms, trace {:.1} ms, interior local minima {}",
+                g.goal[0],
+                g.goal[1],
+                g.held_vertices,
+                g.timings_ms.solve,
+                g.timings_ms.trace,
+                g.potential.interior_local_minima
+            );
+            for p in &g.paths {
+                let (start, status, length, clearance, grad) = p.line();
+                let start: Vec<String> = start.iter().map(|v| format!("{v}")).collect();
+                let _ = writeln!(
+                    s,
+                    "  ({}): {status}, length {length:.3}, clearance {clearance:.3}, smallest |∇φ| {grad:.2e}",
+                    start.join(", ")
+                );
+            }
+        }
+        s
+    }
 }

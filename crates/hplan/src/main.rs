@@ -3,6 +3,7 @@
 //! ```text
 //! hplan plan SCENE.json [--json] [--svg OUT.svg] [--start X,Y]...
 //! hplan plan --map MAP.yaml --goal X,Y [--robot-radius R] [--start X,Y]... [--json] [--svg OUT.svg]
+//! hplan plan (SCENE.json | --map MAP.yaml) --goal X,Y [--start X,Y]... --goal X,Y [--start X,Y]...
 //! hplan car  SCENE.json --pose X,Y,THETA [--wheelbase L] [--max-steer DEG] [--json] [--svg OUT.svg]
 //! hplan export SCENE.json --potential OUT.json
 //! ```
@@ -12,10 +13,11 @@ use std::process::ExitCode;
 
 mod progress;
 
-use clap::{ArgGroup, Args, Parser, Subcommand};
+use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{
-    AnyScene, CarParams, Planner, PlannerOptions, Scene, SvgOptions, VolumePlanner, VolumeScene,
+    AnyScene, CarParams, Planner, PlannerOptions, Point, Scene, SvgOptions, VolumePlanner,
+    VolumeScene, Workspace,
 };
 
 #[derive(Parser)]
@@ -53,9 +55,12 @@ enum Command {
             requires = "goal"
         )]
         map: Option<PathBuf>,
-        /// The goal on the map, in the map's world coordinates.
+        /// The goal (on a map: in its world coordinates; on a scene file it replaces the
+        /// scene's goal). Repeat it for several goals on one mesh and one factorisation: each
+        /// goal's starts are the --start options after it (those before the first --goal go
+        /// to every goal).
         #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
-        goal: Option<[f64; 2]>,
+        goal: Vec<[f64; 2]>,
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
@@ -162,8 +167,11 @@ fn parse_pose(s: &str) -> Result<[f64; 3], String> {
 }
 
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
+    let parsed = Cli::command()
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m).map(|cli| (cli, m)));
+    let (cli, matches) = match parsed {
+        Ok(parsed) => parsed,
         Err(e) if !e.use_stderr() => {
             // --help and --version: clap prints them as usual.
             let _ = e.print();
@@ -174,7 +182,8 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    match run(cli) {
+    let order = ArgOrder::of(&matches);
+    match run(cli, &order) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("hplan: {message}");
@@ -297,7 +306,102 @@ fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+/// Where each `--goal` and `--start` of `hplan plan` stood on the command line, so each
+/// goal gets the starts that follow it.
+#[derive(Default)]
+struct ArgOrder {
+    goals: Vec<usize>,
+    starts: Vec<usize>,
+}
+
+impl ArgOrder {
+    fn of(matches: &ArgMatches) -> ArgOrder {
+        let Some(plan) = matches.subcommand_matches("plan") else {
+            return ArgOrder::default();
+        };
+        let at = |id: &str| {
+            plan.indices_of(id)
+                .map(|i| i.collect::<Vec<_>>())
+                .unwrap_or_default()
+        };
+        ArgOrder {
+            goals: at("goal"),
+            starts: at("starts"),
+        }
+    }
+
+    /// Each goal with its starts: those after it (before the next goal), plus those before
+    /// the first goal; `default` when a goal gets none.
+    fn starts_per_goal(
+        &self,
+        goals: &[[f64; 2]],
+        starts: &[[f64; 2]],
+        default: &[[f64; 2]],
+    ) -> Vec<(Point, Vec<[f64; 2]>)> {
+        let owner = |k: usize| {
+            let at = self.starts.get(k).copied().unwrap_or(0);
+            self.goals.iter().rposition(|&g| g < at)
+        };
+        goals
+            .iter()
+            .enumerate()
+            .map(|(j, g)| {
+                let mut own: Vec<[f64; 2]> = starts
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| owner(k).is_none_or(|o| o == j))
+                    .map(|(_, &s)| s)
+                    .collect();
+                if own.is_empty() {
+                    own = default.to_vec();
+                }
+                (Point::new(g[0], g[1]), own)
+            })
+            .collect()
+    }
+}
+
+/// `hplan plan` with several goals: one workspace, one factorisation, one result per goal.
+fn plan_goals(
+    scene: &Scene,
+    path: &Path,
+    common: &Common,
+    goals: &[(Point, Vec<[f64; 2]>)],
+) -> Result<(), String> {
+    let opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+    };
+    let workspace =
+        Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (report, planners) = workspace.report(goals).map_err(|e| e.to_string())?;
+    if let (Some(svg), Some(first)) = (&common.svg, planners.first()) {
+        let paths: Vec<_> = report
+            .goals
+            .iter()
+            .flat_map(|g| g.paths.iter().map(|p| p.points.clone()))
+            .collect();
+        let opts = SvgOptions {
+            show_mesh: common.mesh,
+            title: Some(format!(
+                "{} goals; isolines of the first goal's potential",
+                goals.len()
+            )),
+            ..SvgOptions::default()
+        };
+        write_file(svg, &first.svg(&paths, &[], &opts))?;
+    }
+    if let (Some(vtk), Some(first)) = (&common.vtk, planners.first()) {
+        write_file(vtk, &first.vtu())?;
+    }
+    if common.json {
+        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&report.summary())
+    }
+}
+
+fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
     match cli.command {
         Command::Plan {
             common,
@@ -306,33 +410,49 @@ fn run(cli: Cli) -> Result<(), String> {
             goal,
             robot_radius,
         } => {
-            let (scene, path) = match (&common.scene, &map, goal) {
-                (_, Some(map), Some(goal)) => {
+            let (mut scene, path) = match (&common.scene, &map, goal.first()) {
+                (_, Some(map), Some(&first)) => {
                     let opts = MapOptions {
                         max_area: common.max_area,
                         ..MapOptions::default()
                     };
                     let scene = OccupancyMap::load(map)
-                        .and_then(|m| m.to_scene(goal, robot_radius, &opts))
+                        .and_then(|m| m.to_scene(first, robot_radius, &opts))
                         .map_err(|e| e.to_string())?;
                     (scene, map.clone())
                 }
-                (Some(path), None, None) => match load(path, &common)? {
+                (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),
-                    AnyScene::Volume(scene) => return plan_volume(&scene, path, &common, &starts),
+                    AnyScene::Volume(scene) if goal.is_empty() => {
+                        return plan_volume(&scene, path, &common, &starts);
+                    }
+                    AnyScene::Volume(_) => {
+                        return Err(format!(
+                            "{}: --goal X,Y is for plane scenes and maps; a volume scene names its goal",
+                            path.display()
+                        ));
+                    }
                 },
-                (Some(_), None, Some(_)) => {
-                    return Err(
-                        "--goal goes with --map MAP.yaml (a scene file names its goal)".into(),
-                    );
-                }
                 _ => return Err("plan needs SCENE.json or --map MAP.yaml --goal X,Y".into()),
             };
+            let all_starts = starts_of::<2>(&starts, "X,Y on a plane scene")?;
+            if goal.len() > 1 {
+                let goals = order.starts_per_goal(&goal, &all_starts, &scene.starts);
+                return plan_goals(&scene, &path, &common, &goals);
+            }
+            if let (Some(&g), None) = (goal.first(), &map) {
+                // One goal for a scene file: it replaces the scene's goal(s).
+                scene.goal =
+                    harmonic_planner::scene::Goals(vec![harmonic_planner::scene::Region {
+                        point: Some(g),
+                        ..Default::default()
+                    }]);
+            }
             let planner = build(&scene, &path, common.json)?;
-            let starts = if starts.is_empty() {
+            let starts = if all_starts.is_empty() {
                 scene.starts.clone()
             } else {
-                starts_of::<2>(&starts, "X,Y on a plane scene")?
+                all_starts
             };
             let report = planner.plan_report(&starts);
             if let Some(svg) = &common.svg {

@@ -135,7 +135,10 @@ fn the_command_line_plans_on_a_map() {
         ],
         "occupied",
     );
-    fails(&["plan", "meshes/reference.json", "--goal", "1,1"], "--map");
+    fails(
+        &["plan", "meshes/torus3d.json", "--goal", "1,1"],
+        "volume scene names its goal",
+    );
 }
 
 /// A reader that goes away early (`hplan plan … --json | head -c 100`) ends the output

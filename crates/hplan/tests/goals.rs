@@ -1,0 +1,123 @@
+//! `hplan plan --goal X,Y [--start X,Y]... --goal X,Y ...`: several goals on one mesh and one
+//! factorisation, each with the starts that follow it.
+
+mod common;
+
+use common::{hplan, run_json};
+use harmonic_fixtures::mesh_file;
+use serde_json::Value;
+
+fn point(v: &Value) -> [f64; 2] {
+    [v[0].as_f64().expect("x"), v[1].as_f64().expect("y")]
+}
+
+#[test]
+fn each_goal_gets_the_starts_after_it_and_every_path_ends_on_its_goal() {
+    let scene = mesh_file("reference.json");
+    let report = run_json(&[
+        "plan",
+        scene.to_str().expect("utf-8"),
+        "--start",
+        "4,5.5",
+        "--goal",
+        "8.5,1.5",
+        "--start",
+        "1,9",
+        "--goal",
+        "1,1",
+        "--start",
+        "9,9",
+        "--start",
+        "0.5,5",
+        "--json",
+    ]);
+    assert_eq!(report["method"], "accurate");
+    assert!(report["timings_ms"]["factor"].as_f64().expect("factor") > 0.0);
+    let goals = report["goals"].as_array().expect("goals");
+    assert_eq!(goals.len(), 2);
+    // (4, 5.5) stood before the first goal: every goal gets it.
+    let expected = [
+        vec![[4.0, 5.5], [1.0, 9.0]],
+        vec![[4.0, 5.5], [9.0, 9.0], [0.5, 5.0]],
+    ];
+    for (g, starts) in goals.iter().zip(expected) {
+        let paths = g["paths"].as_array().expect("paths");
+        let got: Vec<[f64; 2]> = paths.iter().map(|p| point(&p["start"])).collect();
+        assert_eq!(got, starts, "{g}");
+        assert_eq!(g["potential"]["interior_local_minima"], 0);
+        assert!(g["held_vertices"].as_u64().expect("held") >= 1);
+        for p in paths {
+            assert_eq!(p["status"], "reached_goal", "{p}");
+            let pts = p["points"].as_array().expect("points");
+            assert_eq!(point(pts.last().expect("end")), point(&g["goal"]), "{p}");
+            assert!(p["min_clearance"].as_f64().expect("clearance") > 0.0);
+        }
+    }
+}
+
+#[test]
+fn several_goals_on_a_map_and_one_goal_on_a_scene_file() {
+    let map = mesh_file("warehouse_map.yaml");
+    let report = run_json(&[
+        "plan",
+        "--map",
+        map.to_str().expect("utf-8"),
+        "--robot-radius",
+        "0.2",
+        "--goal",
+        "16.5,1.5",
+        "--goal",
+        "3.0,4.0",
+        "--start",
+        "16.5,1.5",
+        "--json",
+    ]);
+    let goals = report["goals"].as_array().expect("goals");
+    assert_eq!(goals.len(), 2);
+    assert_eq!(
+        goals[1]["paths"][0]["status"], "reached_goal",
+        "{}",
+        goals[1]
+    );
+
+    // One --goal on a scene file replaces the scene's goal: an ordinary report.
+    let scene = mesh_file("reference.json");
+    let one = run_json(&[
+        "plan",
+        scene.to_str().expect("utf-8"),
+        "--goal",
+        "1,1",
+        "--start",
+        "9,9",
+        "--json",
+    ]);
+    let path = &one["paths"][0];
+    assert_eq!(path["status"], "reached_goal");
+    let end = point(
+        path["points"]
+            .as_array()
+            .expect("points")
+            .last()
+            .expect("end"),
+    );
+    // A point goal in a scene is meshed as a small disc (twice the target edge length).
+    assert!(
+        (end[0] - 1.0).hypot(end[1] - 1.0) < 0.25,
+        "ends near (1, 1): {end:?}"
+    );
+}
+
+#[test]
+fn a_goal_in_an_obstacle_is_one_line_naming_it() {
+    let scene = mesh_file("reference.json");
+    let out = hplan()
+        .args(["plan", scene.to_str().expect("utf-8")])
+        .args(["--goal", "1,1", "--goal", "2.5,5", "--json"])
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("(2.5, 5) is not in the free space"), "{err}");
+    assert!(out.stdout.is_empty());
+}
