@@ -4,14 +4,18 @@
 //! `free_thresh`, `negate`, `mode`) naming a PGM or PNG image. Each pixel becomes a free,
 //! occupied or unknown cell by the `map_server` rules. [`OccupancyMap::to_scene`] traces the
 //! free area that holds the goal (marching squares on the cell centres), simplifies its
-//! boundary to about half a cell (Douglas–Peucker) and returns a [`Scene`] whose workspace is
-//! that area's outer boundary and whose obstacles are its holes, so the planner, the command
-//! line and the pictures work on maps unchanged.
+//! boundary (Douglas–Peucker, about half a cell, coarser up to 1.5 cells while the boundary
+//! has more than [`MapOptions::boundary_budget`] vertices) and returns a [`Scene`] whose
+//! workspace is that area's outer boundary and whose obstacles are its holes, so the planner,
+//! the command line and the pictures work on maps unchanged. The mesh is sized for the robot:
+//! triangles with edges of about four robot radii on open floor, graded down by the
+//! refinement near walls and in narrow passages (smallest angle 25°).
 //!
 //! The traced polygons never expose an occupied cell: free space is traced a quarter cell
 //! inside the free cells, free gaps narrower than three cells are closed first (no robot passes
 //! them), and the scene's robot radius is the requested one plus [`MapPolygons::margin`], the
-//! most the simplified polygons can cut into an occupied cell. A path that keeps the scene's
+//! most the simplified polygons can cut into an occupied cell (a simplified ring stays within
+//! the tolerance of the traced one, so the polygons offset by it hold every occupied cell). A path that keeps the scene's
 //! radius from the polygons therefore keeps the requested radius from every occupied cell.
 //! Free islands inside occupied blobs (a closed room) and free areas not connected to the
 //! goal are outside the scene.
@@ -81,11 +85,26 @@ pub enum UnknownCells {
 pub struct MapOptions {
     /// What unknown cells are.
     pub unknown: UnknownCells,
-    /// Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every traced
-    /// vertex; at most 0.5 so that no occupied cell centre is ever cut off).
+    /// The finest Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every
+    /// traced vertex; at most 0.5).
     pub simplify_cells: f64,
-    /// Largest triangle area of the scene's mesh (m²); `None` lets the mesher choose.
+    /// The traced boundary's vertex budget: while the polygons have more vertices, the
+    /// tolerance grows (by half each time) up to [`MapOptions::max_simplify_cells`]. A large
+    /// map's staircase boundaries otherwise force tens of thousands of small triangles.
+    pub boundary_budget: usize,
+    /// The coarsest tolerance the budget may reach, in cells (at most 3). Whatever the
+    /// tolerance, [`MapPolygons::margin`] grows with it, so the clearance from occupied cells
+    /// is kept (the polygons are simplified, then offset by the error through the robot's
+    /// radius).
+    pub max_simplify_cells: f64,
+    /// Largest triangle area of the scene's mesh (m²); `None`: from the robot's radius (edges
+    /// of about four radii on open floor, [`OccupancyMap::to_scene`]), or the mesher's
+    /// default for a point robot.
     pub max_area: Option<f64>,
+    /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 25 rather
+    /// than the 30 of scene files, which halves the triangles a map's many short boundary
+    /// edges force (the mesh stays constrained Delaunay, so the maximum principle holds).
+    pub min_angle_deg: f64,
 }
 
 impl Default for MapOptions {
@@ -93,7 +112,10 @@ impl Default for MapOptions {
         MapOptions {
             unknown: UnknownCells::Obstacle,
             simplify_cells: 0.45,
+            boundary_budget: 1000,
+            max_simplify_cells: 1.5,
             max_area: None,
+            min_angle_deg: 25.0,
         }
     }
 }
@@ -168,7 +190,7 @@ pub enum MapError {
     /// A map option is out of range.
     #[error("map option `{option}`: {message}")]
     BadOption {
-        /// The field of [`MapOptions`] (`simplify_cells`, `max_area`).
+        /// The field of [`MapOptions`] (`simplify_cells`, `max_simplify_cells`, `max_area`).
         option: &'static str,
         /// The allowed range and the value given.
         message: String,
@@ -257,6 +279,8 @@ pub struct MapPolygons {
     /// How far (in world units) the polygons may cut into an occupied cell: a quarter-cell
     /// chamfer at cell corners plus the simplification tolerance.
     pub margin: f64,
+    /// The Douglas–Peucker tolerance used, in cells (see [`MapOptions::boundary_budget`]).
+    pub simplify_cells: f64,
 }
 
 fn field<'a>(doc: &'a Value, file: &str, name: &'static str) -> Result<&'a Value, MapError> {
@@ -568,6 +592,17 @@ impl OccupancyMap {
                 ),
             });
         }
+        if !(opts.max_simplify_cells.is_finite()
+            && (opts.simplify_cells..=3.0).contains(&opts.max_simplify_cells))
+        {
+            return Err(MapError::BadOption {
+                option: "max_simplify_cells",
+                message: format!(
+                    "must be between simplify_cells ({}) and 3 cells, got {}",
+                    opts.simplify_cells, opts.max_simplify_cells
+                ),
+            });
+        }
         let (w, h) = (self.width, self.height);
         let free: Vec<bool> = (0..w * h)
             .map(|k| !self.is_blocked(k % w, k / w, opts.unknown))
@@ -590,11 +625,10 @@ impl OccupancyMap {
         }
         let component = flood_fill(&open, w, h, gr * w + gc);
         let rings = march(&component, w, h);
-        let eps = opts.simplify_cells;
+        let (eps, rings) = simplify_to_budget(rings, opts);
         let mut workspace: Option<(f64, Vec<[f64; 2]>)> = None;
         let mut obstacles = Vec::new();
         for ring in rings {
-            let ring = simplify(ring, eps);
             let area = signed_area(&ring);
             let world: Vec<[f64; 2]> = ring.iter().map(|&g| self.grid_to_world(g)).collect();
             if area > 0.0 {
@@ -613,6 +647,7 @@ impl OccupancyMap {
             workspace,
             obstacles,
             margin: self.resolution * ((1.0 - CROSSING) / std::f64::consts::SQRT_2 + eps),
+            simplify_cells: eps,
         })
     }
 
@@ -637,6 +672,10 @@ impl OccupancyMap {
             });
         }
         let polys = self.polygons(goal, opts)?;
+        let radius = robot_radius + polys.margin;
+        let max_area = opts
+            .max_area
+            .or_else(|| robot_area(&polys, robot_radius, radius));
         Ok(Scene {
             name: Some(self.source.clone()),
             workspace: polys.workspace,
@@ -655,13 +694,11 @@ impl OccupancyMap {
             starts: Vec::new(),
             boundary: Default::default(),
             mesh: MeshSpec {
-                max_area: opts.max_area,
-                min_angle_deg: None,
+                max_area,
+                min_angle_deg: Some(opts.min_angle_deg),
                 grading: None,
             },
-            robot: RobotSpec {
-                radius: robot_radius + polys.margin,
-            },
+            robot: RobotSpec { radius },
         })
     }
 
@@ -715,34 +752,65 @@ const CROSSING: f64 = 0.75;
 
 /// Morphological opening of the free cells by a 3 × 3 square: free cells that are in no
 /// all-free 3 × 3 block (gaps narrower than three cells) become blocked. Outside the grid is
-/// blocked.
+/// blocked. Separable: a 3 × 3 erosion is a 3-wide erosion of rows then of columns, and so is
+/// the dilation, each a pass over contiguous rows.
 fn opening(free: &[bool], w: usize, h: usize) -> Vec<bool> {
-    let at = |i: isize, j: isize| -> bool {
-        i >= 0
-            && j >= 0
-            && (i as usize) < w
-            && (j as usize) < h
-            && free[j as usize * w + i as usize]
-    };
-    let block = |i: isize, j: isize, f: &dyn Fn(isize, isize) -> bool| -> bool {
-        (-1..=1).all(|dj| (-1..=1).all(|di| f(i + di, j + dj)))
-    };
-    let eroded: Vec<bool> = (0..w * h)
-        .map(|k| block((k % w) as isize, (k / w) as isize, &at))
-        .collect();
-    let er = |i: isize, j: isize| -> bool {
-        i >= 0
-            && j >= 0
-            && (i as usize) < w
-            && (j as usize) < h
-            && eroded[j as usize * w + i as usize]
-    };
-    (0..w * h)
-        .map(|k| {
-            let (i, j) = ((k % w) as isize, (k / w) as isize);
-            free[k] && (-1..=1).any(|dj| (-1..=1).any(|di| er(i + di, j + dj)))
-        })
-        .collect()
+    let eroded = vertical(&horizontal(free, w, h, Pass::Erode), w, h, Pass::Erode);
+    let dilated = vertical(&horizontal(&eroded, w, h, Pass::Dilate), w, h, Pass::Dilate);
+    dilated.iter().zip(free).map(|(&d, &f)| d && f).collect()
+}
+
+/// A 3-wide erosion (all three set) or dilation (any of three set); outside the grid is unset.
+#[derive(Clone, Copy)]
+enum Pass {
+    Erode,
+    Dilate,
+}
+
+impl Pass {
+    #[inline]
+    fn apply(self, a: bool, b: bool, c: bool) -> bool {
+        match self {
+            Pass::Erode => a && b && c,
+            Pass::Dilate => a || b || c,
+        }
+    }
+}
+
+/// [`Pass`] along each row.
+fn horizontal(cells: &[bool], w: usize, h: usize, pass: Pass) -> Vec<bool> {
+    let mut out = vec![false; w * h];
+    for (row, out) in cells.chunks_exact(w).zip(out.chunks_exact_mut(w)).take(h) {
+        for i in 0..w {
+            let left = i > 0 && row[i - 1];
+            let right = i + 1 < w && row[i + 1];
+            out[i] = pass.apply(left, row[i], right);
+        }
+    }
+    out
+}
+
+/// [`Pass`] along each column, row against row.
+fn vertical(cells: &[bool], w: usize, h: usize, pass: Pass) -> Vec<bool> {
+    let mut out = vec![false; w * h];
+    let none = vec![false; w];
+    for j in 0..h {
+        let below = if j > 0 {
+            &cells[(j - 1) * w..j * w]
+        } else {
+            &none[..]
+        };
+        let above = if j + 1 < h {
+            &cells[(j + 1) * w..(j + 2) * w]
+        } else {
+            &none[..]
+        };
+        let row = &cells[j * w..(j + 1) * w];
+        for (i, o) in out[j * w..(j + 1) * w].iter_mut().enumerate() {
+            *o = pass.apply(below[i], row[i], above[i]);
+        }
+    }
+    out
 }
 
 /// The 4-connected set of `cells` holding `seed`.
@@ -788,17 +856,20 @@ fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
     // Edge ids: horizontal (I, J)–(I+1, J) is 2 (I ny + J), vertical (I, J)–(I, J+1) is +1.
     let hid = |i: usize, j: usize| 2 * (i * ny + j);
     let vid = |i: usize, j: usize| 2 * (i * ny + j) + 1;
-    const NONE: usize = usize::MAX;
-    let mut next = vec![NONE; 2 * nx * ny];
-    for i in 0..nx - 1 {
-        for j in 0..ny - 1 {
+    // Only boundary edges get a successor: a map, and the order they were found in (so the
+    // rings come out the same on every run).
+    let mut next: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    let mut found: Vec<usize> = Vec::new();
+    for j in 0..ny - 1 {
+        // Row by row over contiguous cells; a square with four equal corners has no boundary.
+        for i in 0..nx - 1 {
             let v = [
                 node(i, j),
                 node(i + 1, j),
                 node(i + 1, j + 1),
                 node(i, j + 1),
             ];
-            if v.iter().all(|&b| b) || v.iter().all(|&b| !b) {
+            if v[0] == v[1] && v[1] == v[2] && v[2] == v[3] {
                 continue;
             }
             // Counter-clockwise edges: k joins corner k to corner k + 1.
@@ -811,7 +882,8 @@ fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
                         .map(|d| (k + 4 - d) % 4)
                         .find(|&m| !v[m] && v[(m + 1) % 4])
                         .expect("a cell with an exit has an entry");
-                    next[e[k]] = e[m];
+                    next.insert(e[k], e[m]);
+                    found.push(e[k]);
                 }
             }
         }
@@ -832,21 +904,35 @@ fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
         ]
     };
     let mut rings = Vec::new();
-    for start in 0..next.len() {
-        if next[start] == NONE {
+    for start in found {
+        if !next.contains_key(&start) {
             continue;
         }
         let mut ring = Vec::new();
         let mut id = start;
-        while next[id] != NONE {
+        while let Some(n) = next.remove(&id) {
             ring.push(point(id));
-            let n = next[id];
-            next[id] = NONE;
             id = n;
         }
         rings.push(ring);
     }
     rings
+}
+
+/// The traced rings simplified with the finest tolerance from `opts.simplify_cells` (growing
+/// by half up to `opts.max_simplify_cells`) whose rings have at most `opts.boundary_budget`
+/// vertices in all; returns the tolerance used.
+fn simplify_to_budget(rings: Vec<Vec<[f64; 2]>>, opts: &MapOptions) -> (f64, Vec<Vec<[f64; 2]>>) {
+    let mut eps = opts.simplify_cells;
+    loop {
+        let simplified: Vec<Vec<[f64; 2]>> =
+            rings.iter().map(|r| simplify(r.clone(), eps)).collect();
+        let vertices: usize = simplified.iter().map(Vec::len).sum();
+        if vertices <= opts.boundary_budget || eps >= opts.max_simplify_cells {
+            return (eps, simplified);
+        }
+        eps = (eps.max(0.1) * 1.5).min(opts.max_simplify_cells);
+    }
 }
 
 /// Douglas–Peucker on a closed ring (tolerance in cells); rings that would collapse are kept.
@@ -860,6 +946,20 @@ fn simplify(ring: Vec<[f64; 2]>, eps: f64) -> Vec<[f64; 2]> {
     let mut out: Vec<[f64; 2]> = simplified.0.iter().map(|c| [c.x, c.y]).collect();
     out.pop();
     if out.len() < 3 { ring } else { out }
+}
+
+/// The mesh a disc robot needs on open floor: triangles with edges of about four radii
+/// (inflated radius `radius`), unless the mesher's default (workspace area / 20 000) is coarser;
+/// near walls and in narrow passages the refinement's angle bound grades the mesh down to
+/// the boundary's own detail. `None` (the mesher's default) for a point robot.
+fn robot_area(polys: &MapPolygons, robot_radius: f64, radius: f64) -> Option<f64> {
+    if robot_radius <= 0.0 {
+        return None;
+    }
+    let workspace = signed_area(&polys.workspace).abs();
+    let edge = 4.0 * radius;
+    let robot = 3f64.sqrt() / 4.0 * edge * edge;
+    Some(robot.max(workspace / 20_000.0))
 }
 
 fn signed_area(ring: &[[f64; 2]]) -> f64 {

@@ -565,3 +565,117 @@ fn a_rotated_map_traces_in_its_frame() {
     assert_eq!(path.status.as_str(), "reached_goal");
     assert!(path_clearance(&map, &path.points, 0.1) >= 0.1 - 0.01);
 }
+
+/// A boundary over its vertex budget is simplified more coarsely; the margin grows with the
+/// tolerance, so a blocked cell the coarser polygons leave in free space is within the margin
+/// of them, and paths still keep the radius from every blocked cell.
+#[test]
+fn a_coarser_simplification_keeps_the_clearance_through_its_margin() {
+    let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    let opts = MapOptions {
+        boundary_budget: 150,
+        ..MapOptions::default()
+    };
+    let fine = map.polygons(GOAL, &MapOptions::default()).expect("traces");
+    let coarse = map.polygons(GOAL, &opts).expect("traces");
+    let count = |p: &harmonic_planner::map::MapPolygons| {
+        p.workspace.len() + p.obstacles.iter().map(Vec::len).sum::<usize>()
+    };
+    assert!(
+        coarse.simplify_cells > fine.simplify_cells,
+        "{}",
+        coarse.simplify_cells
+    );
+    assert!(count(&coarse) < count(&fine));
+    assert!(count(&coarse) <= 150 || coarse.simplify_cells == opts.max_simplify_cells);
+    let res = map.resolution();
+    assert!(coarse.margin >= res * coarse.simplify_cells);
+
+    // Blocked cell centres inside the coarse free space lie within the margin of its rings.
+    let rings: Vec<&Vec<[f64; 2]>> = std::iter::once(&coarse.workspace)
+        .chain(&coarse.obstacles)
+        .collect();
+    let ws = polygon(&coarse.workspace);
+    let holes: Vec<Polygon<f64>> = coarse.obstacles.iter().map(|r| polygon(r)).collect();
+    let mut uncovered = 0;
+    for j in 0..map.height() {
+        for i in 0..map.width() {
+            if !map.is_blocked(i, j, UnknownCells::Obstacle) {
+                continue;
+            }
+            let c = map.cell_center(i, j);
+            let coord = Coord { x: c[0], y: c[1] };
+            if !ws.contains(&coord) || holes.iter().any(|h| h.contains(&coord)) {
+                continue;
+            }
+            uncovered += 1;
+            let d = rings
+                .iter()
+                .map(|r| harmonic_planner::mesh::geom::ring_distance(r, c))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= coarse.margin,
+                "cell ({i}, {j}) is {d} inside, margin {}",
+                coarse.margin
+            );
+        }
+    }
+    println!("{uncovered} blocked cell centres inside the coarse polygons, all within the margin");
+
+    let radius = 0.2;
+    let scene = map.to_scene(GOAL, radius, &opts).expect("scene");
+    let planner = Planner::new(&scene).expect("planner");
+    // The wider margin may take a start that hugs a wall out of free space; the others reach.
+    let mut reached = 0;
+    for start in REACHABLE {
+        let path = planner.plan(start);
+        if path.status.as_str() == "start_in_obstacle" {
+            continue;
+        }
+        assert_eq!(path.status.as_str(), "reached_goal", "{start:?}");
+        reached += 1;
+        let clearance = path_clearance(&map, &path.points, radius);
+        assert!(clearance >= radius - 0.1 * res, "{start:?}: {clearance}");
+    }
+    assert!(reached >= 3, "only {reached} starts reached");
+}
+
+/// Nav2's own maps with NavFn's start/goal pairs (when the maps are at hand): every first plan
+/// reaches the goal and keeps the robot's radius from every occupied and unknown cell.
+#[test]
+fn nav2_maps_plans_reach_and_keep_the_radius_on_the_grid() {
+    let Some(dir) = harmonic_fixtures::nav2_maps_dir() else {
+        eprintln!("skipped: set HARMONIC_NAV2_MAPS to a folder of Nav2's maps");
+        return;
+    };
+    let radius = harmonic_fixtures::NAVFN_ROBOT_RADIUS;
+    for r in harmonic_fixtures::NAVFN_REQUESTS {
+        let map = OccupancyMap::load(dir.join(format!("{}.yaml", r.map))).expect("loads");
+        let scene = map
+            .to_scene(r.goal, radius, &MapOptions::default())
+            .expect("scene");
+        let planner = Planner::new(&scene).expect("planner");
+        let path = planner.plan(r.start);
+        assert_eq!(
+            path.status.as_str(),
+            "reached_goal",
+            "{} from {:?}",
+            r.map,
+            r.start
+        );
+        let clearance = path_clearance(&map, &path.points, radius);
+        assert!(
+            clearance >= radius - 0.1 * map.resolution(),
+            "{} from {:?}: {clearance} from a blocked cell",
+            r.map,
+            r.start
+        );
+        assert_eq!(
+            planner
+                .plan_report(&[r.start])
+                .potential
+                .interior_local_minima,
+            0
+        );
+    }
+}

@@ -1,0 +1,125 @@
+//! Nav2's maps beside NavFn, request by request: the first plan from the loaded occupancy
+//! grid (map → polygons → mesh → assemble → solve → trace), where its time goes, and a later
+//! start on the same planner (a trace only). Times are medians of 5 in-process runs.
+//!
+//! ```text
+//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--json]
+//! ```
+
+use std::time::Instant;
+
+use harmonic_fixtures::{NAVFN_REQUESTS, NAVFN_ROBOT_RADIUS, nav2_maps_dir};
+use harmonic_planner::Planner;
+use harmonic_planner::map::{MapOptions, OccupancyMap};
+use serde::Serialize;
+
+#[derive(Serialize)]
+struct Row {
+    map: &'static str,
+    start: [f64; 2],
+    triangles: usize,
+    polygons_ms: f64,
+    mesh_ms: f64,
+    assemble_ms: f64,
+    solve_ms: f64,
+    trace_ms: f64,
+    first_plan_ms: f64,
+    later_start_ms: f64,
+    navfn_ms: f64,
+    status: String,
+    length: f64,
+    navfn_length: f64,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let json = std::env::args().any(|a| a == "--json");
+    let Some(dir) = nav2_maps_dir() else {
+        eprintln!(
+            "set HARMONIC_NAV2_MAPS to a folder of Nav2's maps (depot.yaml, warehouse.yaml, ...)"
+        );
+        return Ok(());
+    };
+    let mut rows = Vec::new();
+    for r in NAVFN_REQUESTS {
+        let map = OccupancyMap::load(dir.join(format!("{}.yaml", r.map)))?;
+        let mut runs = Vec::new();
+        for _ in 0..5 {
+            let t = Instant::now();
+            let scene = map.to_scene(r.goal, NAVFN_ROBOT_RADIUS, &MapOptions::default())?;
+            let polygons_ms = ms(t);
+            let planner = Planner::new(&scene)?;
+            let t2 = Instant::now();
+            let path = planner.plan(r.start);
+            let trace_ms = ms(t2);
+            runs.push((ms(t), polygons_ms, trace_ms, planner, path));
+        }
+        runs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (first_plan_ms, polygons_ms, trace_ms, planner, path) = runs.swap_remove(2);
+        let later = median(
+            (0..5)
+                .map(|_| {
+                    let t = Instant::now();
+                    std::hint::black_box(planner.plan(r.start));
+                    ms(t)
+                })
+                .collect(),
+        );
+        let tm = planner.timings();
+        rows.push(Row {
+            map: r.map,
+            start: r.start,
+            triangles: planner.mesh().triangles().len(),
+            polygons_ms,
+            mesh_ms: tm.mesh,
+            assemble_ms: tm.assemble,
+            solve_ms: tm.solve,
+            trace_ms,
+            first_plan_ms,
+            later_start_ms: later,
+            navfn_ms: r.navfn_ms,
+            status: path.status.as_str().to_string(),
+            length: path.length,
+            navfn_length: r.navfn_length,
+        });
+    }
+    if json {
+        println!("{}", serde_json::json!({ "rows": rows }));
+        return Ok(());
+    }
+    println!(
+        "| map | start | triangles | first plan ms (polygons + mesh + assemble + solve + trace) | NavFn ms | ratio | later start ms | NavFn / later | status | length m (NavFn) |"
+    );
+    println!("|---|---|---:|---|---:|---:|---:|---:|---|---|");
+    for r in &rows {
+        println!(
+            "| {} | {}, {} | {} | {:.1} ({:.1} + {:.1} + {:.1} + {:.1} + {:.1}) | {} | {:.1}× | {:.2} | {:.0}× | {} | {:.2} ({:.2}) |",
+            r.map,
+            r.start[0],
+            r.start[1],
+            r.triangles,
+            r.first_plan_ms,
+            r.polygons_ms,
+            r.mesh_ms,
+            r.assemble_ms,
+            r.solve_ms,
+            r.trace_ms,
+            r.navfn_ms,
+            r.first_plan_ms / r.navfn_ms,
+            r.later_start_ms,
+            r.navfn_ms / r.later_start_ms,
+            r.status,
+            r.length,
+            r.navfn_length
+        );
+    }
+    Ok(())
+}
