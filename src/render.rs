@@ -264,13 +264,25 @@ pub fn isoline_levels(psi: &[f64]) -> Vec<(f64, bool)> {
     levels
 }
 
+/// The levels below which [`isoline_path`] skips the triangles touching a wall held at ψ = 0.
+pub const LOG_LEVELS_BELOW: f64 = 0.05;
+
 /// The SVG path data of the level set ψ = level over a P1 field (marching triangles).
+///
+/// Below [`LOG_LEVELS_BELOW`] (the log-scale levels) a triangle with a vertex at ψ = 0 (on a
+/// Dirichlet wall) is skipped: every small level crosses every such triangle, so each of
+/// those isolines would trace the whole boundary a hair off the walls — nothing to see, and
+/// on a large map megabytes per level.
 pub fn isoline_path(mesh: &Mesh, psi: &[f64], level: f64) -> String {
     let mut d = String::new();
     let v = mesh.vertices();
+    let skip_walls = level < LOG_LEVELS_BELOW;
     for tri in mesh.triangles() {
         let ids = tri.map(|i| i as usize);
         let vals = ids.map(|i| psi[i]);
+        if skip_walls && vals.contains(&0.0) {
+            continue;
+        }
         let mut pts = [Point::origin(); 2];
         let mut n = 0;
         for k in 0..3 {
@@ -380,6 +392,18 @@ mod tests {
         assert_eq!(d.matches('M').count(), 2, "{d}");
         assert!(d.contains("0.50000"), "{d}");
         assert!(isoline_path(&m, &psi, 2.0).is_empty());
+    }
+
+    #[test]
+    fn small_levels_do_not_trace_the_walls() {
+        let m = square();
+        // ψ = 0 on the bottom side, so every level crosses both triangles near it.
+        let psi = [0.0, 0.0, 1.0, 1.0];
+        assert_eq!(isoline_path(&m, &psi, 0.1).matches('M').count(), 2);
+        assert!(isoline_path(&m, &psi, 1e-3).is_empty());
+        // Off the walls the small levels are drawn.
+        let psi = [1e-4, 1e-4, 1.0, 1.0];
+        assert_eq!(isoline_path(&m, &psi, 1e-3).matches('M').count(), 2);
     }
 
     #[test]
