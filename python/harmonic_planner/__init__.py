@@ -10,10 +10,9 @@ factorisation) happens once in ``Planner(scene)``; queries reuse it.
 >>> planner.plan([1.0, 9.0]).status                                  # doctest: +SKIP
 'reached_goal'
 
-Classes: Scene, Planner, VolumePlanner, Path, CarRun; exception: SceneError (a ValueError).
-Not bound yet: configuration-space robots and any-goal workspaces (planned in the Rust
-crate, not there yet); moving obstacles (harmonic-dynamic), the baseline planners, SVG and
-VTK export.
+Classes: Scene, Planner, Workspace (any goal from one factorisation), VolumePlanner, Path,
+CarRun; exception: SceneError (a ValueError). Not bound yet: configuration-space robots;
+moving obstacles (harmonic-dynamic), the baseline planners, SVG and VTK export.
 """
 
 from ._native import (
@@ -23,6 +22,7 @@ from ._native import (
     Scene,
     SceneError,
     VolumePlanner,
+    Workspace,
     __version__,
 )
 
@@ -33,5 +33,6 @@ __all__ = [
     "Scene",
     "SceneError",
     "VolumePlanner",
+    "Workspace",
     "__version__",
 ]

@@ -1,12 +1,11 @@
 """Type stubs of harmonic_planner's native module (re-exported by ``harmonic_planner``).
 
 Bound: plane scenes (``Scene``, ``Planner``: plan, plan_many, potential, psi, gradient, mesh,
-timings, ROS maps, car-like robots) and volume scenes (``VolumePlanner``, points of shape
-(n, 3)).
+timings, ROS maps, car-like robots), any-goal workspaces (``Workspace``: one factorisation,
+a planner per goal) and volume scenes (``VolumePlanner``, points of shape (n, 3)).
 
 Not bound yet:
-- configuration-space robots (planned in the Rust crate; not there yet),
-- any-goal workspaces (planned),
+- configuration-space robots,
 - replanning among moving obstacles (``harmonic-dynamic``), the baseline planners
   (``harmonic-baselines``), SVG / VTK export (use ``hplan``), stage-progress callbacks.
 """
@@ -172,3 +171,31 @@ class VolumePlanner:
     def timings(self) -> Dict[str, float]: ...
     @property
     def source(self) -> Optional[str]: ...
+
+class Workspace:
+    """A plane scene (or map) meshed without its goals and its walls factored once; a
+    ``Planner`` for any goal afterwards, by a few triangular solves (milliseconds)."""
+
+    def __init__(self, scene: Scene, *, max_area: Optional[float] = None) -> None:
+        """Meshes, assembles and factors (the GIL is released). The scene's goals are
+        ignored; its goal condition must be Dirichlet (the default)."""
+    @staticmethod
+    def from_map(
+        yaml: StrPath,
+        around: ArrayLike,
+        robot_radius: float = 0.0,
+        *,
+        max_area: Optional[float] = None,
+    ) -> "Workspace":
+        """A workspace on a ROS map_server map: the free area holding ``around``."""
+    def planner(self, goal: ArrayLike, *, radius: float = 0.0) -> Planner:
+        """A planner towards ``goal`` (x, y); paths end exactly on it."""
+    def planners(self, goals: ArrayLike) -> List[Planner]:
+        """One planner per goal of an (n, 2) array, solved together."""
+    def planner_for_any(self, goals: ArrayLike) -> Planner:
+        """One planner whose goal is the set: ``Path.goal`` says which was reached."""
+    @property
+    def timings(self) -> Dict[str, float]:
+        """Milliseconds: ``mesh``, ``assemble``, ``factor`` (once for every goal)."""
+    @property
+    def triangles(self) -> int: ...

@@ -2,7 +2,7 @@
 //!
 //! The native module is `harmonic_planner._native`; `python/harmonic_planner/__init__.py`
 //! re-exports it and `_native.pyi` types it. Concepts by file: [`scene`] (`hp.Scene`),
-//! [`planner`] (`hp.Planner`), [`volume`] (`hp.VolumePlanner`), [`paths`] (`hp.Path`,
+//! [`planner`] (`hp.Planner`), [`workspace`] (`hp.Workspace`), [`volume`] (`hp.VolumePlanner`), [`paths`] (`hp.Path`,
 //! `hp.CarRun`), [`errors`] (`hp.SceneError`, the panic boundary), [`arrays`] (NumPy in and
 //! out, shape checks).
 
@@ -14,6 +14,7 @@ mod paths;
 mod planner;
 mod scene;
 mod volume;
+mod workspace;
 
 /// Local-minimum-free robot path planning with harmonic potentials solved by P1 finite
 /// elements (native part; use the `harmonic_planner` package).
@@ -23,6 +24,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<planner::PyPlanner>()?;
     m.add_class::<volume::PyVolumePlanner>()?;
+    m.add_class::<workspace::PyWorkspace>()?;
     m.add_class::<paths::PyPath>()?;
     m.add_class::<paths::PyCarRun>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

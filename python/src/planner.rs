@@ -59,6 +59,14 @@ fn finite<const D: usize>(p: [f64; D], what: &str) -> PyResult<[f64; D]> {
 }
 
 impl PyPlanner {
+    /// Wraps a built planner (one from a `Workspace`).
+    pub(crate) fn from_planner(planner: Planner, source: Option<String>) -> PyPlanner {
+        PyPlanner {
+            planner: Arc::new(planner),
+            source,
+        }
+    }
+
     fn build(py: Python<'_>, scene: Scene, source: Option<String>) -> PyResult<PyPlanner> {
         let shown = source.clone();
         let planner = py.detach(move || {
