@@ -276,6 +276,18 @@ impl AccurateLdlt {
         self.d.len()
     }
 
+    /// The symbolic structure (`perm`, `inv`, pattern of the factored matrix, column pointers
+    /// and rows of `L`), for the extended-exponent factorisation on the same elimination.
+    pub(crate) fn structure(&self) -> (&[usize], &[usize], &Arc<Pattern>, &[usize], &[u32]) {
+        (
+            &self.perm,
+            &self.inv,
+            &self.w_pattern,
+            &self.col_ptr,
+            &self.row_idx,
+        )
+    }
+
     /// The elimination order used: `perm[new] = old` (the fill-reducing ordering's choice,
     /// for callers that keep it to number similar systems later).
     pub fn permutation(&self) -> &[usize] {
@@ -339,7 +351,7 @@ impl AccurateLdlt {
 
 /// Pattern of `L` (strictly lower, permuted numbering, rows sorted within each column) by merging
 /// each column's own entries with its elimination-tree children's patterns.
-fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
+pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
     const NONE: usize = usize::MAX;
     let n = perm.len();
     let mut col_ptr = Vec::with_capacity(n + 1);
