@@ -37,7 +37,10 @@ fn check_extended(planner: &Planner, below_log10: f64) {
     let potential = planner.potential();
     assert!(potential.is_extended());
     let report = planner.plan_report::<[f64; 2]>(&[]);
-    let lowest = report.potential.min_log10_psi.expect("reported when extended");
+    let lowest = report
+        .potential
+        .min_log10_psi
+        .expect("reported when extended");
     assert!(lowest < below_log10, "smallest log10 ψ {lowest}");
     assert_eq!(report.potential.interior_local_minima, 0);
 }

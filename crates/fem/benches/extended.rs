@@ -33,8 +33,7 @@ fn extended(c: &mut Criterion) {
             mesh.triangles().len(),
             m.n()
         );
-        let mut accurate =
-            AccurateLdlt::factor(&m, assembler.nested_dissection()).expect("factor");
+        let mut accurate = AccurateLdlt::factor(&m, assembler.nested_dissection()).expect("factor");
         eprintln!("{label}: {} entries in L", accurate.factor_nnz());
         group.bench_function("accurate_factor_solve", |b| {
             b.iter(|| {

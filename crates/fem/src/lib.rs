@@ -121,7 +121,8 @@ pub use potential::{
     interior_local_extrema_except,
 };
 pub use solve::{
-    AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, EXTENDED_BELOW, SolveMethod, SolveReport, Solver, solve_potential,
+    AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, EXTENDED_BELOW, SolveMethod, SolveReport, Solver,
+    solve_potential,
 };
 pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 

@@ -8,8 +8,8 @@ use std::sync::Arc;
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryConditions, EXTENDED_BELOW, Ordering, SolveMethod, Solver,
 };
-use harmonic_solver::AccurateLdlt;
 use harmonic_mesh::{Domain, DomainSpec, GoalShape, Mesh, MeshOptions, Point};
+use harmonic_solver::AccurateLdlt;
 
 fn corridor(length: f64) -> Arc<Mesh> {
     let spec = DomainSpec {
@@ -40,9 +40,12 @@ fn solver_for(mesh: &Arc<Mesh>) -> (Solver, harmonic_fem::LinearSystem, Ordering
     let bcs = BoundaryConditions::default();
     let assembler = Assembler::new(Arc::clone(mesh), &bcs, AssemblyOptions::default()).unwrap();
     let system = assembler.assemble(&bcs).unwrap();
-    let solver =
-        Solver::with_method(&system, assembler.nested_dissection(), SolveMethod::Accurate)
-            .unwrap();
+    let solver = Solver::with_method(
+        &system,
+        assembler.nested_dissection(),
+        SolveMethod::Accurate,
+    )
+    .unwrap();
     (solver, system, assembler.nested_dissection())
 }
 
@@ -102,7 +105,10 @@ fn a_short_corridor_takes_the_ordinary_path() {
     let (solver, system, _) = solver_for(&mesh);
     let (wide, report) = solver.solve_wide(&system).unwrap();
     assert!(!report.extended);
-    assert!(wide.iter().all(|w| w.is_zero() || w.to_f64() > EXTENDED_BELOW));
+    assert!(
+        wide.iter()
+            .all(|w| w.is_zero() || w.to_f64() > EXTENDED_BELOW)
+    );
     let potential = solver.potential(Arc::clone(&mesh), &system).unwrap();
     assert!(!potential.is_extended());
     assert!(potential.psi_extended().is_none());

@@ -318,7 +318,16 @@ mod tests {
 
     #[test]
     fn round_trips_normal_and_subnormal_floats() {
-        for x in [1.0, -3.5, 1e-300, 4.9e-324, 2.2e-308, 1e300, f64::MAX, -1e-320] {
+        for x in [
+            1.0,
+            -3.5,
+            1e-300,
+            4.9e-324,
+            2.2e-308,
+            1e300,
+            f64::MAX,
+            -1e-320,
+        ] {
             assert_eq!(Wide::from_f64(x).to_f64(), x, "{x:e}");
         }
         assert_eq!(Wide::from_f64(0.0), Wide::ZERO);

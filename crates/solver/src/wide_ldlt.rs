@@ -225,7 +225,11 @@ impl WideLdlt {
                 index,
             });
         }
-        let mut y: Vec<Wide> = self.perm.iter().map(|&old| Wide::from_f64(b[old])).collect();
+        let mut y: Vec<Wide> = self
+            .perm
+            .iter()
+            .map(|&old| Wide::from_f64(b[old]))
+            .collect();
         let column = |j: usize| {
             let range = self.col_ptr[j]..self.col_ptr[j + 1];
             self.row_idx[range.clone()].iter().zip(&self.l[range])

@@ -80,7 +80,10 @@ fn corridor_of_1000_widths_is_entrywise_accurate_below_1e_minus_300() {
         ("amd", Ordering::Amd),
         ("nested dissection", Ordering::NestedDissection { coords }),
     ] {
-        let x = WideLdlt::factor(&m, ord.clone()).unwrap().solve(&b).unwrap();
+        let x = WideLdlt::factor(&m, ord.clone())
+            .unwrap()
+            .solve(&b)
+            .unwrap();
         let (err, count) = entrywise_below(&x, &log2_exact, 1e-300);
         eprintln!("wide LDLt, {name}: {count} entries below 1e-300, entrywise error {err:e}");
         assert!(count > 15_000, "{name}: {count}");

@@ -78,14 +78,18 @@ fn extended_values_decrease_toward_the_goal_and_gradients_point_uphill_in_psi() 
         SmoothP1Field::ascending_extended(&mesh, &psi, &exponents, &grads, &exponents).unwrap();
     let plain = P1Field::ascending(&mesh, &psi).unwrap();
     let (near, far) = (Point::new(8.0, 5.0), Point::new(0.5, 0.5));
-    let (Locate::Inside(tn), Locate::Inside(tf)) = (wide.locate(near, None), wide.locate(far, None))
+    let (Locate::Inside(tn), Locate::Inside(tf)) =
+        (wide.locate(near, None), wide.locate(far, None))
     else {
         panic!("both inside")
     };
     // −ln ψ: the value is −ln(ψ_plain) + 3000 ln 2, lower near the goal.
     let v = wide.value(tn, near);
     let expected = -(plain.value(tn, near).abs().ln()) - SHIFT as f64 * std::f64::consts::LN_2;
-    assert!((v - expected).abs() < 1e-9 * expected.abs(), "{v} vs {expected}");
+    assert!(
+        (v - expected).abs() < 1e-9 * expected.abs(),
+        "{v} vs {expected}"
+    );
     assert!(wide.value(tn, near) < wide.value(tf, far));
     // The P1 gradient points the same way as the unscaled one.
     for t in [tn, tf] {
@@ -124,7 +128,11 @@ fn a_flat_extended_field_stalls() {
     let zero = vec![Vector::zeros(); m.len()];
     let f = SmoothP1Field::ascending_extended(&mesh, &m, &e, &zero, &e).unwrap();
     let path = trace_smooth(&f, Point::new(1.0, 1.0), &SmoothOptions::for_scale(10.0)).unwrap();
-    assert!(matches!(path.status, TraceStatus::Stalled { .. }), "{:?}", path.status);
+    assert!(
+        matches!(path.status, TraceStatus::Stalled { .. }),
+        "{:?}",
+        path.status
+    );
     // Slices of the wrong length are refused.
     assert!(P1Field::ascending_extended(&mesh, &m, &e[1..]).is_err());
 }
