@@ -107,12 +107,9 @@ impl Picture<'_> {
         }
         type Path = fn(&Mesh, &[f64], f64) -> String;
         let isolines = match (self.mesh, self.log10_psi, self.psi) {
-            (Some(mesh), Some(log), _) => Some((
-                mesh,
-                log,
-                log_isoline_levels(log),
-                log_isoline_path as Path,
-            )),
+            (Some(mesh), Some(log), _) => {
+                Some((mesh, log, log_isoline_levels(log), log_isoline_path as Path))
+            }
             (Some(mesh), None, Some(psi)) => {
                 Some((mesh, psi, isoline_levels(psi), isoline_path as Path))
             }
