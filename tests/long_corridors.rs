@@ -80,7 +80,9 @@ fn spiral_of_300_widths_is_planned_from_both_ends_and_driven() {
         step: 0.03,
         check_footprint: false,
     };
-    let run = inward.car([start[0], start[1], 1.5708], &params).unwrap();
+    let run = inward
+        .car([start[0], start[1], std::f64::consts::FRAC_PI_2], &params)
+        .unwrap();
     assert!(run.status.reached_goal(), "car: {:?}", run.status);
     // The goal at the outer end, the start at the centre.
     let centre = scene["goal"]["circle"]["center"].clone();

@@ -135,6 +135,15 @@ impl MMatrix {
     }
 }
 
+/// An [`AccurateLdlt`]'s `perm`, `inv`, factored pattern, and column pointers and rows of `L`.
+pub(crate) type Structure<'a> = (
+    &'a [usize],
+    &'a [usize],
+    &'a Arc<Pattern>,
+    &'a [usize],
+    &'a [u32],
+);
+
 /// Entrywise-accurate `A = L D Lᵀ` of an [`MMatrix`] (simplicial, left-looking). See the module
 /// documentation for why it is accurate; it costs about as many flops as a simplicial Cholesky
 /// with the same ordering.
@@ -278,7 +287,7 @@ impl AccurateLdlt {
 
     /// The symbolic structure (`perm`, `inv`, pattern of the factored matrix, column pointers
     /// and rows of `L`), for the extended-exponent factorisation on the same elimination.
-    pub(crate) fn structure(&self) -> (&[usize], &[usize], &Arc<Pattern>, &[usize], &[u32]) {
+    pub(crate) fn structure(&self) -> Structure<'_> {
         (
             &self.perm,
             &self.inv,

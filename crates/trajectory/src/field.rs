@@ -373,7 +373,7 @@ impl<'a> P1Field<'a> {
             Some(e) => {
                 let f = self.rescaled(e, tri, self.largest_exponent(e, tri));
                 let top = f[0].max(f[1]).max(f[2]);
-                if !(top > 0.0) {
+                if top.is_nan() || top <= 0.0 {
                     return Vector::zeros();
                 }
                 (f, -1.0 / top)
