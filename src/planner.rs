@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
-    interior_local_extrema, interior_local_extrema_except,
+    interior_local_extrema_except,
 };
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
@@ -209,8 +209,13 @@ pub struct PotentialSummary {
     /// Interior vertices that are strict local minima of φ (0 for a harmonic potential on a
     /// Delaunay mesh).
     pub interior_local_minima: usize,
-    /// The smallest positive ψ = φ_wall − φ at a vertex: how flat the field gets.
+    /// The smallest positive ψ = φ_wall − φ at a vertex: how flat the field gets (the
+    /// smallest positive float: past the double range see `min_log10_psi`).
     pub min_psi: f64,
+    /// log₁₀ of the smallest non-zero ψ, given only when ψ goes past the double range (the
+    /// potential is kept with exponents, a corridor of hundreds of widths).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_log10_psi: Option<f64>,
 }
 
 /// What `hplan plan --json` and `hplan car --json` print: the mesh, the stage timings, the
@@ -271,8 +276,12 @@ pub struct Export {
     pub triangles: Vec<[u32; 3]>,
     /// φ at every vertex.
     pub values: Vec<f64>,
-    /// ψ = φ_wall − φ at every vertex, accurate where φ rounds to φ_wall.
+    /// ψ = φ_wall − φ at every vertex, accurate where φ rounds to φ_wall (0 where ψ is below
+    /// the double range).
     pub psi: Vec<f64>,
+    /// log₁₀ ψ at every vertex, exact however small ψ is; `null` where ψ = 0 (a vertex held
+    /// at the walls' value).
+    pub log10_psi: Vec<Option<f64>>,
     /// `[i, j, tag]` with tag `wall`, `obstacle:I` or `goal:J`; free space lies left of i → j.
     pub boundary_edges: Vec<(u32, u32, String)>,
 }
@@ -435,7 +444,7 @@ impl Planner {
         let potential = solver.potential(Arc::clone(&mesh), &system)?;
         let nodal_gradients = potential.nodal_gradients_psi().to_vec();
         // Checked once here, so queries need not.
-        SmoothP1Field::ascending(&mesh, potential.psi(), &nodal_gradients)?;
+        smooth_field_of(&mesh, &potential, &nodal_gradients)?;
         let solve_ms = millis(t);
         stage(Stage::Done);
 
@@ -487,9 +496,8 @@ impl Planner {
     /// The potential as a smooth field (recovered gradients); its inputs were checked by
     /// [`Planner::with_options`].
     fn smooth_field(&self) -> SmoothP1Field<'_> {
-        let field =
-            SmoothP1Field::ascending(&self.mesh, self.potential.psi(), &self.nodal_gradients)
-                .expect("one finite ψ and gradient per vertex, checked when the planner was built");
+        let field = smooth_field_of(&self.mesh, &self.potential, &self.nodal_gradients)
+            .expect("one finite ψ and gradient per vertex, checked when the planner was built");
         match &self.vertex_goals {
             Some(goals) => field
                 .with_goal_vertices(&goals.goal_of)
@@ -624,6 +632,14 @@ impl Planner {
 
     pub(crate) fn summaries(&self) -> (MeshSummary, PotentialSummary) {
         let psi = self.potential.psi();
+        // Past the double range: the smallest non-zero ψ by its logarithm.
+        let min_log10_psi = self.potential.is_extended().then(|| {
+            self.potential
+                .log10_psi()
+                .into_iter()
+                .filter(|v| v.is_finite())
+                .fold(f64::INFINITY, f64::min)
+        });
         let c = self.potential.reference();
         let (mut lo, mut hi, mut min_psi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY);
         for &v in psi {
@@ -644,7 +660,7 @@ impl Planner {
                 min: lo,
                 max: hi,
                 interior_local_minima: match &self.vertex_goals {
-                    None => interior_local_extrema(&self.mesh, psi).minima,
+                    None => self.potential.local_extrema().minima,
                     Some(g) => {
                         interior_local_extrema_except(&self.mesh, psi, |v| {
                             g.goal_of[v as usize] != harmonic_trajectory::NOT_A_GOAL
@@ -653,6 +669,7 @@ impl Planner {
                     }
                 },
                 min_psi: finite_or_zero(min_psi),
+                min_log10_psi: min_log10_psi.filter(|v| v.is_finite()),
             },
         )
     }
@@ -703,6 +720,12 @@ impl Planner {
             triangles: self.mesh.triangles().to_vec(),
             values: self.potential.psi().iter().map(|&v| c - v).collect(),
             psi: self.potential.psi().to_vec(),
+            log10_psi: self
+                .potential
+                .log10_psi()
+                .into_iter()
+                .map(|v| v.is_finite().then_some(v))
+                .collect(),
             boundary_edges: self
                 .mesh
                 .boundary_edges()
@@ -712,12 +735,19 @@ impl Planner {
         }
     }
 
-    /// The mesh with φ, ψ and ∇φ as a VTK unstructured grid for ParaView.
+    /// The mesh with φ, ψ, log₁₀ ψ and ∇φ as a VTK unstructured grid for ParaView.
     pub fn vtu(&self) -> String {
         let c = self.potential.reference();
         let phi: Vec<f64> = self.potential.psi().iter().map(|&v| c - v).collect();
         let grad_phi: Vec<_> = self.nodal_gradients.iter().map(|g| -g).collect();
-        crate::render::to_vtu(&self.mesh, &phi, self.potential.psi(), &grad_phi)
+        let log10_psi = crate::render::floored_log10(&self.potential.log10_psi());
+        crate::render::to_vtu(
+            &self.mesh,
+            &phi,
+            self.potential.psi(),
+            &log10_psi,
+            &grad_phi,
+        )
     }
 
     /// An SVG of the scene, the potential's isolines and the given paths and car runs.
@@ -737,6 +767,11 @@ impl Planner {
                     .collect()
             };
         }
+        // Past the double range the isolines follow log ψ.
+        let log10_psi = self
+            .potential
+            .is_extended()
+            .then(|| self.potential.log10_psi());
         let picture = crate::render::Picture {
             workspace: rings!(self.domain.workspace_rings()),
             obstacles: rings!(self.domain.obstacle_polygons()),
@@ -751,6 +786,7 @@ impl Planner {
             mesh: Some(&self.mesh),
             show_mesh: opts.show_mesh,
             psi: Some(self.potential.psi()),
+            log10_psi: log10_psi.as_deref(),
             paths: paths
                 .iter()
                 .enumerate()
@@ -799,6 +835,22 @@ fn marker(c: Point, r: f64) -> Vec<Point> {
             Point::new(c.x + r * a.cos(), c.y + r * a.sin())
         })
         .collect()
+}
+
+/// The smooth field of a potential: on the extended ψ (mantissas and exponents) when the
+/// potential keeps them, else on the floats.
+fn smooth_field_of<'a>(
+    mesh: &'a Mesh,
+    potential: &'a Potential,
+    nodal_gradients: &'a [harmonic_mesh::Vector],
+) -> Result<SmoothP1Field<'a>, harmonic_trajectory::TraceError> {
+    match (
+        potential.psi_extended(),
+        potential.nodal_gradients_extended(),
+    ) {
+        (Some((m, e)), Some((g, ge))) => SmoothP1Field::ascending_extended(mesh, m, e, g, ge),
+        _ => SmoothP1Field::ascending(mesh, potential.psi(), nodal_gradients),
+    }
 }
 
 pub(crate) fn tag_name(tag: BoundaryTag) -> String {

@@ -24,6 +24,10 @@ pub struct Picture<'a> {
     /// ψ = φ_wall − φ at every mesh vertex (positive, 1 on the goal); isolines are drawn on a
     /// log scale of ψ where the field is flat.
     pub psi: Option<&'a [f64]>,
+    /// log₁₀ ψ at every mesh vertex (−∞ where ψ = 0), for a ψ past the double range; when
+    /// given, the isolines follow it (about 40 levels, evenly spaced in decades) instead of
+    /// `psi`, and leave out the triangles touching ψ = 0 (where every level crowds in).
+    pub log10_psi: Option<&'a [f64]>,
     /// Paths as polylines, each with a colour.
     pub paths: Vec<(Vec<Point>, &'static str)>,
     /// Car poses (x, y, θ) drawn as footprints of the given length and width.
@@ -101,9 +105,19 @@ impl Picture<'_> {
                 0.4 * px
             );
         }
-        if let (Some(mesh), Some(psi)) = (self.mesh, self.psi) {
-            for (level, strong) in isoline_levels(psi) {
-                let d = isoline_path(mesh, psi, level);
+        type Path = fn(&Mesh, &[f64], f64) -> String;
+        let isolines = match (self.mesh, self.log10_psi, self.psi) {
+            (Some(mesh), Some(log), _) => {
+                Some((mesh, log, log_isoline_levels(log), log_isoline_path as Path))
+            }
+            (Some(mesh), None, Some(psi)) => {
+                Some((mesh, psi, isoline_levels(psi), isoline_path as Path))
+            }
+            _ => None,
+        };
+        if let Some((mesh, values, levels, path)) = isolines {
+            for (level, strong) in levels {
+                let d = path(mesh, values, level);
                 if !d.is_empty() {
                     let _ = writeln!(
                         s,
@@ -264,6 +278,40 @@ pub fn isoline_levels(psi: &[f64]) -> Vec<(f64, bool)> {
     levels
 }
 
+/// Isoline levels of log₁₀ ψ for a ψ past the double range: about 40 levels evenly spaced in
+/// decades from the smallest value to 0 (a strong one every fifth), so a corridor of 1000
+/// widths shows its exponential decay as evenly spaced lines.
+pub fn log_isoline_levels(log10_psi: &[f64]) -> Vec<(f64, bool)> {
+    let lowest = log10_psi
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::min);
+    let step = (-lowest / 40.0).ceil().max(1.0);
+    let mut levels = Vec::new();
+    let mut k = 1;
+    while -(k as f64) * step > lowest {
+        levels.push((-(k as f64) * step, k % 5 == 0));
+        k += 1;
+    }
+    levels
+}
+
+/// log₁₀ ψ with the −∞ of ψ = 0 (vertices held at the walls' value) replaced by one decade
+/// below the smallest finite value, so pictures and VTK files get finite numbers.
+pub fn floored_log10(log10_psi: &[f64]) -> Vec<f64> {
+    let floor = log10_psi
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::min)
+        - 1.0;
+    log10_psi
+        .iter()
+        .map(|&v| if v.is_finite() { v } else { floor })
+        .collect()
+}
+
 /// The levels below which [`isoline_path`] skips the triangles touching a wall held at ψ = 0.
 pub const LOG_LEVELS_BELOW: f64 = 0.05;
 
@@ -274,13 +322,28 @@ pub const LOG_LEVELS_BELOW: f64 = 0.05;
 /// those isolines would trace the whole boundary a hair off the walls — nothing to see, and
 /// on a large map megabytes per level.
 pub fn isoline_path(mesh: &Mesh, psi: &[f64], level: f64) -> String {
+    let skip_walls = level < LOG_LEVELS_BELOW;
+    marching(mesh, psi, level, |vals| skip_walls && vals.contains(&0.0))
+}
+
+/// The SVG path data of the level set log₁₀ ψ = level over the P1 interpolant of log₁₀ ψ
+/// (for a ψ past the double range): the triangles with a vertex at ψ = 0 (log₁₀ ψ = −∞, on a
+/// Dirichlet wall) are skipped, for the reason [`isoline_path`] gives.
+pub fn log_isoline_path(mesh: &Mesh, log10_psi: &[f64], level: f64) -> String {
+    marching(mesh, log10_psi, level, |vals| {
+        vals.iter().any(|v| !v.is_finite())
+    })
+}
+
+/// Marching triangles over `values`, leaving out the triangles `skip` says.
+fn marching(mesh: &Mesh, values: &[f64], level: f64, skip: impl Fn(&[f64; 3]) -> bool) -> String {
+    let psi = values;
     let mut d = String::new();
     let v = mesh.vertices();
-    let skip_walls = level < LOG_LEVELS_BELOW;
     for tri in mesh.triangles() {
         let ids = tri.map(|i| i as usize);
         let vals = ids.map(|i| psi[i]);
-        if skip_walls && vals.contains(&0.0) {
+        if skip(&vals) {
             continue;
         }
         let mut pts = [Point::origin(); 2];
@@ -311,9 +374,15 @@ fn xml_escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// Writes the mesh with φ, ψ and ∇φ at the vertices as a VTK XML unstructured grid (`.vtu`),
-/// readable by ParaView.
-pub fn to_vtu(mesh: &Mesh, phi: &[f64], psi: &[f64], grad_phi: &[Vector]) -> String {
+/// Writes the mesh with φ, ψ, log₁₀ ψ (finite: see [`floored_log10`]) and ∇φ at the vertices
+/// as a VTK XML unstructured grid (`.vtu`), readable by ParaView.
+pub fn to_vtu(
+    mesh: &Mesh,
+    phi: &[f64],
+    psi: &[f64],
+    log10_psi: &[f64],
+    grad_phi: &[Vector],
+) -> String {
     let mut s = String::with_capacity(64 * mesh.vertices().len() + 32 * mesh.triangles().len());
     let nv = mesh.vertices().len();
     let nt = mesh.triangles().len();
@@ -344,7 +413,7 @@ pub fn to_vtu(mesh: &Mesh, phi: &[f64], psi: &[f64], grad_phi: &[Vector]) -> Str
         s.push_str("5\n");
     }
     s.push_str("</DataArray>\n</Cells>\n<PointData Scalars=\"phi\" Vectors=\"grad_phi\">\n");
-    for (name, vals) in [("phi", phi), ("psi", psi)] {
+    for (name, vals) in [("phi", phi), ("psi", psi), ("log10_psi", log10_psi)] {
         let _ = writeln!(
             s,
             "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
@@ -438,6 +507,7 @@ mod tests {
             &m,
             &[1.0, 1.0, 0.0, 0.0],
             &psi,
+            &floored_log10(&psi.map(f64::log10)),
             &[Vector::new(0.0, -1.0); 4],
         );
         assert_eq!(

@@ -121,12 +121,13 @@ pub use potential::{
     interior_local_extrema_except,
 };
 pub use solve::{
-    AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, SolveMethod, SolveReport, Solver, solve_potential,
+    AUTO_ACCURATE_MAX_UNKNOWNS, AUTO_FLAT_RATIO, EXTENDED_BELOW, SolveMethod, SolveReport, Solver,
+    solve_potential,
 };
 pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
-pub use harmonic_solver::Ordering;
+pub use harmonic_solver::{Ordering, Wide};
 
 /// Everything that can go wrong while assembling, solving or evaluating.
 #[derive(Debug, thiserror::Error)]

@@ -6,6 +6,8 @@ use std::sync::{Arc, OnceLock};
 use harmonic_mesh::{Mesh, NO_NEIGHBOR, Point, Vector, orient2d};
 
 use crate::FemError;
+use crate::solve::EXTENDED_BELOW;
+use harmonic_solver::Wide;
 
 /// A P1 potential on a mesh, stored as ψ = c − φ at every vertex (see the crate docs).
 ///
@@ -17,6 +19,29 @@ pub struct Potential {
     psi: Vec<f64>,
     reference: f64,
     nodal_gradients: OnceLock<Vec<Vector>>,
+    /// ψ with exponents, when some ψ lies below [`EXTENDED_BELOW`] (`psi` then holds the
+    /// nearest floats, 0 where they underflow).
+    extended: Option<Extended>,
+}
+
+/// ψ past the double range: ψᵢ = `mantissa[i]` · 2^`exponent[i]`, and the recovered nodal
+/// gradients in the same form (computed once).
+#[derive(Clone, Debug)]
+struct Extended {
+    mantissa: Vec<f64>,
+    exponent: Vec<i32>,
+    nodal_gradients: OnceLock<(Vec<Vector>, Vec<i32>)>,
+}
+
+/// `(x, y)` as one mantissa vector on the scale of the larger exponent.
+fn wide_vector(x: Wide, y: Wide) -> (Vector, i32) {
+    let e = match (x.is_zero(), y.is_zero()) {
+        (true, true) => 0,
+        (true, false) => y.exponent(),
+        (false, true) => x.exponent(),
+        (false, false) => x.exponent().max(y.exponent()),
+    };
+    (Vector::new(x.scaled(e), y.scaled(e)), e)
 }
 
 /// The potential at one point.
@@ -47,7 +72,117 @@ impl Potential {
             psi,
             reference,
             nodal_gradients: OnceLock::new(),
+            extended: None,
         })
+    }
+
+    /// A potential from ψ in extended-exponent form (as [`crate::Solver::solve_wide`] gives
+    /// it). If every non-zero ψ lies above [`EXTENDED_BELOW`] this is exactly
+    /// [`Potential::new`] of the floats; otherwise the exponents are kept
+    /// ([`Potential::is_extended`]) and [`psi`](Self::psi) holds the nearest floats (0 where
+    /// they underflow).
+    pub fn from_wide(mesh: Arc<Mesh>, psi: Vec<Wide>, reference: f64) -> Result<Self, FemError> {
+        let floats: Vec<f64> = psi.iter().map(|w| w.to_f64()).collect();
+        let below = Wide::from_f64(EXTENDED_BELOW);
+        let mut potential = Potential::new(mesh, floats, reference)?;
+        if psi.iter().any(|w| !w.is_zero() && w.abs() < below) {
+            potential.extended = Some(Extended {
+                mantissa: psi.iter().map(|w| w.mantissa()).collect(),
+                exponent: psi.iter().map(|w| w.exponent()).collect(),
+                nodal_gradients: OnceLock::new(),
+            });
+        }
+        Ok(potential)
+    }
+
+    /// Whether ψ is kept with exponents (some ψ below [`EXTENDED_BELOW`]): then follow
+    /// [`psi_extended`](Self::psi_extended) and
+    /// [`nodal_gradients_extended`](Self::nodal_gradients_extended) rather than the floats.
+    pub fn is_extended(&self) -> bool {
+        self.extended.is_some()
+    }
+
+    /// ψ as mantissas and binary exponents (ψᵢ = mᵢ·2^eᵢ) when [`is_extended`](Self::is_extended).
+    pub fn psi_extended(&self) -> Option<(&[f64], &[i32])> {
+        self.extended
+            .as_ref()
+            .map(|x| (x.mantissa.as_slice(), x.exponent.as_slice()))
+    }
+
+    /// ψ at vertex `v` with its exponent (exact for an extended potential, else the float).
+    /// Panics if `v` is out of range.
+    pub fn psi_wide(&self, v: u32) -> Wide {
+        match &self.extended {
+            Some(x) => Wide::from_parts(x.mantissa[v as usize], x.exponent[v as usize]),
+            None => Wide::from_f64(self.psi[v as usize]),
+        }
+    }
+
+    /// log₁₀ ψ at every vertex (−∞ where ψ is 0), exact past the double range.
+    pub fn log10_psi(&self) -> Vec<f64> {
+        (0..self.psi.len() as u32)
+            .map(|v| self.psi_wide(v).log10())
+            .collect()
+    }
+
+    /// The recovered nodal gradients of ψ as mantissa vectors and binary exponents (∇ψᵢ =
+    /// gᵢ·2^eᵢ) when [`is_extended`](Self::is_extended): the area-weighted average of the
+    /// triangle gradients, each computed from the vertex values rescaled by the triangle's
+    /// largest exponent, summed in extended arithmetic. Computed once.
+    pub fn nodal_gradients_extended(&self) -> Option<(&[Vector], &[i32])> {
+        let x = self.extended.as_ref()?;
+        let (g, e) = x.nodal_gradients.get_or_init(|| {
+            let nv = self.mesh.vertices().len();
+            let mut sum = vec![(Wide::ZERO, Wide::ZERO); nv];
+            let mut area = vec![0.0; nv];
+            for (t, tri) in self.mesh.triangles().iter().enumerate() {
+                let a = self.mesh.triangle_area(t as u32);
+                let (g, e) = self.triangle_gradient_psi_scaled(t as u32);
+                let gx = Wide::from_parts(g.x * a, e);
+                let gy = Wide::from_parts(g.y * a, e);
+                for &v in tri {
+                    let s = &mut sum[v as usize];
+                    s.0 += gx;
+                    s.1 += gy;
+                    area[v as usize] += a;
+                }
+            }
+            sum.iter()
+                .zip(&area)
+                .map(|(&(x, y), &a)| {
+                    let inv = Wide::from_f64(if a > 0.0 { 1.0 / a } else { 1.0 });
+                    wide_vector(x * inv, y * inv)
+                })
+                .unzip()
+        });
+        Some((g.as_slice(), e.as_slice()))
+    }
+
+    /// ∇ψ on triangle `t` as a mantissa vector and a binary exponent (∇ψ = g·2^e): the
+    /// vertex values rescaled by their largest exponent, so it never underflows. For a
+    /// potential that is not extended the exponent is 0 and `g` is
+    /// [`triangle_gradient_psi`](Self::triangle_gradient_psi). Panics if `t` is out of range.
+    pub fn triangle_gradient_psi_scaled(&self, t: u32) -> (Vector, i32) {
+        let Some(x) = &self.extended else {
+            return (self.triangle_gradient_psi(t), 0);
+        };
+        let tri = self.mesh.triangles()[t as usize];
+        let w = tri.map(|v| Wide::from_parts(x.mantissa[v as usize], x.exponent[v as usize]));
+        let e = w
+            .iter()
+            .filter(|w| !w.is_zero())
+            .map(|w| w.exponent())
+            .max()
+            .unwrap_or(0);
+        let [s0, s1, s2] = w.map(|w| w.scaled(e));
+        (self.gradient_from(t, [s0, s1, s2]), e)
+    }
+
+    /// The P1 gradient on triangle `t` of the vertex values `s`.
+    fn gradient_from(&self, t: u32, [s0, s1, s2]: [f64; 3]) -> Vector {
+        let [p0, p1, p2] = self.mesh.triangle_points(t);
+        let rot = |d: Vector| Vector::new(-d.y, d.x);
+        (rot(p2 - p1) * s0 + rot(p0 - p2) * s1 + rot(p1 - p0) * s2) / orient2d(p0, p1, p2)
     }
 
     /// The mesh.
@@ -67,14 +202,13 @@ impl Potential {
         self.psi.iter().map(|&s| self.reference - s).collect()
     }
 
-    /// ∇ψ on triangle `t` (= −∇φ). Panics if `t` is out of range.
+    /// ∇ψ on triangle `t` (= −∇φ), from the float ψ (so it underflows to 0 where ψ does;
+    /// see [`triangle_gradient_psi_scaled`](Self::triangle_gradient_psi_scaled)). Panics if
+    /// `t` is out of range.
     pub fn triangle_gradient_psi(&self, t: u32) -> Vector {
         let tri = self.mesh.triangles()[t as usize];
-        let [p0, p1, p2] = self.mesh.triangle_points(t);
-        let [s0, s1, s2] = tri.map(|v| self.psi[v as usize]);
         // ∇λ_k = rot90(p_{k+2} − p_{k+1}) / 2A; sum ψ_k ∇λ_k.
-        let rot = |d: Vector| Vector::new(-d.y, d.x);
-        (rot(p2 - p1) * s0 + rot(p0 - p2) * s1 + rot(p1 - p0) * s2) / orient2d(p0, p1, p2)
+        self.gradient_from(t, tri.map(|v| self.psi[v as usize]))
     }
 
     /// ∇ψ on every triangle.
@@ -199,8 +333,22 @@ impl Potential {
     /// maximum among their edge neighbours. Zero for a harmonic potential on a Delaunay mesh
     /// (discrete maximum principle).
     pub fn interior_local_extrema(&self) -> usize {
-        let e = interior_local_extrema(&self.mesh, &self.psi);
+        let e = self.local_extrema();
         e.minima + e.maxima
+    }
+
+    /// The strict interior local extrema of φ ([`interior_local_extrema`]), compared on the
+    /// extended ψ when the potential is extended (the floats tie where they underflow).
+    pub fn local_extrema(&self) -> LocalExtrema {
+        match &self.extended {
+            None => interior_local_extrema(&self.mesh, &self.psi),
+            Some(_) => {
+                let psi: Vec<Wide> = (0..self.psi.len() as u32)
+                    .map(|v| self.psi_wide(v))
+                    .collect();
+                extrema_of(&self.mesh, &psi, |_| false)
+            }
+        }
     }
 }
 
@@ -228,34 +376,56 @@ pub fn interior_local_extrema_except(
     psi: &[f64],
     excluded: impl Fn(u32) -> bool,
 ) -> LocalExtrema {
+    extrema_of(mesh, psi, excluded)
+}
+
+/// [`interior_local_extrema_except`] over any ordered values (floats or [`Wide`] numbers).
+fn extrema_of<T: PartialOrd + Copy>(
+    mesh: &Mesh,
+    psi: &[T],
+    excluded: impl Fn(u32) -> bool,
+) -> LocalExtrema {
     let nv = mesh.vertices().len().min(psi.len());
     // Per vertex: the smallest and largest ψ among its neighbours.
-    let mut lo = vec![f64::INFINITY; nv];
-    let mut hi = vec![f64::NEG_INFINITY; nv];
+    let mut lo: Vec<Option<T>> = vec![None; nv];
+    let mut hi: Vec<Option<T>> = vec![None; nv];
+    let lower = |slot: &mut Option<T>, v: T| {
+        if slot.is_none_or(|s| v < s) {
+            *slot = Some(v);
+        }
+    };
+    let higher = |slot: &mut Option<T>, v: T| {
+        if slot.is_none_or(|s| v > s) {
+            *slot = Some(v);
+        }
+    };
     for tri in mesh.triangles() {
         for k in 0..3 {
             let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
             if a >= nv || b >= nv {
                 continue;
             }
-            lo[a] = lo[a].min(psi[b]);
-            hi[a] = hi[a].max(psi[b]);
-            lo[b] = lo[b].min(psi[a]);
-            hi[b] = hi[b].max(psi[a]);
+            lower(&mut lo[a], psi[b]);
+            higher(&mut hi[a], psi[b]);
+            lower(&mut lo[b], psi[a]);
+            higher(&mut hi[b], psi[a]);
         }
     }
     let tags = mesh.vertex_tags();
-    let interior = (0..nv).filter(|&v| tags[v].is_none() && lo[v] <= hi[v] && !excluded(v as u32));
-    interior.fold(LocalExtrema::default(), |mut e, v| {
-        e.minima += usize::from(psi[v] > hi[v]);
-        e.maxima += usize::from(psi[v] < lo[v]);
-        e
-    })
+    let mut e = LocalExtrema::default();
+    for v in (0..nv).filter(|&v| tags[v].is_none() && !excluded(v as u32)) {
+        if let (Some(l), Some(h)) = (lo[v], hi[v]) {
+            e.minima += usize::from(psi[v] > h);
+            e.maxima += usize::from(psi[v] < l);
+        }
+    }
+    e
 }
 
 /// The blended field of the ME766 paper: φ = k·φ_a + (1−k)·φ_b, e.g. `a` from a Dirichlet
 /// solve and `b` from one with Neumann walls and obstacles. `k` must lie in [0, 1] (a convex
-/// combination keeps the maximum principle); both potentials must share the mesh.
+/// combination keeps the maximum principle); both potentials must share the mesh. Blends the
+/// float ψ: an extended potential's values below the double range count as 0.
 ///
 /// ```
 /// # use std::sync::Arc;

@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use harmonic_mesh::Mesh;
-use harmonic_solver::{AccurateLdlt, Ordering, SymbolicCholesky};
+use harmonic_solver::{AccurateLdlt, Ordering, SymbolicCholesky, Wide, WideLdlt};
 
 use crate::FemError;
 use crate::assemble::{Assembler, AssemblyOptions, LinearSystem, NotMMatrix};
@@ -19,6 +19,12 @@ pub const AUTO_ACCURATE_MAX_UNKNOWNS: usize = 50_000;
 /// with the accurate solve when the smallest ψ at an unknown is below this fraction of the
 /// largest (or not positive): there a Cholesky ψ may have lost its relative precision.
 pub const AUTO_FLAT_RATIO: f64 = 1e-12;
+
+/// An accurate solution with a ψ at an unknown below this (or a zero ψ beside a positive
+/// one, which the M-matrix's positive inverse rules out) may have underflowed on the way:
+/// it is redone in extended-exponent arithmetic ([`WideLdlt`]), and a [`Potential`] holding
+/// non-zero values below it keeps them with their exponents. Above it, nothing changes.
+pub const EXTENDED_BELOW: f64 = 1e-250;
 
 /// How [`Solver`] solves the reduced system.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -47,6 +53,9 @@ pub struct SolveReport {
     /// Set when [`SolveMethod::Auto`] could not use the accurate solve because the system is
     /// not an M-matrix, so the Cholesky solution (normwise accurate only) was returned.
     pub fell_back: Option<NotMMatrix>,
+    /// Whether the ordinary accurate solve underflowed and ψ was redone in extended-exponent
+    /// arithmetic (see [`EXTENDED_BELOW`]).
+    pub extended: bool,
 }
 
 /// A sparse solver for the systems of one [`Assembler`]. The ordering and symbolic analysis
@@ -121,7 +130,8 @@ impl Solver {
         self.method
     }
 
-    /// Factors `system`'s matrix and solves; returns ψ at every mesh vertex.
+    /// Factors `system`'s matrix and solves; returns ψ at every mesh vertex (values past the
+    /// double range underflow to 0 here: [`Solver::potential`] keeps them).
     pub fn solve(&self, system: &LinearSystem) -> Result<Vec<f64>, FemError> {
         Ok(self.solve_with_report(system)?.0)
     }
@@ -131,38 +141,88 @@ impl Solver {
         &self,
         system: &LinearSystem,
     ) -> Result<(Vec<f64>, SolveReport), FemError> {
+        let (x, report) = self.solve_unknowns(system)?;
+        let x = match x {
+            Unknowns::Plain(x) => x,
+            Unknowns::Wide(x) => x.iter().map(|w| w.to_f64()).collect(),
+        };
+        Ok((system.expand(&x)?, report))
+    }
+
+    /// ψ at every mesh vertex in extended-exponent form: [`solve_with_report`]'s values where
+    /// they lie in the double range, and the extended accurate solve's where the ordinary one
+    /// underflowed (see [`EXTENDED_BELOW`]; `report.extended` says whether it ran).
+    ///
+    /// [`solve_with_report`]: Self::solve_with_report
+    pub fn solve_wide(&self, system: &LinearSystem) -> Result<(Vec<Wide>, SolveReport), FemError> {
+        let (x, report) = self.solve_unknowns(system)?;
+        let psi = match x {
+            Unknowns::Plain(x) => system.expand(&x)?.into_iter().map(Wide::from_f64).collect(),
+            Unknowns::Wide(x) => {
+                let fixed = system.expand(&vec![0.0; x.len()])?;
+                let mut psi: Vec<Wide> = fixed.into_iter().map(Wide::from_f64).collect();
+                for (&v, &xi) in system.free_vertices().iter().zip(&x) {
+                    psi[v as usize] = xi;
+                }
+                psi
+            }
+        };
+        Ok((psi, report))
+    }
+
+    fn solve_unknowns(&self, system: &LinearSystem) -> Result<(Unknowns, SolveReport), FemError> {
         let a = system.matrix();
         if a.n() != self.n || a.nnz() != self.nnz {
             return Err(FemError::ForeignSystem);
         }
-        let report = |method, fell_back| SolveReport { method, fell_back };
+        let report = |method, fell_back, x: &Unknowns| SolveReport {
+            method,
+            fell_back,
+            extended: matches!(x, Unknowns::Wide(_)),
+        };
         if self.n == 0 {
-            return Ok((system.expand(&[])?, report(self.method, None)));
+            let x = Unknowns::Plain(vec![]);
+            let r = report(self.method, None, &x);
+            return Ok((x, r));
         }
-        let (x, report) = match self.method {
-            SolveMethod::Cholesky => (self.cholesky(system)?, report(SolveMethod::Cholesky, None)),
-            SolveMethod::Accurate => (self.accurate(system)?, report(SolveMethod::Accurate, None)),
+        Ok(match self.method {
+            SolveMethod::Cholesky => {
+                let x = Unknowns::Plain(self.cholesky(system)?);
+                let r = report(SolveMethod::Cholesky, None, &x);
+                (x, r)
+            }
+            SolveMethod::Accurate => {
+                let x = self.accurate(system)?;
+                let r = report(SolveMethod::Accurate, None, &x);
+                (x, r)
+            }
             SolveMethod::Auto => match system.not_m_matrix() {
-                Some(reason) => (
-                    self.cholesky(system)?,
-                    report(SolveMethod::Cholesky, Some(reason)),
-                ),
+                Some(reason) => {
+                    let x = Unknowns::Plain(self.cholesky(system)?);
+                    let r = report(SolveMethod::Cholesky, Some(reason), &x);
+                    (x, r)
+                }
                 None if self.n <= AUTO_ACCURATE_MAX_UNKNOWNS => {
-                    (self.accurate(system)?, report(SolveMethod::Accurate, None))
+                    let x = self.accurate(system)?;
+                    let r = report(SolveMethod::Accurate, None, &x);
+                    (x, r)
                 }
                 None => {
                     let x = self.cholesky(system)?;
                     let max = x.iter().copied().fold(0.0, f64::max);
                     let min = x.iter().copied().fold(f64::INFINITY, f64::min);
                     if min > AUTO_FLAT_RATIO * max {
-                        (x, report(SolveMethod::Cholesky, None))
+                        let x = Unknowns::Plain(x);
+                        let r = report(SolveMethod::Cholesky, None, &x);
+                        (x, r)
                     } else {
-                        (self.accurate(system)?, report(SolveMethod::Accurate, None))
+                        let x = self.accurate(system)?;
+                        let r = report(SolveMethod::Accurate, None, &x);
+                        (x, r)
                     }
                 }
             },
-        };
-        Ok((system.expand(&x)?, report))
+        })
     }
 
     fn cholesky(&self, system: &LinearSystem) -> Result<Vec<f64>, FemError> {
@@ -173,7 +233,7 @@ impl Solver {
         Ok(symbolic.factor(system.matrix())?.solve(system.rhs())?)
     }
 
-    fn accurate(&self, system: &LinearSystem) -> Result<Vec<f64>, FemError> {
+    fn accurate(&self, system: &LinearSystem) -> Result<Unknowns, FemError> {
         let m = system.m_matrix()?;
         // A poisoned lock only means another solve panicked; the factor is refactored anyway.
         let mut guard = self
@@ -185,14 +245,43 @@ impl Solver {
             None => *guard = Some(AccurateLdlt::factor(&m, self.ordering.clone())?),
         }
         let factor = guard.as_ref().expect("factored just above");
-        Ok(factor.solve(system.rhs())?)
+        let x = factor.solve(system.rhs())?;
+        if !may_have_underflowed(system, &x) {
+            return Ok(Unknowns::Plain(x));
+        }
+        // The same elimination (order and pattern of L) in extended-exponent numbers: where
+        // nothing underflowed it rounds exactly as the ordinary one, so only the entries that
+        // left the double range change.
+        let wide = WideLdlt::factor_like(factor, &m)?;
+        Ok(Unknowns::Wide(wide.solve(system.rhs())?))
     }
 
     /// Solves `system` and wraps the result as a [`Potential`] on `mesh` (the mesh the system
     /// was assembled on).
+    /// The potential keeps ψ with exponents where it lies below [`EXTENDED_BELOW`]
+    /// ([`Potential::from_wide`]).
     pub fn potential(&self, mesh: Arc<Mesh>, system: &LinearSystem) -> Result<Potential, FemError> {
-        Potential::new(mesh, self.solve(system)?, system.reference())
+        let (psi, _) = self.solve_wide(system)?;
+        Potential::from_wide(mesh, psi, system.reference())
     }
+}
+
+/// The reduced system's solution: ordinary floats, or extended-exponent numbers when the
+/// ordinary accurate solve underflowed.
+enum Unknowns {
+    Plain(Vec<f64>),
+    Wide(Vec<Wide>),
+}
+
+/// Whether an accurate solution may have lost entries to underflow: a positive entry below
+/// [`EXTENDED_BELOW`], or a zero entry coupled to a positive one (in an irreducible
+/// M-matrix block every entry of the solution is positive or every one is zero).
+fn may_have_underflowed(system: &LinearSystem, x: &[f64]) -> bool {
+    let a = system.matrix();
+    x.iter().enumerate().any(|(i, &xi)| {
+        (xi > 0.0 && xi < EXTENDED_BELOW)
+            || (xi == 0.0 && a.column(i).0.iter().any(|&j| x[j] > 0.0))
+    })
 }
 
 /// One-shot convenience: assemble (lumped Robin mass), analyse with nested dissection

@@ -135,6 +135,15 @@ impl MMatrix {
     }
 }
 
+/// An [`AccurateLdlt`]'s `perm`, `inv`, factored pattern, and column pointers and rows of `L`.
+pub(crate) type Structure<'a> = (
+    &'a [usize],
+    &'a [usize],
+    &'a Arc<Pattern>,
+    &'a [usize],
+    &'a [u32],
+);
+
 /// Entrywise-accurate `A = L D Lᵀ` of an [`MMatrix`] (simplicial, left-looking). See the module
 /// documentation for why it is accurate; it costs about as many flops as a simplicial Cholesky
 /// with the same ordering.
@@ -276,6 +285,18 @@ impl AccurateLdlt {
         self.d.len()
     }
 
+    /// The symbolic structure (`perm`, `inv`, pattern of the factored matrix, column pointers
+    /// and rows of `L`), for the extended-exponent factorisation on the same elimination.
+    pub(crate) fn structure(&self) -> Structure<'_> {
+        (
+            &self.perm,
+            &self.inv,
+            &self.w_pattern,
+            &self.col_ptr,
+            &self.row_idx,
+        )
+    }
+
     /// The elimination order used: `perm[new] = old` (the fill-reducing ordering's choice,
     /// for callers that keep it to number similar systems later).
     pub fn permutation(&self) -> &[usize] {
@@ -339,7 +360,7 @@ impl AccurateLdlt {
 
 /// Pattern of `L` (strictly lower, permuted numbering, rows sorted within each column) by merging
 /// each column's own entries with its elimination-tree children's patterns.
-fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
+pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
     const NONE: usize = usize::MAX;
     let n = perm.len();
     let mut col_ptr = Vec::with_capacity(n + 1);

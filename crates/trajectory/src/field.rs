@@ -154,6 +154,13 @@ pub(crate) fn orient(a: Point, b: Point, c: Point) -> f64 {
 /// `value(p) = sign · Σ λᵢ(p) values[i]`. Use [`P1Field::descending`] for a potential that
 /// already decreases toward the goal (φ) and [`P1Field::ascending`] for one that increases
 /// toward it (ψ = φ_wall − φ): multiplying by −1 is exact, so ψ keeps its relative precision.
+///
+/// A ψ past the double range (a Dirichlet corridor of many widths) is given as mantissas and
+/// binary exponents, ψᵢ = mᵢ·2^eᵢ ([`P1Field::ascending_extended`]). Such a field's value is
+/// −ln ψ (decreasing toward the goal like −ψ, so every "lower" test of the tracers keeps its
+/// meaning), and its gradient in a triangle is −∇ψ / max ψ over the triangle's vertices,
+/// computed from the mantissas rescaled by the triangle's largest exponent: the direction of
+/// −∇ψ at the magnitude of |∇ ln ψ|, comparable from triangle to triangle however small ψ is.
 #[derive(Clone, Copy, Debug)]
 pub struct P1Field<'a> {
     mesh: &'a Mesh,
@@ -162,6 +169,29 @@ pub struct P1Field<'a> {
     /// Per vertex: the goal it belongs to, or [`NOT_A_GOAL`]; `None` when the goals are the
     /// mesh's goal-tagged boundary edges.
     goal_vertices: Option<&'a [u32]>,
+    /// Binary exponents of `values` for an extended-range ψ (`sign` is then −1).
+    exponents: Option<&'a [i32]>,
+}
+
+/// The value of an extended-range field where ψ is zero (on a wall held at the reference):
+/// above −ln ψ of every non-zero ψ (|log₂ ψ| < 2³¹), and finite, so differences stay finite.
+const EXTENDED_ZERO_VALUE: f64 = 1e12;
+
+/// `x · 2^k` (zero on underflow, infinity on overflow), for rescaling mantissas.
+#[inline]
+pub(crate) fn ldexp(x: f64, k: i64) -> f64 {
+    let pow2 = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
+    if x == 0.0 || k == 0 {
+        x
+    } else if k > 1023 {
+        x * f64::INFINITY
+    } else if k >= -1022 {
+        x * pow2(k)
+    } else if k >= -1022 - 60 {
+        x * pow2(-1022) * pow2(k + 1022)
+    } else {
+        x * 0.0
+    }
 }
 
 /// Marks a vertex that belongs to no goal in [`P1Field::with_goal_vertices`].
@@ -200,6 +230,40 @@ impl<'a> P1Field<'a> {
         Self::new(mesh, values, -1.0)
     }
 
+    /// An increasing-toward-the-goal ψ past the double range: ψᵢ = `mantissas[i]` ·
+    /// 2^`exponents[i]` (any finite mantissas; ψ ≥ 0 for a potential). See the type's docs
+    /// for the value and gradient of such a field.
+    ///
+    /// Errors if a slice does not have one entry per vertex or a mantissa is not finite.
+    ///
+    /// ```
+    /// use harmonic_mesh::{BoundaryTag, Mesh, Point};
+    /// use harmonic_trajectory::{ExactOptions, P1Field, TraceStatus, trace_exact};
+    /// let mesh = Mesh::from_parts(
+    ///     vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::new(0.0, 1.0)],
+    ///     vec![[0, 1, 2], [0, 2, 3]],
+    ///     &[(0, 1, BoundaryTag::Wall), (1, 2, BoundaryTag::Wall),
+    ///       (2, 3, BoundaryTag::Goal(0)), (3, 0, BoundaryTag::Wall)],
+    /// )?;
+    /// // ψ = 2^-4000 at the bottom, 2^-3999 at the top: far below any f64.
+    /// let (m, e) = ([1.0; 4], [-4000, -4000, -3999, -3999]);
+    /// let field = P1Field::ascending_extended(&mesh, &m, &e)?;
+    /// let path = trace_exact(&field, Point::new(0.7, 0.2), &ExactOptions::default());
+    /// assert_eq!(path.status, TraceStatus::ReachedGoal(0));
+    /// assert!((path.length - 0.8).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn ascending_extended(
+        mesh: &'a Mesh,
+        mantissas: &'a [f64],
+        exponents: &'a [i32],
+    ) -> Result<Self, TraceError> {
+        check_len("exponents", mesh.vertices().len(), exponents.len())?;
+        let mut field = Self::new(mesh, mantissas, -1.0)?;
+        field.exponents = Some(exponents);
+        Ok(field)
+    }
+
     fn new(mesh: &'a Mesh, values: &'a [f64], sign: f64) -> Result<Self, TraceError> {
         check_len("values", mesh.vertices().len(), values.len())?;
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {
@@ -213,6 +277,7 @@ impl<'a> P1Field<'a> {
             values,
             sign,
             goal_vertices: None,
+            exponents: None,
         })
     }
 
@@ -247,6 +312,42 @@ impl<'a> P1Field<'a> {
         self.goal_vertices
     }
 
+    /// Whether ψ is given with exponents ([`P1Field::ascending_extended`]).
+    pub fn is_extended(&self) -> bool {
+        self.exponents.is_some()
+    }
+
+    /// The largest exponent among the non-zero ψ of triangle `tri` (0 if all are zero).
+    #[inline]
+    fn largest_exponent(&self, exponents: &[i32], tri: [u32; 3]) -> i32 {
+        tri.iter()
+            .filter(|&&v| self.values[v as usize] != 0.0)
+            .map(|&v| exponents[v as usize])
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// ψ at the vertices of `tri` rescaled by 2^−`scale`.
+    #[inline]
+    fn rescaled(&self, exponents: &[i32], tri: [u32; 3], scale: i32) -> [f64; 3] {
+        tri.map(|v| {
+            ldexp(
+                self.values[v as usize],
+                exponents[v as usize] as i64 - scale as i64,
+            )
+        })
+    }
+
+    /// −ln ψ for ψ = `m` · 2^`e` (the extended field's value).
+    #[inline]
+    fn extended_value(m: f64, e: i32) -> f64 {
+        if m > 0.0 {
+            -(m.ln() + e as f64 * std::f64::consts::LN_2)
+        } else {
+            EXTENDED_ZERO_VALUE
+        }
+    }
+
     /// The mesh the field lives on.
     pub fn mesh(&self) -> &'a Mesh {
         self.mesh
@@ -255,7 +356,10 @@ impl<'a> P1Field<'a> {
     /// The field's value at vertex `v` (sign applied).
     #[inline]
     pub fn vertex_value(&self, v: u32) -> f64 {
-        self.sign * self.values[v as usize]
+        match self.exponents {
+            None => self.sign * self.values[v as usize],
+            Some(e) => Self::extended_value(self.values[v as usize], e[v as usize]),
+        }
     }
 
     /// The (constant) gradient of the field in triangle `t` (sign applied).
@@ -264,11 +368,38 @@ impl<'a> P1Field<'a> {
         let tri = self.mesh.triangles()[t as usize];
         let v = self.mesh.vertices();
         let [a, b, c] = tri.map(|i| v[i as usize]);
-        let [fa, fb, fc] = tri.map(|i| self.values[i as usize]);
+        let ([fa, fb, fc], sign) = match self.exponents {
+            None => (tri.map(|i| self.values[i as usize]), self.sign),
+            Some(e) => {
+                let f = self.rescaled(e, tri, self.largest_exponent(e, tri));
+                let top = f[0].max(f[1]).max(f[2]);
+                if top.is_nan() || top <= 0.0 {
+                    return Vector::zeros();
+                }
+                (f, -1.0 / top)
+            }
+        };
         let twice_area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
         let gx = fa * (b.y - c.y) + fb * (c.y - a.y) + fc * (a.y - b.y);
         let gy = fa * (c.x - b.x) + fb * (a.x - c.x) + fc * (b.x - a.x);
-        Vector::new(gx, gy) * (self.sign / twice_area)
+        Vector::new(gx, gy) * (sign / twice_area)
+    }
+
+    /// ψ interpolated at `p` in triangle `cell` as (mantissa, exponent): the mantissas
+    /// rescaled by the triangle's largest exponent (linear extrapolation outside `cell`).
+    /// For a field without exponents the exponent is 0 and the value is ±`values` interpolated.
+    #[inline]
+    pub(crate) fn scaled_psi_at(&self, cell: u32, p: Point) -> (f64, i32) {
+        let tri = self.mesh.triangles()[cell as usize];
+        let l = self.barycentric(cell, p);
+        let (f, scale) = match self.exponents {
+            None => (tri.map(|i| self.values[i as usize]), 0),
+            Some(e) => {
+                let scale = self.largest_exponent(e, tri);
+                (self.rescaled(e, tri, scale), scale)
+            }
+        };
+        (l[0] * f[0] + l[1] * f[1] + l[2] * f[2], scale)
     }
 
     /// Barycentric coordinates of `p` in triangle `t` (they sum to one; negative outside).
@@ -457,6 +588,10 @@ impl P1Field<'_> {
     /// The field's value at `p` in triangle `cell` ([`Field::value`]; sign applied).
     #[inline]
     pub(crate) fn value_at(&self, cell: u32, p: Point) -> f64 {
+        if self.exponents.is_some() {
+            let (m, e) = self.scaled_psi_at(cell, p);
+            return Self::extended_value(m, e);
+        }
         let tri = self.mesh.triangles()[cell as usize];
         let l = self.barycentric(cell, p);
         self.sign
@@ -483,6 +618,8 @@ impl P1Field<'_> {
 pub struct SmoothP1Field<'a> {
     p1: P1Field<'a>,
     gradients: &'a [Vector],
+    /// Binary exponents of `gradients` for an extended-range ψ.
+    gradient_exponents: Option<&'a [i32]>,
 }
 
 impl<'a> SmoothP1Field<'a> {
@@ -510,6 +647,33 @@ impl<'a> SmoothP1Field<'a> {
         Self::new(P1Field::ascending(mesh, values)?, gradients)
     }
 
+    /// A smooth field from an extended-range ψ (mantissas and exponents, as
+    /// [`P1Field::ascending_extended`]) and its recovered nodal gradients, also as mantissa
+    /// vectors and exponents (∇ψᵢ = `gradients[i]` · 2^`gradient_exponents[i]`). Its gradient
+    /// is the recovered ∇ψ divided by ψ at the point, −∇ ln ψ: the direction of the ordinary
+    /// smooth field's, at a magnitude that stays in range.
+    ///
+    /// Errors if a slice does not have one entry per vertex or holds a non-finite number.
+    pub fn ascending_extended(
+        mesh: &'a Mesh,
+        mantissas: &'a [f64],
+        exponents: &'a [i32],
+        gradients: &'a [Vector],
+        gradient_exponents: &'a [i32],
+    ) -> Result<Self, TraceError> {
+        check_len(
+            "gradient exponents",
+            mesh.vertices().len(),
+            gradient_exponents.len(),
+        )?;
+        let mut field = Self::new(
+            P1Field::ascending_extended(mesh, mantissas, exponents)?,
+            gradients,
+        )?;
+        field.gradient_exponents = Some(gradient_exponents);
+        Ok(field)
+    }
+
     fn new(p1: P1Field<'a>, gradients: &'a [Vector]) -> Result<Self, TraceError> {
         check_len("gradients", p1.mesh.vertices().len(), gradients.len())?;
         if let Some(i) = gradients
@@ -521,7 +685,11 @@ impl<'a> SmoothP1Field<'a> {
                 index: i,
             });
         }
-        Ok(SmoothP1Field { p1, gradients })
+        Ok(SmoothP1Field {
+            p1,
+            gradients,
+            gradient_exponents: None,
+        })
     }
 
     /// The same field with its goals given as mesh vertices ([`P1Field::with_goal_vertices`]).
@@ -545,10 +713,52 @@ impl SmoothP1Field<'_> {
     pub(crate) fn gradient_at(&self, cell: u32, p: Point) -> Vector {
         let tri = self.p1.mesh.triangles()[cell as usize];
         let l = self.p1.barycentric(cell, p).map(|x| x.clamp(0.0, 1.0));
+        if let Some(ge) = self.gradient_exponents {
+            return self.extended_gradient_at(ge, tri, l, cell, p);
+        }
         let g = self.gradients[tri[0] as usize] * l[0]
             + self.gradients[tri[1] as usize] * l[1]
             + self.gradients[tri[2] as usize] * l[2];
         g * (self.p1.sign / (l[0] + l[1] + l[2]))
+    }
+}
+
+impl SmoothP1Field<'_> {
+    /// [`gradient_at`](Self::gradient_at) of an extended-range field: the nodal gradients
+    /// rescaled by their largest exponent and interpolated, divided by ψ at `p` (both on
+    /// their own scales, the ratio rescaled once).
+    fn extended_gradient_at(
+        &self,
+        ge: &[i32],
+        tri: [u32; 3],
+        l: [f64; 3],
+        cell: u32,
+        p: Point,
+    ) -> Vector {
+        let nonzero = |v: u32| {
+            let g = self.gradients[v as usize];
+            g.x != 0.0 || g.y != 0.0
+        };
+        let top = tri
+            .iter()
+            .filter(|&&v| nonzero(v))
+            .map(|&v| ge[v as usize])
+            .max()
+            .unwrap_or(0);
+        let mut g = Vector::zeros();
+        for k in 0..3 {
+            let v = tri[k] as usize;
+            let w = ldexp(l[k], ge[v] as i64 - top as i64);
+            g += self.gradients[v] * w;
+        }
+        let g = g / (l[0] + l[1] + l[2]);
+        let (psi, scale) = self.p1.scaled_psi_at(cell, p);
+        if psi > 0.0 {
+            let r = ldexp(1.0 / psi, top as i64 - scale as i64);
+            -g * r
+        } else {
+            -g
+        }
     }
 }
 
