@@ -10,6 +10,7 @@ use geo::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::frame::Frame;
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
 use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
@@ -101,6 +102,11 @@ pub struct Domain {
     boundary_index: SegmentIndex,
     /// Free-space boundary edges on walls and obstacles (not goals), for clearance.
     wall_index: SegmentIndex,
+    /// The map from the scene's coordinates to the unit coordinates every field above is in
+    /// (see [`Frame`]).
+    frame: Frame,
+    /// `free` in the scene's coordinates (what [`Domain::free_rings`] returns).
+    user_free: Vec<TaggedRing>,
 }
 
 /// Drops the edges that two oriented rings of one polygon share in opposite directions and
@@ -808,8 +814,44 @@ impl Domain {
     /// (from `max_area`, or the default area workspace/20000). Overlapping obstacles are merged,
     /// obstacles crossing the workspace boundary are cut out of it, goals are removed from free
     /// space, and every boundary edge is tagged with the input it lies on.
+    ///
+    /// The work is done in unit coordinates (see [`Frame`]): any finite scale and offset of a
+    /// scene gives the same free space, scaled; every accessor answers in the scene's
+    /// coordinates.
     pub fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
         opts.validate()?;
+        let frame = Frame::of(&spec.workspace);
+        let unit_spec = spec_to_unit(spec, &frame);
+        let unit_opts = options_to_unit(opts, &frame);
+        let mut domain =
+            Domain::build(&unit_spec, &unit_opts).map_err(|e| error_to_user(e, spec, opts))?;
+        let to_user = |r: &Region| Region {
+            exterior: r.exterior.iter().map(|&p| frame.to_user(p)).collect(),
+            holes: r
+                .holes
+                .iter()
+                .map(|h| h.iter().map(|&p| frame.to_user(p)).collect())
+                .collect(),
+            sources: r.sources.clone(),
+        };
+        domain.user_free = domain
+            .free
+            .iter()
+            .map(|r| TaggedRing {
+                points: r.points.iter().map(|&p| frame.to_user(p)).collect(),
+                tags: r.tags.clone(),
+            })
+            .collect();
+        domain.workspace = domain.workspace.iter().map(to_user).collect();
+        domain.obstacles = domain.obstacles.iter().map(to_user).collect();
+        domain.goals = domain.goals.iter().map(to_user).collect();
+        domain.frame = frame;
+        Ok(domain)
+    }
+
+    /// [`Domain::new`] on a scene already in unit coordinates (the frame is the identity
+    /// until `new` sets it).
+    fn build(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
         let ws = Workspace::new(spec, opts)?;
         let (obstacle_geo, raw_obstacles) = inflated_obstacles(spec, &ws)?;
         let goal_geo = goal_shapes(spec, &ws, &obstacle_geo)?;
@@ -842,13 +884,15 @@ impl Domain {
             robot_radius: ws.rr,
             boundary_index,
             wall_index,
+            frame: Frame::identity(),
+            user_free: Vec::new(),
         })
     }
 
     /// The boundary rings of free space (outer rings counter-clockwise, holes clockwise), with
     /// a tag per edge. These are the constraint edges of the triangulation.
     pub fn free_rings(&self) -> &[TaggedRing] {
-        &self.free
+        &self.user_free
     }
     /// The workspace after shrinking by the robot radius (one region unless the shrink split it).
     pub fn workspace_rings(&self) -> &[Region] {
@@ -864,23 +908,43 @@ impl Domain {
     }
     /// The exact area of free space (of the polygons that are meshed).
     pub fn free_area(&self) -> f64 {
-        self.free_area
+        self.frame.area_to_user(self.free_area)
     }
     /// The diagonal of the workspace bounding box.
     pub fn scale(&self) -> f64 {
-        self.scale
+        self.frame.len_to_user(self.scale)
     }
     /// The workspace bounding box `(min, max)`.
     pub fn bounding_box(&self) -> (Point, Point) {
-        self.bbox
+        (
+            self.frame.to_user(self.bbox.0),
+            self.frame.to_user(self.bbox.1),
+        )
     }
     /// The target edge length used to discretise circles.
     pub fn target_edge_length(&self) -> f64 {
-        self.target_edge
+        self.frame.len_to_user(self.target_edge)
     }
     /// The robot radius the domain was built with.
     pub fn robot_radius(&self) -> f64 {
-        self.robot_radius
+        self.frame.len_to_user(self.robot_radius)
+    }
+    /// The map from the scene's coordinates to the unit coordinates the domain is meshed in.
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// The free-space rings in unit coordinates (what the mesher triangulates).
+    pub(crate) fn unit_rings(&self) -> &[TaggedRing] {
+        &self.free
+    }
+    /// The workspace bounding box in unit coordinates.
+    pub(crate) fn unit_bbox(&self) -> (Point, Point) {
+        self.bbox
+    }
+    /// The free area in unit coordinates.
+    pub(crate) fn unit_free_area(&self) -> f64 {
+        self.free_area
     }
 
     /// Whether `p` lies in free space (closed set: points within 1e-12 × scene size of the
@@ -889,6 +953,7 @@ impl Domain {
         if !p.x.is_finite() || !p.y.is_finite() {
             return false;
         }
+        let p = self.frame.to_unit(p);
         if self.boundary_index.distance(p) <= 1e-12 * self.scale {
             return true;
         }
@@ -899,7 +964,8 @@ impl Domain {
     /// (goal boundaries excluded), whether `p` is inside free space or not. For a disc robot
     /// the boundaries are those of the inflated obstacles. Infinity if there are none.
     pub fn distance_to_obstacles(&self, p: Point) -> f64 {
-        self.wall_index.distance(p)
+        self.frame
+            .len_to_user(self.wall_index.distance(self.frame.to_unit(p)))
     }
 
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
@@ -909,7 +975,109 @@ impl Domain {
         if self.wall_index.is_empty() {
             return f64::INFINITY;
         }
-        self.wall_index.segment_distance(a, b)
+        let (a, b) = (self.frame.to_unit(a), self.frame.to_unit(b));
+        self.frame
+            .len_to_user(self.wall_index.segment_distance(a, b))
+    }
+}
+
+/// Areas and lengths of mesh options in unit coordinates are kept below this, so that a
+/// bound meaning "no bound" at a tiny scale does not overflow.
+const UNIT_LIMIT: f64 = 1e200;
+
+/// `spec` in the unit coordinates of `frame`.
+fn spec_to_unit(spec: &DomainSpec, frame: &Frame) -> DomainSpec {
+    let pts = |v: &[Point]| {
+        v.iter()
+            .map(|&p| frame.input_to_unit(p))
+            .collect::<Vec<_>>()
+    };
+    let len = |r: f64| frame.input_len_to_unit(r);
+    DomainSpec {
+        workspace: pts(&spec.workspace),
+        obstacles: spec
+            .obstacles
+            .iter()
+            .map(|o| match o {
+                Shape::Polygon(v) => Shape::Polygon(pts(v)),
+                Shape::Circle { center, radius } => Shape::Circle {
+                    center: frame.input_to_unit(*center),
+                    radius: len(*radius),
+                },
+            })
+            .collect(),
+        goals: spec
+            .goals
+            .iter()
+            .map(|g| match g {
+                GoalShape::Polygon(v) => GoalShape::Polygon(pts(v)),
+                GoalShape::Circle { center, radius } => GoalShape::Circle {
+                    center: frame.input_to_unit(*center),
+                    radius: len(*radius),
+                },
+                GoalShape::Point(p) => GoalShape::Point(frame.input_to_unit(*p)),
+            })
+            .collect(),
+        robot_radius: len(spec.robot_radius),
+    }
+}
+
+/// `opts` in the unit coordinates of `frame` (areas and lengths; angles and counts as they are).
+pub(crate) fn options_to_unit(opts: &MeshOptions, frame: &Frame) -> MeshOptions {
+    let mut unit = opts.clone();
+    unit.max_area = opts
+        .max_area
+        .map(|a| frame.input_area_to_unit(a).min(UNIT_LIMIT));
+    if let Some(g) = unit.grading.as_mut() {
+        g.radius = frame.input_len_to_unit(g.radius).min(UNIT_LIMIT);
+    }
+    unit.simplify = opts
+        .simplify
+        .map(|t| frame.input_len_to_unit(t).min(UNIT_LIMIT));
+    unit
+}
+
+/// An error of the unit scene, with the user's numbers where it quotes one.
+fn error_to_user(e: MeshError, spec: &DomainSpec, opts: &MeshOptions) -> MeshError {
+    let radius_of = |part: Part| match part {
+        Part::Obstacle(i) => match spec.obstacles.get(i) {
+            Some(Shape::Circle { radius, .. }) => Some(*radius),
+            _ => None,
+        },
+        Part::Goal(j) => match spec.goals.get(j) {
+            Some(GoalShape::Circle { radius, .. }) => Some(*radius),
+            _ => None,
+        },
+        Part::Workspace => None,
+    };
+    match e {
+        MeshError::InvalidRadius { part, radius } => MeshError::InvalidRadius {
+            part,
+            radius: radius_of(part).unwrap_or(radius),
+        },
+        MeshError::NoFreeSpace { .. } => MeshError::NoFreeSpace {
+            robot_radius: spec.robot_radius,
+        },
+        MeshError::GoalNotInFreeSpace { goal, .. } => MeshError::GoalNotInFreeSpace {
+            goal,
+            robot_radius: spec.robot_radius,
+        },
+        MeshError::InvalidRobotRadius(_) => MeshError::InvalidRobotRadius(spec.robot_radius),
+        MeshError::InvalidOption {
+            name,
+            value,
+            reason,
+        } => MeshError::InvalidOption {
+            name,
+            value: match name {
+                "max_area" => opts.max_area.unwrap_or(value),
+                "grading.radius" => opts.grading.map_or(value, |g| g.radius),
+                "simplify" => opts.simplify.unwrap_or(value),
+                _ => value,
+            },
+            reason,
+        },
+        other => other,
     }
 }
 
