@@ -252,17 +252,25 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
         });
     }
     let n = ring.len();
-    let boxes: Vec<(Point, Point)> = (0..n)
-        .map(|i| bbox_of(&[ring[i].0, ring[(i + 1) % n].0]))
-        .collect();
-    for i in 0..n {
-        for j in i + 1..n {
-            if j == i + 1 || (i == 0 && j == n - 1) {
-                continue;
-            }
-            let (lo1, hi1) = boxes[i];
-            let (lo2, hi2) = boxes[j];
-            if lo1.x > hi2.x || lo2.x > hi1.x || lo1.y > hi2.y || lo2.y > hi1.y {
+    // Candidate pairs from an R-tree of the edges' boxes: O(n log n) for a simple polygon,
+    // where comparing every pair took seconds at 50 000 vertices.
+    let boxes: Vec<rstar::primitives::GeomWithData<rstar::primitives::Rectangle<[f64; 2]>, usize>> =
+        (0..n)
+            .map(|i| {
+                let (lo, hi) = bbox_of(&[ring[i].0, ring[(i + 1) % n].0]);
+                rstar::primitives::GeomWithData::new(
+                    rstar::primitives::Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]),
+                    i,
+                )
+            })
+            .collect();
+    let tree = rstar::RTree::bulk_load(boxes.clone());
+    let mut first: Option<(usize, usize)> = None;
+    for b in &boxes {
+        let i = b.data;
+        for other in tree.locate_in_envelope_intersecting(&rstar::RTreeObject::envelope(b.geom())) {
+            let j = other.data;
+            if j <= i || j == i + 1 || (i == 0 && j == n - 1) {
                 continue;
             }
             if segments_intersect(
@@ -270,13 +278,17 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
                 ring[(i + 1) % n].0,
                 ring[j].0,
                 ring[(j + 1) % n].0,
-            ) {
-                return Err(MeshError::SelfIntersection {
-                    part,
-                    edges: (ring[i].1, ring[j].1),
-                });
+            ) && first.is_none_or(|f| (i, j) < f)
+            {
+                first = Some((i, j));
             }
         }
+    }
+    if let Some((i, j)) = first {
+        return Err(MeshError::SelfIntersection {
+            part,
+            edges: (ring[i].1, ring[j].1),
+        });
     }
     let mut points: Vec<Point> = ring.into_iter().map(|(p, _)| p).collect();
     let area = ring_area(&points);
@@ -335,6 +347,24 @@ fn from_ls(ls: &LineString<f64>) -> Vec<Point> {
 }
 
 fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region> {
+    use geo::BoundingRect;
+    use rstar::primitives::{GeomWithData, Rectangle};
+    // The parts' bounding boxes in an R-tree: which parts make up a region is then a box
+    // query and a few exact tests, not a test of every part against every region (a forest
+    // of 3000 circles spent most of its preparation recomputing bounding boxes there).
+    let boxes: Vec<GeomWithData<Rectangle<[f64; 2]>, usize>> = parts
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| {
+            p.bounding_rect().map(|r| {
+                GeomWithData::new(
+                    Rectangle::from_corners([r.min().x, r.min().y], [r.max().x, r.max().y]),
+                    i,
+                )
+            })
+        })
+        .collect();
+    let tree = rstar::RTree::bulk_load(boxes);
     mp.0.iter()
         .map(|poly| {
             let mut exterior = from_ls(poly.exterior());
@@ -352,12 +382,19 @@ fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region
                     h
                 })
                 .collect();
-            let sources = parts
-                .iter()
-                .enumerate()
-                .filter(|(_, p)| p.intersects(poly))
-                .map(|(i, _)| i as u32)
-                .collect();
+            let mut sources: Vec<u32> = match poly.bounding_rect() {
+                Some(r) => tree
+                    .locate_in_envelope_intersecting(&rstar::AABB::from_corners(
+                        [r.min().x, r.min().y],
+                        [r.max().x, r.max().y],
+                    ))
+                    .map(|b| b.data)
+                    .filter(|&i| parts[i].intersects(poly))
+                    .map(|i| i as u32)
+                    .collect(),
+                None => Vec::new(),
+            };
+            sources.sort_unstable();
             Region {
                 exterior,
                 holes,
@@ -490,6 +527,8 @@ struct Workspace {
     rr: f64,
     /// The angle step (radians) of the round joins when offsetting by the robot radius.
     join_angle: f64,
+    /// [`MeshOptions::simplify`]: the tolerance obstacle polygons are simplified to.
+    simplify: Option<f64>,
 }
 
 impl Workspace {
@@ -514,6 +553,7 @@ impl Workspace {
             h,
             rr,
             join_angle,
+            simplify: opts.simplify,
         })
     }
 }
@@ -533,7 +573,12 @@ fn inflated_obstacles(
         let mp = match shape {
             Shape::Polygon(pts) => {
                 let ring = clean_ring(part, pts)?;
-                if rr > 0.0 {
+                if let Some(tol) = ws.simplify {
+                    if rr > 0.0 {
+                        raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
+                    }
+                    simplified(&ring, tol, rr, join_angle)
+                } else if rr > 0.0 {
                     raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
                     to_geo(&ring).buffer_with_style(
                         BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
@@ -568,6 +613,29 @@ fn inflated_obstacles(
         obstacle_geo.push(mp);
     }
     Ok((obstacle_geo, raw_obstacles))
+}
+
+/// A conservative simplification of the obstacle `ring`, inflated by `rr`: Ramer–Douglas–
+/// Peucker to `tol / 2` (geo's `Simplify`) keeps every point of the original within `tol / 2`
+/// of the simplified boundary, so growing the simplified polygon by `tol / 2` (mitred joins,
+/// which contain round ones) contains the original; the robot radius is added to the same
+/// offset. The boundary moves out by at most about `tol`.
+fn simplified(ring: &[Point], tol: f64, rr: f64, join_angle: f64) -> MultiPolygon<f64> {
+    use geo::Simplify;
+    let poly = to_geo(ring);
+    let coarse = poly.simplify(0.5 * tol);
+    let grow = 0.5 * tol + rr;
+    let join = if rr > 0.0 {
+        LineJoin::Round(join_angle)
+    } else {
+        LineJoin::Miter(4.0)
+    };
+    let out = coarse.buffer_with_style(BufferStyle::new(grow).line_join(join));
+    if out.unsigned_area() > 0.0 {
+        out
+    } else {
+        MultiPolygon(vec![poly])
+    }
 }
 
 /// Goals: validated and discretised, one multipolygon per input; a point goal becomes a

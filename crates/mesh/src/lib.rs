@@ -187,6 +187,23 @@ pub enum MeshError {
         /// The smallest edge length expected in the mesh, in scene units.
         edge: f64,
     },
+    /// The mesh would exceed the triangle budget mostly because of one obstacle's detail.
+    #[error(
+        "obstacle {obstacle} has {vertices} vertices: the mesh would need about {estimated} triangles, more than the limit of {limit} (set mesh.simplify to about {suggest:.2e} to coarsen it, or raise max_triangles)"
+    )]
+    TooDetailed {
+        /// The obstacle (input index) whose boundary detail dominates the estimate.
+        obstacle: usize,
+        /// Its vertices on free space's boundary.
+        vertices: usize,
+        /// The estimated triangle count.
+        estimated: usize,
+        /// [`MeshOptions::max_triangles`].
+        limit: usize,
+        /// A `mesh.simplify` tolerance (scene units) that coarsens it to about the target
+        /// edge length.
+        suggest: f64,
+    },
     /// The triangulation library failed on the (already validated) boundary.
     #[error("triangulation failed: {0}")]
     Triangulation(String),

@@ -778,6 +778,32 @@ impl Budget {
             usize::MAX
         };
         if estimated > opts.max_triangles {
+            // Boundary detail: the obstacle with the most ring vertices, if its share of the
+            // estimate (two triangles a vertex) is what exceeds the budget.
+            let mut per_obstacle: HashMap<u32, usize> = HashMap::new();
+            for ring in domain.unit_rings() {
+                for tag in &ring.tags {
+                    if let BoundaryTag::Obstacle(i) = tag {
+                        *per_obstacle.entry(*i).or_default() += 1;
+                    }
+                }
+            }
+            if let Some((&obstacle, &vertices)) = per_obstacle
+                .iter()
+                .max_by_key(|&(&i, &v)| (v, std::cmp::Reverse(i)))
+                && est - 2.0 * vertices as f64 <= opts.max_triangles as f64
+            {
+                // Chords of length h on a curve of radius ~ρ deviate by h²/(8ρ); a tenth
+                // of the target edge keeps well within that for any ρ above h.
+                let h = crate::domain::edge_for_area(max_area);
+                return Err(MeshError::TooDetailed {
+                    obstacle: obstacle as usize,
+                    vertices,
+                    estimated,
+                    limit: opts.max_triangles,
+                    suggest: domain.frame().len_to_user(0.1 * h),
+                });
+            }
             return Err(MeshError::TooManyTriangles {
                 estimated,
                 limit: opts.max_triangles,
