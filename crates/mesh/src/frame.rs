@@ -285,7 +285,13 @@ mod tests {
     #[test]
     fn decimal_inputs_are_kept_and_their_rounding_at_other_scales_undone() {
         let f = Frame::identity();
-        for v in [0.2, 7.1, 8.638581929877, 0.7071067811865476, 1e-3] {
+        for v in [
+            0.2,
+            7.1,
+            8.638581929877,
+            std::f64::consts::FRAC_1_SQRT_2,
+            1e-3,
+        ] {
             assert_eq!(
                 f.input_to_unit(Point::new(v, v)).x.to_bits(),
                 v.to_bits(),
