@@ -697,6 +697,7 @@ impl OccupancyMap {
                 max_area,
                 min_angle_deg: Some(opts.min_angle_deg),
                 grading: None,
+                simplify: None,
             },
             robot: RobotSpec { radius },
         })

@@ -370,6 +370,7 @@ impl Scene {
         let mut opts = MeshOptions {
             max_area: self.mesh.max_area,
             grading: self.mesh.grading,
+            simplify: self.mesh.simplify,
             ..MeshOptions::default()
         };
         if let Some(d) = self.mesh.min_angle_deg {

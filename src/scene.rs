@@ -86,6 +86,11 @@ pub struct MeshSpec {
     /// format; absent: uniform). Checked here so errors name their JSON path.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grading: Option<Grading>,
+    /// Simplify detailed obstacle polygons to within this distance (scene units) before
+    /// meshing, conservatively: each simplified obstacle contains the original. Absent:
+    /// polygons are meshed as given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simplify: Option<f64>,
 }
 
 /// The robot's shape.
@@ -355,6 +360,14 @@ impl Scene {
             return invalid(
                 "mesh.max_area".into(),
                 format!("must be a positive number, got {a}"),
+            );
+        }
+        if let Some(t) = self.mesh.simplify
+            && !(t.is_finite() && t > 0.0)
+        {
+            return invalid(
+                "mesh.simplify".into(),
+                format!("must be a positive distance, got {t}"),
             );
         }
         if let Some(d) = self.mesh.min_angle_deg

@@ -701,6 +701,7 @@ impl DynamicPlanner {
                 max_area: Some(self.options.max_area),
                 min_angle_deg: Some(self.options.min_angle_deg),
                 grading: None,
+                simplify: None,
             },
             robot: self.scene.robot,
         }

@@ -10,6 +10,7 @@ use geo::{
 };
 use serde::{Deserialize, Serialize};
 
+use crate::frame::Frame;
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
 use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
@@ -101,6 +102,11 @@ pub struct Domain {
     boundary_index: SegmentIndex,
     /// Free-space boundary edges on walls and obstacles (not goals), for clearance.
     wall_index: SegmentIndex,
+    /// The map from the scene's coordinates to the unit coordinates every field above is in
+    /// (see [`Frame`]).
+    frame: Frame,
+    /// `free` in the scene's coordinates (what [`Domain::free_rings`] returns).
+    user_free: Vec<TaggedRing>,
 }
 
 /// Drops the edges that two oriented rings of one polygon share in opposite directions and
@@ -246,17 +252,25 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
         });
     }
     let n = ring.len();
-    let boxes: Vec<(Point, Point)> = (0..n)
-        .map(|i| bbox_of(&[ring[i].0, ring[(i + 1) % n].0]))
-        .collect();
-    for i in 0..n {
-        for j in i + 1..n {
-            if j == i + 1 || (i == 0 && j == n - 1) {
-                continue;
-            }
-            let (lo1, hi1) = boxes[i];
-            let (lo2, hi2) = boxes[j];
-            if lo1.x > hi2.x || lo2.x > hi1.x || lo1.y > hi2.y || lo2.y > hi1.y {
+    // Candidate pairs from an R-tree of the edges' boxes: O(n log n) for a simple polygon,
+    // where comparing every pair took seconds at 50 000 vertices.
+    let boxes: Vec<rstar::primitives::GeomWithData<rstar::primitives::Rectangle<[f64; 2]>, usize>> =
+        (0..n)
+            .map(|i| {
+                let (lo, hi) = bbox_of(&[ring[i].0, ring[(i + 1) % n].0]);
+                rstar::primitives::GeomWithData::new(
+                    rstar::primitives::Rectangle::from_corners([lo.x, lo.y], [hi.x, hi.y]),
+                    i,
+                )
+            })
+            .collect();
+    let tree = rstar::RTree::bulk_load(boxes.clone());
+    let mut first: Option<(usize, usize)> = None;
+    for b in &boxes {
+        let i = b.data;
+        for other in tree.locate_in_envelope_intersecting(&rstar::RTreeObject::envelope(b.geom())) {
+            let j = other.data;
+            if j <= i || j == i + 1 || (i == 0 && j == n - 1) {
                 continue;
             }
             if segments_intersect(
@@ -264,13 +278,17 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
                 ring[(i + 1) % n].0,
                 ring[j].0,
                 ring[(j + 1) % n].0,
-            ) {
-                return Err(MeshError::SelfIntersection {
-                    part,
-                    edges: (ring[i].1, ring[j].1),
-                });
+            ) && first.is_none_or(|f| (i, j) < f)
+            {
+                first = Some((i, j));
             }
         }
+    }
+    if let Some((i, j)) = first {
+        return Err(MeshError::SelfIntersection {
+            part,
+            edges: (ring[i].1, ring[j].1),
+        });
     }
     let mut points: Vec<Point> = ring.into_iter().map(|(p, _)| p).collect();
     let area = ring_area(&points);
@@ -329,6 +347,24 @@ fn from_ls(ls: &LineString<f64>) -> Vec<Point> {
 }
 
 fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region> {
+    use geo::BoundingRect;
+    use rstar::primitives::{GeomWithData, Rectangle};
+    // The parts' bounding boxes in an R-tree: which parts make up a region is then a box
+    // query and a few exact tests, not a test of every part against every region (a forest
+    // of 3000 circles spent most of its preparation recomputing bounding boxes there).
+    let boxes: Vec<GeomWithData<Rectangle<[f64; 2]>, usize>> = parts
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| {
+            p.bounding_rect().map(|r| {
+                GeomWithData::new(
+                    Rectangle::from_corners([r.min().x, r.min().y], [r.max().x, r.max().y]),
+                    i,
+                )
+            })
+        })
+        .collect();
+    let tree = rstar::RTree::bulk_load(boxes);
     mp.0.iter()
         .map(|poly| {
             let mut exterior = from_ls(poly.exterior());
@@ -346,12 +382,19 @@ fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region
                     h
                 })
                 .collect();
-            let sources = parts
-                .iter()
-                .enumerate()
-                .filter(|(_, p)| p.intersects(poly))
-                .map(|(i, _)| i as u32)
-                .collect();
+            let mut sources: Vec<u32> = match poly.bounding_rect() {
+                Some(r) => tree
+                    .locate_in_envelope_intersecting(&rstar::AABB::from_corners(
+                        [r.min().x, r.min().y],
+                        [r.max().x, r.max().y],
+                    ))
+                    .map(|b| b.data)
+                    .filter(|&i| parts[i].intersects(poly))
+                    .map(|i| i as u32)
+                    .collect(),
+                None => Vec::new(),
+            };
+            sources.sort_unstable();
             Region {
                 exterior,
                 holes,
@@ -484,6 +527,8 @@ struct Workspace {
     rr: f64,
     /// The angle step (radians) of the round joins when offsetting by the robot radius.
     join_angle: f64,
+    /// [`MeshOptions::simplify`]: the tolerance obstacle polygons are simplified to.
+    simplify: Option<f64>,
 }
 
 impl Workspace {
@@ -508,6 +553,7 @@ impl Workspace {
             h,
             rr,
             join_angle,
+            simplify: opts.simplify,
         })
     }
 }
@@ -527,7 +573,12 @@ fn inflated_obstacles(
         let mp = match shape {
             Shape::Polygon(pts) => {
                 let ring = clean_ring(part, pts)?;
-                if rr > 0.0 {
+                if let Some(tol) = ws.simplify {
+                    if rr > 0.0 {
+                        raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
+                    }
+                    simplified(&ring, tol, rr, join_angle)
+                } else if rr > 0.0 {
                     raw_obstacles.push(MultiPolygon(vec![to_geo(&ring)]));
                     to_geo(&ring).buffer_with_style(
                         BufferStyle::new(rr).line_join(LineJoin::Round(join_angle)),
@@ -562,6 +613,29 @@ fn inflated_obstacles(
         obstacle_geo.push(mp);
     }
     Ok((obstacle_geo, raw_obstacles))
+}
+
+/// A conservative simplification of the obstacle `ring`, inflated by `rr`: Ramer–Douglas–
+/// Peucker to `tol / 2` (geo's `Simplify`) keeps every point of the original within `tol / 2`
+/// of the simplified boundary, so growing the simplified polygon by `tol / 2` (mitred joins,
+/// which contain round ones) contains the original; the robot radius is added to the same
+/// offset. The boundary moves out by at most about `tol`.
+fn simplified(ring: &[Point], tol: f64, rr: f64, join_angle: f64) -> MultiPolygon<f64> {
+    use geo::Simplify;
+    let poly = to_geo(ring);
+    let coarse = poly.simplify(0.5 * tol);
+    let grow = 0.5 * tol + rr;
+    let join = if rr > 0.0 {
+        LineJoin::Round(join_angle)
+    } else {
+        LineJoin::Miter(4.0)
+    };
+    let out = coarse.buffer_with_style(BufferStyle::new(grow).line_join(join));
+    if out.unsigned_area() > 0.0 {
+        out
+    } else {
+        MultiPolygon(vec![poly])
+    }
 }
 
 /// Goals: validated and discretised, one multipolygon per input; a point goal becomes a
@@ -808,8 +882,44 @@ impl Domain {
     /// (from `max_area`, or the default area workspace/20000). Overlapping obstacles are merged,
     /// obstacles crossing the workspace boundary are cut out of it, goals are removed from free
     /// space, and every boundary edge is tagged with the input it lies on.
+    ///
+    /// The work is done in unit coordinates (see [`Frame`]): any finite scale and offset of a
+    /// scene gives the same free space, scaled; every accessor answers in the scene's
+    /// coordinates.
     pub fn new(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
         opts.validate()?;
+        let frame = Frame::of(&spec.workspace);
+        let unit_spec = spec_to_unit(spec, &frame);
+        let unit_opts = options_to_unit(opts, &frame);
+        let mut domain =
+            Domain::build(&unit_spec, &unit_opts).map_err(|e| error_to_user(e, spec, opts))?;
+        let to_user = |r: &Region| Region {
+            exterior: r.exterior.iter().map(|&p| frame.to_user(p)).collect(),
+            holes: r
+                .holes
+                .iter()
+                .map(|h| h.iter().map(|&p| frame.to_user(p)).collect())
+                .collect(),
+            sources: r.sources.clone(),
+        };
+        domain.user_free = domain
+            .free
+            .iter()
+            .map(|r| TaggedRing {
+                points: r.points.iter().map(|&p| frame.to_user(p)).collect(),
+                tags: r.tags.clone(),
+            })
+            .collect();
+        domain.workspace = domain.workspace.iter().map(to_user).collect();
+        domain.obstacles = domain.obstacles.iter().map(to_user).collect();
+        domain.goals = domain.goals.iter().map(to_user).collect();
+        domain.frame = frame;
+        Ok(domain)
+    }
+
+    /// [`Domain::new`] on a scene already in unit coordinates (the frame is the identity
+    /// until `new` sets it).
+    fn build(spec: &DomainSpec, opts: &MeshOptions) -> Result<Domain, MeshError> {
         let ws = Workspace::new(spec, opts)?;
         let (obstacle_geo, raw_obstacles) = inflated_obstacles(spec, &ws)?;
         let goal_geo = goal_shapes(spec, &ws, &obstacle_geo)?;
@@ -842,13 +952,15 @@ impl Domain {
             robot_radius: ws.rr,
             boundary_index,
             wall_index,
+            frame: Frame::identity(),
+            user_free: Vec::new(),
         })
     }
 
     /// The boundary rings of free space (outer rings counter-clockwise, holes clockwise), with
     /// a tag per edge. These are the constraint edges of the triangulation.
     pub fn free_rings(&self) -> &[TaggedRing] {
-        &self.free
+        &self.user_free
     }
     /// The workspace after shrinking by the robot radius (one region unless the shrink split it).
     pub fn workspace_rings(&self) -> &[Region] {
@@ -864,23 +976,43 @@ impl Domain {
     }
     /// The exact area of free space (of the polygons that are meshed).
     pub fn free_area(&self) -> f64 {
-        self.free_area
+        self.frame.area_to_user(self.free_area)
     }
     /// The diagonal of the workspace bounding box.
     pub fn scale(&self) -> f64 {
-        self.scale
+        self.frame.len_to_user(self.scale)
     }
     /// The workspace bounding box `(min, max)`.
     pub fn bounding_box(&self) -> (Point, Point) {
-        self.bbox
+        (
+            self.frame.to_user(self.bbox.0),
+            self.frame.to_user(self.bbox.1),
+        )
     }
     /// The target edge length used to discretise circles.
     pub fn target_edge_length(&self) -> f64 {
-        self.target_edge
+        self.frame.len_to_user(self.target_edge)
     }
     /// The robot radius the domain was built with.
     pub fn robot_radius(&self) -> f64 {
-        self.robot_radius
+        self.frame.len_to_user(self.robot_radius)
+    }
+    /// The map from the scene's coordinates to the unit coordinates the domain is meshed in.
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// The free-space rings in unit coordinates (what the mesher triangulates).
+    pub(crate) fn unit_rings(&self) -> &[TaggedRing] {
+        &self.free
+    }
+    /// The workspace bounding box in unit coordinates.
+    pub(crate) fn unit_bbox(&self) -> (Point, Point) {
+        self.bbox
+    }
+    /// The free area in unit coordinates.
+    pub(crate) fn unit_free_area(&self) -> f64 {
+        self.free_area
     }
 
     /// Whether `p` lies in free space (closed set: points within 1e-12 × scene size of the
@@ -889,6 +1021,7 @@ impl Domain {
         if !p.x.is_finite() || !p.y.is_finite() {
             return false;
         }
+        let p = self.frame.to_unit(p);
         if self.boundary_index.distance(p) <= 1e-12 * self.scale {
             return true;
         }
@@ -899,7 +1032,8 @@ impl Domain {
     /// (goal boundaries excluded), whether `p` is inside free space or not. For a disc robot
     /// the boundaries are those of the inflated obstacles. Infinity if there are none.
     pub fn distance_to_obstacles(&self, p: Point) -> f64 {
-        self.wall_index.distance(p)
+        self.frame
+            .len_to_user(self.wall_index.distance(self.frame.to_unit(p)))
     }
 
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
@@ -909,7 +1043,109 @@ impl Domain {
         if self.wall_index.is_empty() {
             return f64::INFINITY;
         }
-        self.wall_index.segment_distance(a, b)
+        let (a, b) = (self.frame.to_unit(a), self.frame.to_unit(b));
+        self.frame
+            .len_to_user(self.wall_index.segment_distance(a, b))
+    }
+}
+
+/// Areas and lengths of mesh options in unit coordinates are kept below this, so that a
+/// bound meaning "no bound" at a tiny scale does not overflow.
+const UNIT_LIMIT: f64 = 1e200;
+
+/// `spec` in the unit coordinates of `frame`.
+fn spec_to_unit(spec: &DomainSpec, frame: &Frame) -> DomainSpec {
+    let pts = |v: &[Point]| {
+        v.iter()
+            .map(|&p| frame.input_to_unit(p))
+            .collect::<Vec<_>>()
+    };
+    let len = |r: f64| frame.input_len_to_unit(r);
+    DomainSpec {
+        workspace: pts(&spec.workspace),
+        obstacles: spec
+            .obstacles
+            .iter()
+            .map(|o| match o {
+                Shape::Polygon(v) => Shape::Polygon(pts(v)),
+                Shape::Circle { center, radius } => Shape::Circle {
+                    center: frame.input_to_unit(*center),
+                    radius: len(*radius),
+                },
+            })
+            .collect(),
+        goals: spec
+            .goals
+            .iter()
+            .map(|g| match g {
+                GoalShape::Polygon(v) => GoalShape::Polygon(pts(v)),
+                GoalShape::Circle { center, radius } => GoalShape::Circle {
+                    center: frame.input_to_unit(*center),
+                    radius: len(*radius),
+                },
+                GoalShape::Point(p) => GoalShape::Point(frame.input_to_unit(*p)),
+            })
+            .collect(),
+        robot_radius: len(spec.robot_radius),
+    }
+}
+
+/// `opts` in the unit coordinates of `frame` (areas and lengths; angles and counts as they are).
+pub(crate) fn options_to_unit(opts: &MeshOptions, frame: &Frame) -> MeshOptions {
+    let mut unit = opts.clone();
+    unit.max_area = opts
+        .max_area
+        .map(|a| frame.input_area_to_unit(a).min(UNIT_LIMIT));
+    if let Some(g) = unit.grading.as_mut() {
+        g.radius = frame.input_len_to_unit(g.radius).min(UNIT_LIMIT);
+    }
+    unit.simplify = opts
+        .simplify
+        .map(|t| frame.input_len_to_unit(t).min(UNIT_LIMIT));
+    unit
+}
+
+/// An error of the unit scene, with the user's numbers where it quotes one.
+fn error_to_user(e: MeshError, spec: &DomainSpec, opts: &MeshOptions) -> MeshError {
+    let radius_of = |part: Part| match part {
+        Part::Obstacle(i) => match spec.obstacles.get(i) {
+            Some(Shape::Circle { radius, .. }) => Some(*radius),
+            _ => None,
+        },
+        Part::Goal(j) => match spec.goals.get(j) {
+            Some(GoalShape::Circle { radius, .. }) => Some(*radius),
+            _ => None,
+        },
+        Part::Workspace => None,
+    };
+    match e {
+        MeshError::InvalidRadius { part, radius } => MeshError::InvalidRadius {
+            part,
+            radius: radius_of(part).unwrap_or(radius),
+        },
+        MeshError::NoFreeSpace { .. } => MeshError::NoFreeSpace {
+            robot_radius: spec.robot_radius,
+        },
+        MeshError::GoalNotInFreeSpace { goal, .. } => MeshError::GoalNotInFreeSpace {
+            goal,
+            robot_radius: spec.robot_radius,
+        },
+        MeshError::InvalidRobotRadius(_) => MeshError::InvalidRobotRadius(spec.robot_radius),
+        MeshError::InvalidOption {
+            name,
+            value,
+            reason,
+        } => MeshError::InvalidOption {
+            name,
+            value: match name {
+                "max_area" => opts.max_area.unwrap_or(value),
+                "grading.radius" => opts.grading.map_or(value, |g| g.radius),
+                "simplify" => opts.simplify.unwrap_or(value),
+                _ => value,
+            },
+            reason,
+        },
+        other => other,
     }
 }
 

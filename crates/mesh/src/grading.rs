@@ -31,7 +31,7 @@ impl SizeField {
         let radius = grading.radius;
         let mut goal_segments = Vec::new();
         let mut corners = Vec::new();
-        for ring in domain.free_rings() {
+        for ring in domain.unit_rings() {
             let n = ring.points.len();
             for k in 0..n {
                 let (prev, p, next) = (
@@ -71,7 +71,7 @@ impl SizeField {
         let finest = grading.near_goal.min(grading.near_corners);
         let extra_triangles = (TRIANGLES_PER_AREA * (band + disc * corners.len() as f64)
             / max_area)
-            .min(TRIANGLES_PER_AREA * domain.free_area() * (1.0 / finest - 1.0) / max_area);
+            .min(TRIANGLES_PER_AREA * domain.unit_free_area() * (1.0 / finest - 1.0) / max_area);
         SizeField {
             max_area,
             radius,

@@ -111,9 +111,9 @@ impl Cut {
 /// free space, an exact cut counting as 3 % more even. Each leaves between 30 % and 70 % of
 /// free space on each side and meets the rings steeply.
 pub(crate) fn choose_cuts(domain: &Domain, spacing: f64) -> Vec<Cut> {
-    let rings = domain.free_rings();
-    let (lo, hi) = domain.bounding_box();
-    let total = domain.free_area();
+    let rings = domain.unit_rings();
+    let (lo, hi) = domain.unit_bbox();
+    let total = domain.unit_free_area();
     let low_fraction =
         |cut: &Cut| rings.iter().map(|r| cut.low_area(&r.points)).sum::<f64>() / total;
     let mut ranked: Vec<(f64, Cut)> = Vec::new();

@@ -37,6 +37,7 @@
 #![warn(missing_docs)]
 
 mod domain;
+mod frame;
 pub mod geom;
 mod grading;
 mod halves;
@@ -47,6 +48,7 @@ mod touch;
 mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
+pub use frame::Frame;
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
 pub use options::{Grading, MAX_MIN_ANGLE_DEG, MeshOptions};
 pub use triangulate::MeshReport;
@@ -172,6 +174,35 @@ pub enum MeshError {
         estimated: usize,
         /// [`MeshOptions::max_triangles`].
         limit: usize,
+    },
+    /// The scene is so small or so large that its mesh cannot be written in its own
+    /// coordinates (triangle areas below f64's normal range, or squared coordinates
+    /// overflowing); meshing itself works in unit coordinates at any scale.
+    #[error(
+        "scene of size {size:e} is out of f64's range for its mesh: triangles of edge {edge:e} would have areas below 1e-304 or coordinates would overflow when squared (express the scene in other units)"
+    )]
+    ScaleOutOfRange {
+        /// The workspace's larger side.
+        size: f64,
+        /// The smallest edge length expected in the mesh, in scene units.
+        edge: f64,
+    },
+    /// The mesh would exceed the triangle budget mostly because of one obstacle's detail.
+    #[error(
+        "obstacle {obstacle} has {vertices} vertices: the mesh would need about {estimated} triangles, more than the limit of {limit} (set mesh.simplify to about {suggest:.2e} to coarsen it, or raise max_triangles)"
+    )]
+    TooDetailed {
+        /// The obstacle (input index) whose boundary detail dominates the estimate.
+        obstacle: usize,
+        /// Its vertices on free space's boundary.
+        vertices: usize,
+        /// The estimated triangle count.
+        estimated: usize,
+        /// [`MeshOptions::max_triangles`].
+        limit: usize,
+        /// A `mesh.simplify` tolerance (scene units) that coarsens it to about the target
+        /// edge length.
+        suggest: f64,
     },
     /// The triangulation library failed on the (already validated) boundary.
     #[error("triangulation failed: {0}")]

@@ -45,6 +45,13 @@ pub struct MeshOptions {
     /// threads, glued along a cut (default 250 000; `usize::MAX` never). Not with grading or
     /// prefill.
     pub halves_from: usize,
+    /// Simplify detailed obstacle polygons before meshing: vertices are dropped while the
+    /// simplified boundary stays within this distance (workspace units) of the original, and
+    /// the simplified obstacle always contains the original one (a conservative
+    /// simplification: free space only shrinks). `None` (default): polygons are meshed as
+    /// given. The triangle-budget error suggests a value when one polygon's detail is what
+    /// exceeds the budget.
+    pub simplify: Option<f64>,
 }
 
 impl Default for MeshOptions {
@@ -57,6 +64,7 @@ impl Default for MeshOptions {
             split_boundary_bridges: true,
             grading: None,
             halves_from: HALVES_FROM,
+            simplify: None,
         }
     }
 }
@@ -148,6 +156,15 @@ impl MeshOptions {
                 name: "max_area",
                 value: a,
                 reason: "must be positive and finite",
+            });
+        }
+        if let Some(t) = self.simplify
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(MeshError::InvalidOption {
+                name: "simplify",
+                value: t,
+                reason: "must be a positive and finite distance",
             });
         }
         if let Some(g) = &self.grading {

@@ -49,7 +49,7 @@ const LATTICE_AREA_RATIO: f64 = 0.6;
 /// least one lattice spacing away from its boundary.
 fn lattice_points(domain: &Domain, area: f64, n_ring: usize) -> Vec<Point> {
     let s = (4.0 * area / 3f64.sqrt()).sqrt();
-    let (lo, hi) = domain.bounding_box();
+    let (lo, hi) = domain.unit_bbox();
     let nx = ((hi.x - lo.x) / s).ceil() as usize + 2;
     let row = s * 3f64.sqrt() / 2.0;
     let ny = ((hi.y - lo.y) / row).ceil() as usize + 2;
@@ -59,7 +59,7 @@ fn lattice_points(domain: &Domain, area: f64, n_ring: usize) -> Vec<Point> {
     // Cells of size s (one per lattice column and row band) near the boundary are blocked.
     let mut blocked = vec![false; nx * ny];
     let mut segs: Vec<(Point, Point)> = Vec::with_capacity(n_ring);
-    for ring in domain.free_rings() {
+    for ring in domain.unit_rings() {
         let n = ring.points.len();
         for k in 0..n {
             segs.push((ring.points[k], ring.points[(k + 1) % n]));
@@ -319,7 +319,7 @@ impl Refiner<'_> {
     ) -> Result<spade::handles::FixedVertexHandle, MeshError> {
         catch_unwind(AssertUnwindSafe(|| cdt.insert(p)))
             .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-            .map_err(|e| MeshError::Triangulation(format!("{e:?}")))
+            .map_err(spade_error)
     }
 
     /// Refines `cdt` completely: the returned part owns it.
@@ -409,6 +409,19 @@ impl Refiner<'_> {
     }
 }
 
+/// spade's refusal of a vertex, in words: meshing works in unit coordinates, so a coordinate
+/// outside spade's range means a point far outside the scene (or not a number).
+fn spade_error(e: spade::InsertionError) -> MeshError {
+    let what = match e {
+        spade::InsertionError::TooSmall => "smaller than 1.8e-43 but not zero",
+        spade::InsertionError::TooLarge => "larger than 3.7e150",
+        spade::InsertionError::NAN => "not a number",
+    };
+    MeshError::Triangulation(format!(
+        "a vertex coordinate, in the scene's unit coordinates (centred, scaled to size 1), is {what}; the triangulator cannot take it"
+    ))
+}
+
 /// Bulk-loads the constraint input into a CDT; crossing input segments are an error.
 fn load(verts: Vec<Point2<f64>>, edges: Vec<[usize; 2]>) -> Result<Cdt, MeshError> {
     let mut conflicts = Vec::new();
@@ -416,7 +429,7 @@ fn load(verts: Vec<Point2<f64>>, edges: Vec<[usize; 2]>) -> Result<Cdt, MeshErro
         Cdt::try_bulk_load_cdt(verts, edges, |e| conflicts.push(e))
     }))
     .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-    .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+    .map_err(spade_error)?;
     if let Some(&[a, _]) = conflicts.first() {
         let p = cdt
             .vertices()
@@ -431,6 +444,29 @@ fn load(verts: Vec<Point2<f64>>, edges: Vec<[usize; 2]>) -> Result<Cdt, MeshErro
         )));
     }
     Ok(cdt)
+}
+
+/// The unit mesh's vertices in the scene's coordinates; an error if its smallest triangle
+/// could not be represented there (see [`Frame::check_user_mesh`](crate::Frame::check_user_mesh)).
+fn to_user_vertices(
+    frame: &crate::Frame,
+    vertices: Vec<Point>,
+    triangles: &[[u32; 3]],
+) -> Result<Vec<Point>, MeshError> {
+    if frame.is_identity() {
+        return Ok(vertices);
+    }
+    if !(1e-100..=1e100).contains(&frame.scale) {
+        let smallest = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| vertices[v as usize]);
+                0.5 * crate::orient2d(a, b, c)
+            })
+            .fold(f64::INFINITY, f64::min);
+        frame.check_user_mesh(smallest.max(0.0).sqrt())?;
+    }
+    Ok(vertices.into_iter().map(|p| frame.to_user(p)).collect())
 }
 
 /// Rounds of exchanging cut vertices between two halves (each followed by refinement).
@@ -546,10 +582,15 @@ impl Domain {
     /// or prefill) are made as two halves on two threads, cut along a line at `0` or `±2^k`
     /// that splits free space evenly and glued along it: the same bounds hold everywhere, and
     /// the result does not depend on the number of cores.
+    ///
+    /// Meshing works in the domain's unit coordinates (see [`Frame`](crate::Frame)); the mesh
+    /// and the report are in the scene's.
     pub fn mesh(&self, opts: &MeshOptions) -> Result<(Mesh, MeshReport), MeshError> {
         opts.validate()?;
+        let frame = self.frame();
+        let opts = &crate::domain::options_to_unit(opts, &frame);
         let budget = Budget::of(self, opts)?;
-        let segments = BoundarySegments::of(self.free_rings());
+        let segments = BoundarySegments::of(self.unit_rings());
         let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * budget.max_area);
         let mut refiner = Refiner::new(opts, &budget);
         let (parts, input_vertices, seam) =
@@ -565,7 +606,7 @@ impl Domain {
         let bridges_split = parts.iter().map(|(p, _)| p.bridges_split).sum();
         let bridges_remaining = parts.iter().map(|(p, _)| p.bridges_remaining).sum();
         let glued = glue(parts, seam)?;
-        let (new_id, vertices) = hilbert_numbering(&glued, self.bounding_box());
+        let (new_id, vertices) = hilbert_numbering(&glued, self.unit_bbox());
         let triangles = renumbered_triangles(&glued.triangles, &new_id, vertices.len());
         let boundary = tagged_boundary(&glued, &new_id, &segments)?;
         let added_vertices = glued.positions.len().saturating_sub(input_vertices);
@@ -576,17 +617,19 @@ impl Domain {
                 "no triangle lies in free space (inconsistent boundary rings)".to_string(),
             ));
         }
+        let vertices = to_user_vertices(&frame, vertices, &triangles)?;
         let mesh = Mesh::from_parts(vertices, triangles, &boundary)?;
+        let offset = [frame.offset.x, frame.offset.y];
         Ok((
             mesh,
             MeshReport {
                 refinement_complete: complete,
-                seam: seam.map(|s| (s.cut.axis, s.cut.at)),
+                seam: seam.map(|s| (s.cut.axis, frame.len_to_user(s.cut.at) + offset[s.cut.axis])),
                 bridges_split,
                 bridges_remaining,
                 input_vertices,
                 added_vertices,
-                max_area: budget.max_area,
+                max_area: frame.area_to_user(budget.max_area),
                 min_angle_deg: opts.min_angle_deg,
                 estimated_triangles: budget.estimated,
             },
@@ -605,7 +648,7 @@ impl Domain {
         segments: &BoundarySegments,
         refiner: &Refiner<'_>,
     ) -> Result<Option<Halves>, MeshError> {
-        let (_, hi) = self.bounding_box();
+        let (_, hi) = self.unit_bbox();
         let cuts =
             if budget.estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill {
                 choose_cuts(self, spacing)
@@ -618,7 +661,7 @@ impl Domain {
             .chain(cuts.iter().find(|c| c.exact).filter(|_| !cuts[0].exact));
         for &cut in attempts {
             let Some((inputs, s)) =
-                split_inputs(self.free_rings(), cut, spacing, &segments.index, hi.x)
+                split_inputs(self.unit_rings(), cut, spacing, &segments.index, hi.x)
             else {
                 continue;
             };
@@ -644,7 +687,7 @@ impl Domain {
         spacing: f64,
         refiner: &mut Refiner<'_>,
     ) -> Result<((Part, FreeFaces), usize), MeshError> {
-        let rings = self.free_rings();
+        let rings = self.unit_rings();
         let n_ring = budget.ring_vertices;
         let mut ids: HashMap<(u64, u64), usize> = HashMap::with_capacity(n_ring);
         let mut verts: Vec<Point2<f64>> = Vec::with_capacity(n_ring);
@@ -719,14 +762,14 @@ impl Budget {
     /// The budget of meshing `domain` with `opts`; an error if the estimate exceeds
     /// `opts.max_triangles`.
     fn of(domain: &Domain, opts: &MeshOptions) -> Result<Budget, MeshError> {
-        let max_area = opts.max_area.unwrap_or(domain.free_area() / 20000.0);
-        let n_ring: usize = domain.free_rings().iter().map(|r| r.points.len()).sum();
+        let max_area = opts.max_area.unwrap_or(domain.unit_free_area() / 20000.0);
+        let n_ring: usize = domain.unit_rings().iter().map(|r| r.points.len()).sum();
         // Refinement at 30° gives about 1.6 triangles per max_area, plus the boundary layer.
         let size_field = opts
             .grading
             .as_ref()
             .map(|g| SizeField::new(domain, max_area, g));
-        let est = 1.6 * domain.free_area() / max_area
+        let est = 1.6 * domain.unit_free_area() / max_area
             + 2.0 * n_ring as f64
             + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
         let estimated = if est.is_finite() && est < 1e18 {
@@ -735,6 +778,32 @@ impl Budget {
             usize::MAX
         };
         if estimated > opts.max_triangles {
+            // Boundary detail: the obstacle with the most ring vertices, if its share of the
+            // estimate (two triangles a vertex) is what exceeds the budget.
+            let mut per_obstacle: HashMap<u32, usize> = HashMap::new();
+            for ring in domain.unit_rings() {
+                for tag in &ring.tags {
+                    if let BoundaryTag::Obstacle(i) = tag {
+                        *per_obstacle.entry(*i).or_default() += 1;
+                    }
+                }
+            }
+            if let Some((&obstacle, &vertices)) = per_obstacle
+                .iter()
+                .max_by_key(|&(&i, &v)| (v, std::cmp::Reverse(i)))
+                && est - 2.0 * vertices as f64 <= opts.max_triangles as f64
+            {
+                // Chords of length h on a curve of radius ~ρ deviate by h²/(8ρ); a tenth
+                // of the target edge keeps well within that for any ρ above h.
+                let h = crate::domain::edge_for_area(max_area);
+                return Err(MeshError::TooDetailed {
+                    obstacle: obstacle as usize,
+                    vertices,
+                    estimated,
+                    limit: opts.max_triangles,
+                    suggest: domain.frame().len_to_user(0.1 * h),
+                });
+            }
             return Err(MeshError::TooManyTriangles {
                 estimated,
                 limit: opts.max_triangles,

@@ -52,10 +52,11 @@ fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
 
 #[test]
 fn a_cut_through_an_obstacle_corner() {
-    // x = 4 and y = 4 split free space equally; x = 4 is taken and touches the diamond's
-    // corner (4, 2), whose edges leave it at 63° to the cut.
+    // x = 4 splits free space equally and touches the diamond's corner (4, 2), whose edges
+    // leave it at 63° to the cut. (The room's larger side is 10 and its corner the origin, so
+    // the unit frame is the identity and the power-of-two cut candidates are the scene's.)
     let spec = DomainSpec {
-        workspace: rect(0.0, 0.0, 8.0, 8.0),
+        workspace: rect(0.0, 0.0, 8.0, 10.0),
         obstacles: vec![
             Shape::Polygon(vec![p(4.0, 2.0), p(5.0, 1.5), p(6.0, 2.0), p(5.0, 2.5)]),
             Shape::Polygon(rect(1.0, 5.0, 2.0, 6.0)),
@@ -74,7 +75,7 @@ fn a_cut_along_obstacle_edges_and_across_obstacles() {
     // x = 4 runs along the right edge of [2, 4] × [4, 6] and across [3.5, 4.5] × [1, 2], and
     // splits free space evenly (so it beats a cut through the median, which is not exact).
     let spec = DomainSpec {
-        workspace: rect(0.0, 0.0, 8.0, 8.0),
+        workspace: rect(0.0, 0.0, 8.0, 10.0),
         obstacles: vec![
             Shape::Polygon(rect(2.0, 4.0, 4.0, 6.0)),
             Shape::Polygon(rect(3.5, 1.0, 4.5, 2.0)),
@@ -148,7 +149,7 @@ fn a_horizontal_cut_along_the_top_of_an_obstacle() {
     // y = 4 is the top edge of [3, 5] × [2, 4] (free space above it: the high side's) and
     // splits free space evenly.
     let spec = DomainSpec {
-        workspace: rect(0.0, 0.0, 7.0, 8.0),
+        workspace: rect(0.0, 0.0, 10.0, 8.0),
         obstacles: vec![
             Shape::Polygon(rect(3.0, 2.0, 5.0, 4.0)),
             Shape::Polygon(rect(1.0, 5.0, 3.0, 7.0)),
