@@ -105,7 +105,8 @@ fn export_and_pictures_carry_log10_psi() {
         .find(|&v| export.psi[v] == 0.0 && export.log10_psi[v].is_some())
         .expect("a vertex below the double range");
     let lg = export.log10_psi[far].unwrap();
-    assert!(lg < -323.0 && lg > -480.0, "{lg}");
+    // The spiral's far end is about 1e-474 (the mesh moves it by a few decades).
+    assert!(lg < -323.0 && lg > -520.0, "{lg}");
     // Where ψ is a float, log10_psi is its logarithm.
     for v in 0..n {
         if export.psi[v] > 1e-300 {
