@@ -47,15 +47,18 @@ pub struct VolumeAssemblyOptions {
 /// The reduced system `A x = b` for ψ at the free vertices.
 #[derive(Clone, Debug)]
 pub struct VolumeSystem {
-    matrix: SymmetricCsc,
-    rhs: Vec<f64>,
-    excess: Vec<f64>,
-    psi_fixed: Vec<f64>,
-    reference: f64,
-    not_m_matrix: Option<String>,
-    free: Arc<Vec<u32>>,
-    positive_offdiagonals: usize,
-    clamped: usize,
+    pub(super) matrix: SymmetricCsc,
+    pub(super) rhs: Vec<f64>,
+    pub(super) excess: Vec<f64>,
+    pub(super) psi_fixed: Vec<f64>,
+    pub(super) reference: f64,
+    pub(super) not_m_matrix: Option<String>,
+    pub(super) free: Arc<Vec<u32>>,
+    pub(super) positive_offdiagonals: usize,
+    pub(super) clamped: usize,
+    /// Per vertex, the vertex it is identified with (a periodic mesh's folded system,
+    /// `super::periodic`): `expand` copies ψ there.
+    pub(super) images: Option<Arc<Vec<u32>>>,
 }
 
 impl VolumeSystem {
@@ -131,6 +134,11 @@ impl VolumeSystem {
         let mut psi = self.psi_fixed.clone();
         for (&v, &xi) in self.free.iter().zip(x) {
             psi[v as usize] = xi;
+        }
+        if let Some(images) = &self.images {
+            for (v, &r) in images.iter().enumerate() {
+                psi[v] = psi[r as usize];
+            }
         }
         Ok(psi)
     }
@@ -385,6 +393,7 @@ impl VolumeAssembler {
             free: Arc::clone(&self.free),
             positive_offdiagonals: positive,
             clamped,
+            images: None,
         })
     }
 
