@@ -148,6 +148,8 @@ impl VolumeSystem {
 #[derive(Debug)]
 pub struct VolumeAssembler {
     mesh: Arc<TetMesh>,
+    /// A periodic slab's identification (see [`VolumeAssembler::with_identified`]).
+    images: Option<Arc<Vec<u32>>>,
     options: VolumeAssemblyOptions,
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     unknown_of: Vec<u32>,
@@ -180,6 +182,37 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         options: VolumeAssemblyOptions,
     ) -> Result<Self, VolumeFemError> {
+        Self::build(mesh, bcs, options, None)
+    }
+
+    /// [`with_options`](Self::with_options) for a periodic slab whose vertex `v` is one with
+    /// `images[v]` (`super::periodic`): a vertex is prescribed when any vertex it is
+    /// identified with lies on a prescribed face, with the lowest value among them, so the
+    /// folded system keeps identified vertices alike.
+    pub fn with_identified(
+        mesh: Arc<TetMesh>,
+        bcs: &BoundaryConditions,
+        options: VolumeAssemblyOptions,
+        images: Arc<Vec<u32>>,
+    ) -> Result<Self, VolumeFemError> {
+        if images.len() != mesh.vertices().len()
+            || images.iter().any(|&r| r as usize >= images.len())
+        {
+            return Err(VolumeFemError::LengthMismatch {
+                what: "periodic images",
+                expected: mesh.vertices().len(),
+                got: images.len(),
+            });
+        }
+        Self::build(mesh, bcs, options, Some(images))
+    }
+
+    fn build(
+        mesh: Arc<TetMesh>,
+        bcs: &BoundaryConditions,
+        options: VolumeAssemblyOptions,
+        images: Option<Arc<Vec<u32>>>,
+    ) -> Result<Self, VolumeFemError> {
         bcs.validate()?;
         let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
@@ -192,6 +225,16 @@ impl VolumeAssembler {
                 for &v in &f.vertices {
                     fixed[v as usize] = true;
                 }
+            }
+        }
+        if let Some(images) = &images {
+            for v in 0..nv {
+                if fixed[v] {
+                    fixed[images[v] as usize] = true;
+                }
+            }
+            for v in 0..nv {
+                fixed[v] = fixed[images[v] as usize];
             }
         }
         let mut used = vec![false; nv];
@@ -316,6 +359,7 @@ impl VolumeAssembler {
 
         Ok(VolumeAssembler {
             mesh,
+            images,
             options,
             kinds,
             unknown_of,
@@ -450,6 +494,15 @@ impl VolumeAssembler {
                 BoundaryCondition::Neumann(_) | BoundaryCondition::Robin { .. } => {
                     flux |= gv.iter().any(|&x| x != 0.0);
                 }
+            }
+        }
+        if let Some(images) = &self.images {
+            for v in 0..phi_fixed.len() {
+                let r = images[v] as usize;
+                phi_fixed[r] = phi_fixed[r].min(phi_fixed[v]);
+            }
+            for v in 0..phi_fixed.len() {
+                phi_fixed[v] = phi_fixed[images[v] as usize];
             }
         }
         for (c, (&(v, fixed), &robin)) in self.components.iter().zip(&anchored).enumerate() {

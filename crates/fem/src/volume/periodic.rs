@@ -5,7 +5,10 @@
 //! map from the slab's unknowns to the periodic ones. Every element's stiffness is counted
 //! once, so `A'` is exactly the stiffness of the periodic mesh; folding adds rows of a
 //! diagonally dominant M-matrix (identified vertices share no edge), so it stays one and the
-//! accurate elimination applies as before.
+//! accurate elimination applies as before. A vertex of one end may lie on a held face while
+//! its image at the other end does not (the face belongs to the other end's tetrahedra): the
+//! assembler is told the identification (`VolumeAssembler::with_identified`) so that both
+//! are held alike.
 
 use std::sync::Arc;
 
@@ -151,7 +154,13 @@ pub fn solve_periodic_for_planning(
     bcs: &BoundaryConditions,
 ) -> Result<(VolumePotential, PeriodicSolveReport), VolumeFemError> {
     let bcs = periodic_conditions(bcs);
-    let assembler = VolumeAssembler::new(Arc::clone(&slab), &bcs)?;
+    let shared = Arc::new(images.to_vec());
+    let assembler = VolumeAssembler::with_identified(
+        Arc::clone(&slab),
+        &bcs,
+        VolumeAssemblyOptions::default(),
+        Arc::clone(&shared),
+    )?;
     let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
     let positive_offdiagonals = system.positive_offdiagonals();
     let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
@@ -182,7 +191,7 @@ pub fn solve_periodic_for_planning(
     let options = VolumeAssemblyOptions {
         negative_weights: NegativeWeights::Clamp,
     };
-    let assembler = VolumeAssembler::with_options(Arc::clone(&slab), &bcs, options)?;
+    let assembler = VolumeAssembler::with_identified(Arc::clone(&slab), &bcs, options, shared)?;
     let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
     let method = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         VolumeSolveMethod::Accurate
