@@ -639,7 +639,9 @@ impl ConfigPlanner {
                 path.status.as_str(),
                 path.length,
                 path.min_clearance,
-                end.iter().map(|v| (v * 1e3).round() / 1e3).collect::<Vec<_>>()
+                end.iter()
+                    .map(|v| (v * 1e3).round() / 1e3)
+                    .collect::<Vec<_>>()
             );
         }
         s

@@ -40,6 +40,7 @@ pub mod scene;
 pub mod volume;
 pub mod workspace;
 
+pub use cspace::{ConfigPlanner, ConfigScene};
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;
 pub use harmonic_mesh::{Point, Vector};
@@ -49,7 +50,6 @@ pub use planner::{
     CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
     PlannerOptions, Report, Stage, SvgOptions, Timings,
 };
-pub use cspace::{ConfigPlanner, ConfigScene};
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};
 pub use workspace::{

@@ -31,7 +31,11 @@ fn bundled_config_scenes_reach_the_goal_collision_free() {
         assert!(!scene.starts.is_empty());
         for start in &scene.starts {
             let p = planner.plan(start);
-            assert!(p.status.reached_goal(), "{path:?} from {start:?}: {:?}", p.status);
+            assert!(
+                p.status.reached_goal(),
+                "{path:?} from {start:?}: {:?}",
+                p.status
+            );
             let configs = p.configurations();
             assert_eq!(&configs[0], start);
             // The last entry is in the goal region (its own function ≤ 0, to the mesh's chord).
@@ -137,13 +141,17 @@ fn error_of(text: &str) -> String {
 
 #[test]
 fn bad_robots_and_goals_name_their_json_path() {
-    let base = r#"{"workspace": [[0, 0], [4, 0], [4, 4], [0, 4]], ROBOT, GOAL, "mesh": {"spacing": 0.4}}"#;
+    let base =
+        r#"{"workspace": [[0, 0], [4, 0], [4, 4], [0, 4]], ROBOT, GOAL, "mesh": {"spacing": 0.4}}"#;
     let bar = r#""robot": {"polygon": [[-0.5, -0.1], [0.5, -0.1], [0.5, 0.1], [-0.5, 0.1]]}"#;
     let pose = r#""goal": {"pose": [3, 3, 0], "tolerance": {"position": 0.4, "angle": 0.5}}"#;
     let cases = [
         (
-            base.replace("ROBOT", r#""robot": {"polygon": [[0, 0], [1, 1], [1, 0], [0, 1]]}"#)
-                .replace("GOAL", pose),
+            base.replace(
+                "ROBOT",
+                r#""robot": {"polygon": [[0, 0], [1, 1], [1, 0], [0, 1]]}"#,
+            )
+            .replace("GOAL", pose),
             "robot.polygon",
         ),
         (
@@ -168,10 +176,8 @@ fn bad_robots_and_goals_name_their_json_path() {
             "goal",
         ),
         (
-            base.replace("ROBOT", bar).replace(
-                "GOAL",
-                r#""goal": {"pose": [3, 3, 0], "tolerance": 0.3}"#,
-            ),
+            base.replace("ROBOT", bar)
+                .replace("GOAL", r#""goal": {"pose": [3, 3, 0], "tolerance": 0.3}"#),
             "goal.tolerance",
         ),
         (
@@ -180,8 +186,11 @@ fn bad_robots_and_goals_name_their_json_path() {
             "goal.pose",
         ),
         (
-            base.replace("ROBOT", r#""robot": {"polygon": [[0, 0], [1, 0], [0, 1]], "radius": 1}"#)
-                .replace("GOAL", pose),
+            base.replace(
+                "ROBOT",
+                r#""robot": {"polygon": [[0, 0], [1, 0], [0, 1]], "radius": 1}"#,
+            )
+            .replace("GOAL", pose),
             "robot",
         ),
     ];
@@ -204,7 +213,10 @@ fn an_oversized_lattice_is_refused_before_any_work() {
     assert!(t.elapsed().as_secs_f64() < 1.0);
     assert!(matches!(e, ConfigPlanError::Cspace(_)), "{e}");
     let s = e.to_string();
-    assert!(s.contains("tetrahedra") && s.contains("mesh.spacing") && !s.contains('\n'), "{s}");
+    assert!(
+        s.contains("tetrahedra") && s.contains("mesh.spacing") && !s.contains('\n'),
+        "{s}"
+    );
     let _ = SceneError::Invalid {
         path: String::new(),
         message: String::new(),

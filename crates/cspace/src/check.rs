@@ -31,12 +31,18 @@ pub fn exact_clearance(robot: &Robot, world: &World, q: &[f64]) -> f64 {
     for outline in robot.outlines(q) {
         let es = edges(&outline);
         let solid = outline.len() > 2;
-        if outline.iter().any(|p| !polygon_contains(&world.workspace, *p)) {
+        if outline
+            .iter()
+            .any(|p| !polygon_contains(&world.workspace, *p))
+        {
             return 0.0;
         }
         for &(a, b) in &es {
             for i in 0..world.workspace.len() {
-                let (c, d) = (world.workspace[i], world.workspace[(i + 1) % world.workspace.len()]);
+                let (c, d) = (
+                    world.workspace[i],
+                    world.workspace[(i + 1) % world.workspace.len()],
+                );
                 best = best.min(segment_segment_distance(pt(a), pt(b), pt(c), pt(d)));
             }
         }

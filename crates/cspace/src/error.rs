@@ -26,13 +26,17 @@ pub enum CspaceError {
         spacing: f64,
     },
     /// No lattice vertex is free.
-    #[error("no free configuration at lattice spacing {spacing}: the robot collides everywhere (or refine mesh.spacing)")]
+    #[error(
+        "no free configuration at lattice spacing {spacing}: the robot collides everywhere (or refine mesh.spacing)"
+    )]
     NoFreeSpace {
         /// The spacing.
         spacing: f64,
     },
     /// The goal region is too small for the lattice (or lies in collision).
-    #[error("the goal region has no face in the mesh at spacing {spacing}: it lies in collision or is smaller than the lattice; widen goal.tolerance or lower mesh.spacing")]
+    #[error(
+        "the goal region has no face in the mesh at spacing {spacing}: it lies in collision or is smaller than the lattice; widen goal.tolerance or lower mesh.spacing"
+    )]
     GoalNotMeshed {
         /// The spacing.
         spacing: f64,

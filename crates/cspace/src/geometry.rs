@@ -77,7 +77,9 @@ pub fn checked_ring(ring: &[[f64; 2]], what: &str) -> Result<Vec<[f64; 2]>, Cspa
             let (c, d) = (ring[j], ring[(j + 1) % n]);
             let pt = |p: [f64; 2]| harmonic_mesh::Point::new(p[0], p[1]);
             if harmonic_mesh::geom::segments_intersect(pt(a), pt(b), pt(c), pt(d)) {
-                return Err(bad(format!("edges {i} and {j} cross: not a simple polygon")));
+                return Err(bad(format!(
+                    "edges {i} and {j} cross: not a simple polygon"
+                )));
             }
         }
     }
@@ -152,10 +154,7 @@ pub enum Nearest {
 impl World {
     /// A validated world: the workspace a simple polygon, obstacles polygons or discs
     /// (`obstacles[i]` named in errors).
-    pub fn new(
-        workspace: &[[f64; 2]],
-        obstacles: &[ObstacleInput],
-    ) -> Result<World, CspaceError> {
+    pub fn new(workspace: &[[f64; 2]], obstacles: &[ObstacleInput]) -> Result<World, CspaceError> {
         let workspace = checked_ring(workspace, "workspace")?;
         let walls = (0..workspace.len())
             .map(|i| {
@@ -185,7 +184,9 @@ impl World {
                     });
                 }
                 ObstacleInput::Circle { center, radius } => {
-                    if !(radius.is_finite() && *radius > 0.0 && center.iter().all(|c| c.is_finite()))
+                    if !(radius.is_finite()
+                        && *radius > 0.0
+                        && center.iter().all(|c| c.is_finite()))
                     {
                         return Err(CspaceError::Invalid {
                             path: format!("{what}.circle"),

@@ -36,7 +36,12 @@ impl RigidRobot {
             let (a, b) = (ring[i], ring[(i + 1) % n]);
             let cross = a[0] * b[1] - b[0] * a[1];
             j += cross
-                * (a[0] * a[0] + a[0] * b[0] + b[0] * b[0] + a[1] * a[1] + a[1] * b[1] + b[1] * b[1])
+                * (a[0] * a[0]
+                    + a[0] * b[0]
+                    + b[0] * b[0]
+                    + a[1] * a[1]
+                    + a[1] * b[1]
+                    + b[1] * b[1])
                 / 12.0;
         }
         let area = 0.5 * signed_area2(&ring);

@@ -160,16 +160,29 @@ impl ConfigSpace {
             return Err(bad("mesh.margin", format!("must be ≥ 0, got {margin}")));
         }
         if !(spacing.is_finite() && spacing > 0.0) {
-            return Err(bad("mesh.spacing", format!("must be positive, got {spacing}")));
+            return Err(bad(
+                "mesh.spacing",
+                format!("must be positive, got {spacing}"),
+            ));
         }
         let positive = |v: f64| v.is_finite() && v > 0.0;
         match (&robot, &goal) {
-            (Robot::Rigid(_), ConfigGoal::Pose { pose, position, angle }) => {
+            (
+                Robot::Rigid(_),
+                ConfigGoal::Pose {
+                    pose,
+                    position,
+                    angle,
+                },
+            ) => {
                 if !pose.iter().all(|c| c.is_finite()) {
                     return Err(bad("goal.pose", "must be finite".into()));
                 }
                 if !positive(*position) || !positive(*angle) {
-                    return Err(bad("goal.tolerance", "position and angle must be positive".into()));
+                    return Err(bad(
+                        "goal.tolerance",
+                        "position and angle must be positive".into(),
+                    ));
                 }
             }
             (Robot::Arm(arm), ConfigGoal::Joints { joints, tolerance }) => {
@@ -206,8 +219,14 @@ impl ConfigSpace {
         let mut scale = [1.0; 3];
         match &robot {
             Robot::Rigid(r) => {
-                axes[0] = Axis::Position { lo: lo[0], hi: hi[0] };
-                axes[1] = Axis::Position { lo: lo[1], hi: hi[1] };
+                axes[0] = Axis::Position {
+                    lo: lo[0],
+                    hi: hi[0],
+                };
+                axes[1] = Axis::Position {
+                    lo: lo[1],
+                    hi: hi[1],
+                };
                 scale[2] = r.radius_of_gyration;
             }
             Robot::Arm(arm) => {
@@ -408,7 +427,10 @@ impl ConfigSpace {
     /// Meshes the free configuration space (refusing, before any work, a lattice of more than
     /// `max_tetrahedra`): the slab of one period and a covering of three along each periodic
     /// axis.
-    pub fn mesh(&self, max_tetrahedra: u64) -> Result<(PeriodicMesh, CspaceMeshReport), CspaceError> {
+    pub fn mesh(
+        &self,
+        max_tetrahedra: u64,
+    ) -> Result<(PeriodicMesh, CspaceMeshReport), CspaceError> {
         let start = std::time::Instant::now();
         let estimated = self.estimated_tetrahedra();
         if estimated > max_tetrahedra {

@@ -34,7 +34,11 @@ fn poly(s: &mut String, pts: &[[f64; 2]], tf: &dyn Fn([f64; 2]) -> (f64, f64), s
         let (x, y) = tf(*p);
         let _ = write!(d, "{x:.2},{y:.2} ");
     }
-    let tag = if pts.len() == 2 { "polyline" } else { "polygon" };
+    let tag = if pts.len() == 2 {
+        "polyline"
+    } else {
+        "polygon"
+    };
     let _ = writeln!(s, r#"<{tag} points="{}" {style}/>"#, d.trim_end());
 }
 
@@ -64,10 +68,20 @@ pub fn motion_svg(
         opts.width, height, opts.width, height
     );
     let _ = writeln!(s, r##"<rect width="100%" height="100%" fill="#ffffff"/>"##);
-    poly(&mut s, &world.workspace, &tf, r##"fill="#f7f7f2" stroke="#333" stroke-width="2""##);
+    poly(
+        &mut s,
+        &world.workspace,
+        &tf,
+        r##"fill="#f7f7f2" stroke="#333" stroke-width="2""##,
+    );
     for o in &world.obstacles {
         if let Some(ring) = &o.ring {
-            poly(&mut s, ring, &tf, r##"fill="#9a9a9a" stroke="#555" stroke-width="1""##);
+            poly(
+                &mut s,
+                ring,
+                &tf,
+                r##"fill="#9a9a9a" stroke="#555" stroke-width="1""##,
+            );
         }
         if let Some((c, r)) = o.disc {
             let (x, y) = tf(c);
@@ -109,7 +123,11 @@ pub fn motion_svg(
             let opacity = if f == 0 || f == frames - 1 { 0.9 } else { 0.35 };
             let style = format!(
                 r##"fill="rgb({r},{g},{b})" fill-opacity="{opacity}" stroke="rgb({r},{g},{b})" stroke-width="{}""##,
-                if matches!(robot, Robot::Arm(a) if a.width == 0.0) { 3 } else { 1 }
+                if matches!(robot, Robot::Arm(a) if a.width == 0.0) {
+                    3
+                } else {
+                    1
+                }
             );
             for outline in robot.outlines(&path[i]) {
                 poly(&mut s, &outline, &tf, &style);

@@ -5,9 +5,7 @@
 use std::collections::HashMap;
 
 use harmonic_cspace::check::exact_clearance;
-use harmonic_cspace::{
-    Arm, ConfigGoal, ConfigSpace, ObstacleInput, RigidRobot, Robot, World,
-};
+use harmonic_cspace::{Arm, ConfigGoal, ConfigSpace, ObstacleInput, RigidRobot, Robot, World};
 use harmonic_volume::{BoundaryTag, SEAM_PART};
 
 fn world() -> World {
@@ -37,14 +35,24 @@ fn world() -> World {
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 
 #[test]
 fn parry_distances_agree_with_the_exact_kernels() {
-    let l_shape = [[-0.5, -0.2], [0.6, -0.2], [0.6, 0.0], [0.0, 0.0], [0.0, 0.4], [-0.5, 0.4]];
+    let l_shape = [
+        [-0.5, -0.2],
+        [0.6, -0.2],
+        [0.6, 0.0],
+        [0.0, 0.0],
+        [0.0, 0.4],
+        [-0.5, 0.4],
+    ];
     let robots = [
         Robot::Rigid(RigidRobot::new(&l_shape).expect("valid")),
         Robot::Arm(Arm::new([1.0, 4.0], &[1.2, 0.9, 0.6], 0.08, None).expect("valid")),
@@ -104,7 +112,10 @@ fn the_two_ends_of_the_period_match_face_for_face() {
     };
     let space = ConfigSpace::new(robot, world(), goal, 0.02, 0.25).expect("valid");
     let (mesh, report) = space.mesh(2_000_000).expect("meshes");
-    assert_eq!(report.cells[2].map(|n| n as f64 * 0.25), Some(std::f64::consts::TAU * space.scale()[2]));
+    assert_eq!(
+        report.cells[2].map(|n| n as f64 * 0.25),
+        Some(std::f64::consts::TAU * space.scale()[2])
+    );
     // Every end face, its vertices replaced by the ones they are identified with, appears
     // exactly twice: once at θ = 0, once at θ = 2π.
     let mut count: HashMap<[u32; 3], usize> = HashMap::new();

@@ -157,7 +157,9 @@ pub enum VolumeFemError {
     },
     /// A periodic identification that pairs an unknown with a prescribed vertex (or with
     /// no vertex): the slab's two ends do not match.
-    #[error("periodic mesh: vertex {vertex} is identified with vertex {image}, but not both are unknowns")]
+    #[error(
+        "periodic mesh: vertex {vertex} is identified with vertex {image}, but not both are unknowns"
+    )]
     PeriodicMismatch {
         /// The vertex.
         vertex: u32,

@@ -326,7 +326,11 @@ fn plan_config(
         return Err(format!(
             "start {}: expected {dof} numbers ({})",
             text.join(","),
-            if dof == 3 && scene.robot.polygon.is_some() { "X,Y,THETA" } else { "the joint angles" }
+            if dof == 3 && scene.robot.polygon.is_some() {
+                "X,Y,THETA"
+            } else {
+                "the joint angles"
+            }
         ));
     }
     let report = planner.plan_report(&starts);

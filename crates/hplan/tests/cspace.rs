@@ -25,7 +25,11 @@ fn piano_bar_and_arm_reach_the_goal_from_the_command_line() {
         assert_eq!(path["status"], "reached_goal", "{name}");
         let entries = path[key].as_array().expect("configurations");
         assert!(entries.len() > 2, "{name}");
-        assert!(entries.iter().all(|e| e.as_array().is_some_and(|q| q.len() == dof)));
+        assert!(
+            entries
+                .iter()
+                .all(|e| e.as_array().is_some_and(|q| q.len() == dof))
+        );
         assert!(path.get("points").is_none());
         assert!(path["length"].as_f64().is_some_and(|l| l > 0.0));
         assert!(report["mesh"]["tetrahedra"].as_u64().is_some_and(|t| t > 0));
@@ -36,10 +40,19 @@ fn piano_bar_and_arm_reach_the_goal_from_the_command_line() {
 fn svg_draws_the_robot_along_its_motion() {
     let out = std::env::temp_dir().join(format!("hplan-piano-{}.svg", std::process::id()));
     let status = hplan()
-        .args(["plan", &scene("piano.json"), "--svg", out.to_str().expect("utf-8")])
+        .args([
+            "plan",
+            &scene("piano.json"),
+            "--svg",
+            out.to_str().expect("utf-8"),
+        ])
         .output()
         .expect("runs");
-    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
     let svg = std::fs::read_to_string(&out).expect("written");
     let _ = std::fs::remove_file(&out);
     assert!(svg.starts_with("<svg"));

@@ -375,7 +375,12 @@ impl PeriodicMesh {
             )
         };
         // Representative of each class: its first vertex.
-        let classes = stuffed.orbit.iter().copied().max().map_or(0, |m| m as usize + 1);
+        let classes = stuffed
+            .orbit
+            .iter()
+            .copied()
+            .max()
+            .map_or(0, |m| m as usize + 1);
         let mut rep = vec![NONE; classes];
         for (v, &o) in stuffed.orbit.iter().enumerate() {
             if rep[o as usize] == NONE {
@@ -446,8 +451,7 @@ impl PeriodicMesh {
         let centroid = |f: &[u32; 3]| {
             let v = probe.vertices();
             Point::from(
-                (v[f[0] as usize].coords + v[f[1] as usize].coords + v[f[2] as usize].coords)
-                    / 3.0,
+                (v[f[0] as usize].coords + v[f[1] as usize].coords + v[f[2] as usize].coords) / 3.0,
             )
         };
         let bits = |p: &Point| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
