@@ -75,7 +75,7 @@ fn a_bar_wider_than_the_door_is_unreachable_not_a_collision() {
     let text = PIANO.replace("DOOR_LO", "2.4").replace("DOOR_HI", "2.6");
     let scene = parse_config_scene(&text).expect("parses");
     let planner = ConfigPlanner::new(&scene).expect("plannable");
-    let p = planner.plan(&[1.5, 2.5, 1.5708]);
+    let p = planner.plan(&[1.5, 2.5, std::f64::consts::FRAC_PI_2]);
     assert_eq!(p.status.as_str(), "unreachable", "{:?}", p.status);
     // A start in collision is reported as such.
     let p = planner.plan(&[4.0, 1.0, 0.0]);

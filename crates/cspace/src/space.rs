@@ -402,9 +402,9 @@ impl ConfigSpace {
 
     /// Where `q` lies.
     pub fn classify(&self, q: &[f64]) -> ConfigClass {
-        for a in 0..self.dof() {
-            if let Axis::Limited { lo, hi } = self.axes[a]
-                && !(lo..=hi).contains(&q[a])
+        for (axis, qa) in self.axes.iter().zip(q) {
+            if let Axis::Limited { lo, hi } = *axis
+                && !(lo..=hi).contains(qa)
             {
                 return ConfigClass::OutsideLimits;
             }
