@@ -14,7 +14,8 @@
 //! crates, re-exported here: [`mesh`] (triangulation), [`fem`] (assembly and potentials),
 //! [`solver`] (sparse Cholesky and PCG) and [`trajectory`] (tracers, car stepper). Replanning
 //! among moving obstacles is `harmonic-dynamic`, the comparison planners `harmonic-baselines`,
-//! the command line `hplan`.
+//! the command line `hplan`. A robot that is not a disc — a rigid polygon or a planar arm —
+//! is planned in its configuration space by [`ConfigPlanner`] ([`cspace`]).
 //!
 //! Features: `map` (default) reads ROS map_server occupancy maps ([`map`]); without it the
 //! crate needs no image decoder and no YAML parser.
@@ -30,6 +31,7 @@
 
 #![warn(missing_docs)]
 
+pub mod cspace;
 #[cfg(feature = "map")]
 pub mod map;
 pub mod planner;
@@ -38,6 +40,7 @@ pub mod scene;
 pub mod volume;
 pub mod workspace;
 
+pub use cspace::{ConfigPlanner, ConfigScene};
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;
 pub use harmonic_mesh::{Point, Vector};

@@ -327,7 +327,7 @@ fn point(p: [f64; 2]) -> Point {
     Point::new(p[0], p[1])
 }
 
-fn condition(c: Condition) -> BoundaryCondition {
+pub(crate) fn condition(c: Condition) -> BoundaryCondition {
     match c {
         Condition::Dirichlet(v) => BoundaryCondition::Dirichlet(v),
         Condition::Neumann(g) => BoundaryCondition::Neumann(g),

@@ -244,19 +244,30 @@ pub enum AnyScene {
     Plane(Box<Scene>),
     /// A volume scene.
     Volume(Box<harmonic_volume::VolumeSceneSpec>),
+    /// A robot that is not a disc (`"robot"` has a `"polygon"` or an `"arm"`), planned in
+    /// its configuration space.
+    Config(Box<crate::cspace::ConfigScene>),
 }
 
 impl AnyScene {
-    /// Parses either kind of scene: `"dimension": 3` selects a volume, `2` or no
-    /// `"dimension"` a plane scene.
+    /// Parses any kind of scene: `"dimension": 3` selects a volume, a `"robot"` with a
+    /// `"polygon"` or an `"arm"` a configuration-space scene, otherwise a plane scene.
     pub fn from_json(text: &str) -> Result<AnyScene, SceneError> {
         #[derive(serde::Deserialize)]
         struct Dimension {
             dimension: Option<serde_json::Value>,
+            robot: Option<serde_json::Value>,
         }
-        let dimension = serde_json::from_str::<Dimension>(text)
-            .ok()
-            .and_then(|d| d.dimension);
+        let probe = serde_json::from_str::<Dimension>(text).ok();
+        let config = probe
+            .as_ref()
+            .and_then(|d| d.robot.as_ref())
+            .and_then(|r| r.as_object())
+            .is_some_and(|r| r.contains_key("polygon") || r.contains_key("arm"));
+        let dimension = probe.and_then(|d| d.dimension);
+        if config && dimension.is_none() {
+            return Ok(AnyScene::Config(Box::new(parse_json(text)?)));
+        }
         match dimension {
             None => Ok(AnyScene::Plane(Box::new(Scene::from_json(text)?))),
             Some(d) if d.as_u64() == Some(2) => {

@@ -40,6 +40,9 @@ impl PyScene {
             AnyScene::Volume(_) => Err(scene_error(self.located(format!(
                 "{what} works on plane scenes, not volumes (use VolumePlanner)"
             )))),
+            AnyScene::Config(_) => Err(scene_error(self.located(format!(
+                "{what} works on plane scenes, not on polygon or arm robots (use hplan plan)"
+            )))),
         }
     }
 
@@ -47,6 +50,7 @@ impl PyScene {
         let text = match &self.scene {
             AnyScene::Plane(s) => serde_json::to_string(s),
             AnyScene::Volume(s) => serde_json::to_string(s),
+            AnyScene::Config(s) => serde_json::to_string(s),
         };
         text.map_err(|e| scene_error(e.to_string()))
     }

@@ -62,7 +62,7 @@ impl PyVolumePlanner {
     fn new(py: Python<'_>, scene: &PyScene, max_volume: Option<f64>) -> PyResult<Self> {
         let mut volume = match &scene.scene {
             harmonic_planner::AnyScene::Volume(v) => (**v).clone(),
-            harmonic_planner::AnyScene::Plane(_) => {
+            harmonic_planner::AnyScene::Plane(_) | harmonic_planner::AnyScene::Config(_) => {
                 return Err(scene_error(scene.located(
                     "VolumePlanner works on volume scenes (\"dimension\": 3); use Planner",
                 )));

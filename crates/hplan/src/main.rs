@@ -16,8 +16,8 @@ mod progress;
 use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{
-    AnyScene, CarParams, Planner, PlannerOptions, Point, Scene, SvgOptions, VolumePlanner,
-    VolumeScene, Workspace,
+    AnyScene, CarParams, ConfigPlanner, ConfigScene, Planner, PlannerOptions, Point, Scene,
+    SvgOptions, VolumePlanner, VolumeScene, Workspace,
 };
 
 #[derive(Parser)]
@@ -251,6 +251,14 @@ fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
             }
             Ok(AnyScene::Volume(scene))
         }
+        AnyScene::Config(scene) => {
+            if common.max_area.is_some() || common.max_volume.is_some() {
+                return Err(
+                    "--max-area and --max-volume are for plane and volume scenes; a polygon or arm robot's scene sets mesh.spacing".into(),
+                );
+            }
+            Ok(AnyScene::Config(scene))
+        }
     }
 }
 
@@ -259,6 +267,9 @@ fn plane(scene: AnyScene, command: &str) -> Result<Scene, String> {
     match scene {
         AnyScene::Plane(scene) => Ok(*scene),
         AnyScene::Volume(_) => Err(format!("{command} works on plane scenes, not volumes")),
+        AnyScene::Config(_) => Err(format!(
+            "{command} works on plane scenes, not on polygon or arm robots"
+        )),
     }
 }
 
@@ -292,6 +303,49 @@ fn plan_volume(
         print_out(&format!("{json}\n"))
     } else {
         print_out(&VolumePlanner::summary(&report))
+    }
+}
+
+/// `hplan plan` on a scene whose robot is a polygon or an arm: starts are configurations
+/// (X,Y,THETA or the joint angles).
+fn plan_config(
+    scene: &ConfigScene,
+    path: &Path,
+    common: &Common,
+    starts: &[Vec<f64>],
+) -> Result<(), String> {
+    let starts = if starts.is_empty() {
+        scene.starts.clone()
+    } else {
+        starts.to_vec()
+    };
+    let planner = ConfigPlanner::new(scene).map_err(|e| format!("{}: {e}", path.display()))?;
+    let dof = planner.space().dof();
+    if let Some(bad) = starts.iter().find(|s| s.len() != dof) {
+        let text: Vec<String> = bad.iter().map(f64::to_string).collect();
+        return Err(format!(
+            "start {}: expected {dof} numbers ({})",
+            text.join(","),
+            if dof == 3 && scene.robot.polygon.is_some() {
+                "X,Y,THETA"
+            } else {
+                "the joint angles"
+            }
+        ));
+    }
+    let report = planner.plan_report(&starts);
+    if let Some(svg) = &common.svg {
+        let paths: Vec<_> = report.paths.iter().map(|p| p.configurations()).collect();
+        write_file(svg, &planner.svg(&paths, scene.name.clone()))?;
+    }
+    if common.vtk.is_some() {
+        return Err("--vtk is for plane and volume scenes".into());
+    }
+    if common.json {
+        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&ConfigPlanner::summary(&report))
     }
 }
 
@@ -429,6 +483,15 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     AnyScene::Volume(_) => {
                         return Err(format!(
                             "{}: --goal X,Y is for plane scenes and maps; a volume scene names its goal",
+                            path.display()
+                        ));
+                    }
+                    AnyScene::Config(scene) if goal.is_empty() => {
+                        return plan_config(&scene, path, &common, &starts);
+                    }
+                    AnyScene::Config(_) => {
+                        return Err(format!(
+                            "{}: --goal X,Y is for plane scenes and maps; a polygon or arm robot's scene names its goal",
                             path.display()
                         ));
                     }

@@ -16,6 +16,9 @@
 //! * [`TetMesh`]: positively oriented tetrahedra, face adjacency, tagged boundary faces,
 //!   point location; [`quality`] measures dihedral angles and negative stiffness weights.
 //! * [`io`]: `.vtu` output and an SVG of the three orthographic projections.
+//! * [`stuff_periodic`] and [`PeriodicMesh`]: stuffing of a domain periodic along some axes
+//!   (configuration-space angles) on a lattice that closes on itself, as a slab of one period
+//!   with its ends identified (for the FEM) and a covering of several periods (for tracing).
 //! * [`VolumeSceneSpec`]: the serde form of a `"dimension": 3` scene.
 //!
 //! ## Measured
@@ -56,6 +59,7 @@ pub mod io;
 mod locate;
 mod mesh;
 mod mesher;
+mod periodic;
 mod quality;
 mod solid;
 mod spec;
@@ -66,6 +70,9 @@ pub use error::{SolidRole, VolumeError};
 pub use implicit::ImplicitDomain;
 pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
+pub use periodic::{
+    PeriodicMesh, PeriodicStuffed, SEAM_PART, periodic_lattice_tetrahedra, stuff_periodic,
+};
 pub use quality::{EDGES, QualityReport, quality, tet_angles_and_weights};
 pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
 pub use spec::{

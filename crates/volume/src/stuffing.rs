@@ -63,28 +63,28 @@ pub struct Stuffed {
     pub dropped_flat: usize,
 }
 
-const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// The lattice: corners `(i, j, k)` for `i ∈ 0..=nx`, then centres `(i, j, k)`, `i ∈ 0..nx`.
-struct Lattice {
-    n: [usize; 3],
-    origin: Point,
-    h: f64,
-    corners: usize,
+pub(crate) struct Lattice {
+    pub(crate) n: [usize; 3],
+    pub(crate) origin: Point,
+    pub(crate) h: f64,
+    pub(crate) corners: usize,
 }
 
 impl Lattice {
-    fn corner(&self, i: usize, j: usize, k: usize) -> u32 {
+    pub(crate) fn corner(&self, i: usize, j: usize, k: usize) -> u32 {
         (i + (self.n[0] + 1) * (j + (self.n[1] + 1) * k)) as u32
     }
-    fn centre(&self, i: usize, j: usize, k: usize) -> u32 {
+    pub(crate) fn centre(&self, i: usize, j: usize, k: usize) -> u32 {
         (self.corners + i + self.n[0] * (j + self.n[1] * k)) as u32
     }
-    fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.corners + self.n[0] * self.n[1] * self.n[2]
     }
     /// Grid coordinates in half-spacings (corners even, centres odd).
-    fn half_coords(&self, v: u32) -> [i64; 3] {
+    pub(crate) fn half_coords(&self, v: u32) -> [i64; 3] {
         let v = v as usize;
         if v < self.corners {
             let i = v % (self.n[0] + 1);
@@ -99,7 +99,7 @@ impl Lattice {
             [2 * i as i64 + 1, 2 * j as i64 + 1, 2 * k as i64 + 1]
         }
     }
-    fn at_half(&self, q: [i64; 3]) -> Option<u32> {
+    pub(crate) fn at_half(&self, q: [i64; 3]) -> Option<u32> {
         let odd = q[0] & 1;
         if q.iter().any(|&c| c & 1 != odd || c < 0) {
             return None;
@@ -112,7 +112,7 @@ impl Lattice {
             (i < self.n[0] && j < self.n[1] && k < self.n[2]).then(|| self.centre(i, j, k))
         }
     }
-    fn position(&self, v: u32) -> Point {
+    pub(crate) fn position(&self, v: u32) -> Point {
         let q = self.half_coords(v);
         // Each coordinate from the origin by an integer multiple of h/2, so lattice planes
         // through the origin's corner are hit exactly.
@@ -123,7 +123,7 @@ impl Lattice {
         )
     }
     /// The 14 lattice neighbours (6 long, then 8 short) that exist.
-    fn neighbours(&self, v: u32) -> impl Iterator<Item = (u32, bool)> + '_ {
+    pub(crate) fn neighbours(&self, v: u32) -> impl Iterator<Item = (u32, bool)> + '_ {
         const LONG: [[i64; 3]; 6] = [
             [2, 0, 0],
             [-2, 0, 0],
@@ -153,7 +153,7 @@ impl Lattice {
     }
 }
 
-fn key(a: u32, b: u32) -> (u32, u32) {
+pub(crate) fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
@@ -251,6 +251,23 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
     }
 
     // 3. Stencils over the lattice tetrahedra.
+    let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
+    Ok(out)
+}
+
+/// Step 3 of [`stuff`]: the stencils of every lattice tetrahedron whose first centre `keep`
+/// accepts. Also returns, per output vertex, the lattice vertex or edge it came from.
+pub(crate) fn emit_stencils(
+    lattice: &Lattice,
+    pos: &[Point],
+    f: &[f64],
+    cuts: &HashMap<(u32, u32), Point>,
+    domain: &dyn ImplicitDomain,
+    warped: usize,
+    keep: &dyn Fn([usize; 3]) -> bool,
+) -> (Stuffed, Vec<Sv>) {
+    let n = lattice.n;
+    let nv = lattice.count();
     let mut out = Stuffed {
         lattice_vertices: nv,
         warped,
@@ -258,13 +275,14 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
     };
     let mut vertex_of = vec![NONE; nv];
     let mut cut_of: HashMap<(u32, u32), u32> = HashMap::new();
-    let min_volume = 1e-12 * h * h * h;
+    let min_volume = 1e-12 * lattice.h * lattice.h * lattice.h;
     let mut emitter = Emitter {
-        pos: &pos,
-        cuts: &cuts,
+        pos,
+        cuts,
         vertex_of: &mut vertex_of,
         cut_of: &mut cut_of,
         out: &mut out,
+        sources: Vec::new(),
         min_volume,
         nv: nv as u64,
     };
@@ -277,7 +295,7 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
                     idx[0] = i;
                     idx[1] = j;
                     idx[2] = k;
-                    if idx[axis] + 1 >= n[axis] {
+                    if idx[axis] + 1 >= n[axis] || !keep(idx) {
                         continue;
                     }
                     let c1 = lattice.centre(i, j, k);
@@ -295,13 +313,14 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
                     let ring = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
                     for m in 0..4 {
                         let tet = [c1, c2, ring[m], ring[(m + 1) % 4]];
-                        emitter.stencil(tet, &f, domain);
+                        emitter.stencil(tet, f, domain);
                     }
                 }
             }
         }
     }
-    Ok(out)
+    let sources = std::mem::take(&mut emitter.sources);
+    (out, sources)
 }
 
 struct Emitter<'a> {
@@ -310,13 +329,15 @@ struct Emitter<'a> {
     vertex_of: &'a mut Vec<u32>,
     cut_of: &'a mut HashMap<(u32, u32), u32>,
     out: &'a mut Stuffed,
+    /// Per output vertex: where it came from.
+    sources: Vec<Sv>,
     min_volume: f64,
     nv: u64,
 }
 
 /// A vertex of a stencil: a lattice vertex or the cut point on a lattice edge.
-#[derive(Clone, Copy)]
-enum Sv {
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Sv {
     Lattice(u32),
     Cut(u32, u32),
 }
@@ -341,6 +362,7 @@ impl Emitter<'_> {
                 if *slot == NONE {
                     *slot = self.out.vertices.len() as u32;
                     self.out.vertices.push(self.pos[a as usize]);
+                    self.sources.push(v);
                 }
                 *slot
             }
@@ -355,6 +377,7 @@ impl Emitter<'_> {
                     nalgebra::center(&self.pos[a as usize], &self.pos[b as usize])
                 });
                 self.out.vertices.push(p);
+                self.sources.push(v);
                 self.out.cut_points += 1;
                 self.cut_of.insert(k, i);
                 i

@@ -47,15 +47,18 @@ pub struct VolumeAssemblyOptions {
 /// The reduced system `A x = b` for ψ at the free vertices.
 #[derive(Clone, Debug)]
 pub struct VolumeSystem {
-    matrix: SymmetricCsc,
-    rhs: Vec<f64>,
-    excess: Vec<f64>,
-    psi_fixed: Vec<f64>,
-    reference: f64,
-    not_m_matrix: Option<String>,
-    free: Arc<Vec<u32>>,
-    positive_offdiagonals: usize,
-    clamped: usize,
+    pub(super) matrix: SymmetricCsc,
+    pub(super) rhs: Vec<f64>,
+    pub(super) excess: Vec<f64>,
+    pub(super) psi_fixed: Vec<f64>,
+    pub(super) reference: f64,
+    pub(super) not_m_matrix: Option<String>,
+    pub(super) free: Arc<Vec<u32>>,
+    pub(super) positive_offdiagonals: usize,
+    pub(super) clamped: usize,
+    /// Per vertex, the vertex it is identified with (a periodic mesh's folded system,
+    /// `super::periodic`): `expand` copies ψ there.
+    pub(super) images: Option<Arc<Vec<u32>>>,
 }
 
 impl VolumeSystem {
@@ -132,6 +135,11 @@ impl VolumeSystem {
         for (&v, &xi) in self.free.iter().zip(x) {
             psi[v as usize] = xi;
         }
+        if let Some(images) = &self.images {
+            for (v, &r) in images.iter().enumerate() {
+                psi[v] = psi[r as usize];
+            }
+        }
         Ok(psi)
     }
 }
@@ -140,6 +148,8 @@ impl VolumeSystem {
 #[derive(Debug)]
 pub struct VolumeAssembler {
     mesh: Arc<TetMesh>,
+    /// A periodic slab's identification (see [`VolumeAssembler::with_identified`]).
+    images: Option<Arc<Vec<u32>>>,
     options: VolumeAssemblyOptions,
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     unknown_of: Vec<u32>,
@@ -172,6 +182,37 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         options: VolumeAssemblyOptions,
     ) -> Result<Self, VolumeFemError> {
+        Self::build(mesh, bcs, options, None)
+    }
+
+    /// [`with_options`](Self::with_options) for a periodic slab whose vertex `v` is one with
+    /// `images[v]` (`super::periodic`): a vertex is prescribed when any vertex it is
+    /// identified with lies on a prescribed face, with the lowest value among them, so the
+    /// folded system keeps identified vertices alike.
+    pub fn with_identified(
+        mesh: Arc<TetMesh>,
+        bcs: &BoundaryConditions,
+        options: VolumeAssemblyOptions,
+        images: Arc<Vec<u32>>,
+    ) -> Result<Self, VolumeFemError> {
+        if images.len() != mesh.vertices().len()
+            || images.iter().any(|&r| r as usize >= images.len())
+        {
+            return Err(VolumeFemError::LengthMismatch {
+                what: "periodic images",
+                expected: mesh.vertices().len(),
+                got: images.len(),
+            });
+        }
+        Self::build(mesh, bcs, options, Some(images))
+    }
+
+    fn build(
+        mesh: Arc<TetMesh>,
+        bcs: &BoundaryConditions,
+        options: VolumeAssemblyOptions,
+        images: Option<Arc<Vec<u32>>>,
+    ) -> Result<Self, VolumeFemError> {
         bcs.validate()?;
         let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
@@ -184,6 +225,16 @@ impl VolumeAssembler {
                 for &v in &f.vertices {
                     fixed[v as usize] = true;
                 }
+            }
+        }
+        if let Some(images) = &images {
+            for v in 0..nv {
+                if fixed[v] {
+                    fixed[images[v] as usize] = true;
+                }
+            }
+            for v in 0..nv {
+                fixed[v] = fixed[images[v] as usize];
             }
         }
         let mut used = vec![false; nv];
@@ -308,6 +359,7 @@ impl VolumeAssembler {
 
         Ok(VolumeAssembler {
             mesh,
+            images,
             options,
             kinds,
             unknown_of,
@@ -385,6 +437,7 @@ impl VolumeAssembler {
             free: Arc::clone(&self.free),
             positive_offdiagonals: positive,
             clamped,
+            images: None,
         })
     }
 
@@ -441,6 +494,15 @@ impl VolumeAssembler {
                 BoundaryCondition::Neumann(_) | BoundaryCondition::Robin { .. } => {
                     flux |= gv.iter().any(|&x| x != 0.0);
                 }
+            }
+        }
+        if let Some(images) = &self.images {
+            for v in 0..phi_fixed.len() {
+                let r = images[v] as usize;
+                phi_fixed[r] = phi_fixed[r].min(phi_fixed[v]);
+            }
+            for v in 0..phi_fixed.len() {
+                phi_fixed[v] = phi_fixed[images[v] as usize];
             }
         }
         for (c, (&(v, fixed), &robin)) in self.components.iter().zip(&anchored).enumerate() {

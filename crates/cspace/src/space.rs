@@ -1,0 +1,508 @@
+//! The free configuration space as an [`ImplicitDomain`]: a function of the (scaled)
+//! configuration that is negative where the robot, grown by the safety margin ε, touches
+//! nothing, stays within its joint limits and is outside the goal region; meshed by the
+//! periodic isosurface stuffing of `harmonic_volume`.
+//!
+//! **Coordinates.** The mesh lives in scaled coordinates `p = s ⊙ q` so that one unit of
+//! every axis moves the robot about as much: a rigid robot's θ is scaled by its radius of
+//! gyration about the body origin (x and y by 1), an arm's joint `i` by its reach beyond the
+//! joint (the sum of the lengths of links `i…n`). A periodic axis's scale is then rounded so
+//! that a whole number `N` of lattice cells spans the turn (`2π·s = N·h`), which is what lets
+//! the lattice close on itself; the report gives the scales used.
+//!
+//! **Which axes wrap.** θ always; an arm's joint when it has no limits (or limits spanning a
+//! full turn). Limited joints are walls of the configuration box. A two-link arm's
+//! configuration space is the plane (q1, q2); it is meshed as a thin slab of it (three lattice
+//! cells thick, its flat faces under the natural condition `Obstacle(`[`EXTRUDE_PART`]`)`),
+//! on which the harmonic potential does not depend on the third coordinate.
+//!
+//! **The value.** `ε − d(q)` with `d` the exact distance (parry2d, convex parts) from the
+//! robot to the nearest obstacle or wall (negated when the robot is outside the workspace),
+//! combined by `max` with the joint-limit terms, the slab faces and `−g(q)`, `g` the goal
+//! region's own function (negative inside it). Its tag is the term that attains the max.
+
+use std::f64::consts::{PI, TAU};
+
+use harmonic_mesh::BoundaryTag;
+use harmonic_volume::{
+    ImplicitDomain, PeriodicMesh, Point, StuffingOptions, periodic_lattice_tetrahedra,
+    stuff_periodic,
+};
+
+use crate::error::CspaceError;
+use crate::geometry::{Nearest, World};
+use crate::robot::Robot;
+
+/// The obstacle index of a two-link arm's slab faces (natural condition).
+pub const EXTRUDE_PART: u32 = u32::MAX - 1;
+
+/// The default tetrahedron budget of a configuration-space lattice.
+pub const DEFAULT_MAX_TETRAHEDRA: u64 = 3_000_000;
+
+/// A goal in configuration space.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConfigGoal {
+    /// A rigid robot's pose within `position` (distance) and `angle` (radians).
+    Pose {
+        /// `[x, y, θ]`.
+        pose: [f64; 3],
+        /// Position tolerance.
+        position: f64,
+        /// Heading tolerance, radians.
+        angle: f64,
+    },
+    /// An arm's joints, each within `tolerance` radians.
+    Joints {
+        /// The joint angles.
+        joints: Vec<f64>,
+        /// Tolerance per joint, radians.
+        tolerance: f64,
+    },
+    /// Any arm configuration whose tip is within `tolerance` of `point`.
+    EndEffector {
+        /// The point.
+        point: [f64; 2],
+        /// Distance tolerance.
+        tolerance: f64,
+    },
+}
+
+/// How one mesh axis behaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Axis {
+    /// A position coordinate: bounded by the workspace's box (the walls do the rest).
+    Position {
+        /// Lowest value.
+        lo: f64,
+        /// Highest value.
+        hi: f64,
+    },
+    /// An angle that wraps around (θ, a free joint).
+    Periodic,
+    /// A limited joint: its limits are walls.
+    Limited {
+        /// Lowest angle.
+        lo: f64,
+        /// Highest angle.
+        hi: f64,
+    },
+    /// The thickness of a two-link arm's slab.
+    Extruded {
+        /// Thickness in mesh units.
+        thickness: f64,
+    },
+}
+
+/// Where a configuration lies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConfigClass {
+    /// Free (the margin kept), outside the goal.
+    Free,
+    /// In the goal region.
+    Goal,
+    /// The robot (grown by the margin) touches an obstacle or a wall, or leaves the
+    /// workspace.
+    Collision,
+    /// Beyond a joint limit.
+    OutsideLimits,
+}
+
+/// A configuration space ready to mesh.
+#[derive(Clone, Debug)]
+pub struct ConfigSpace {
+    robot: Robot,
+    world: World,
+    goal: ConfigGoal,
+    margin: f64,
+    spacing: f64,
+    axes: [Axis; 3],
+    scale: [f64; 3],
+    cells: [Option<usize>; 3],
+}
+
+/// What meshing the configuration space did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CspaceMeshReport {
+    /// Lattice spacing (mesh units).
+    pub spacing: f64,
+    /// Scale of each coordinate (mesh units per configuration unit).
+    pub scale: [f64; 3],
+    /// Lattice cells per period along periodic axes.
+    pub cells: [Option<usize>; 3],
+    /// Lattice tetrahedra examined.
+    pub lattice_tetrahedra: u64,
+    /// Slab end faces identified across the period.
+    pub seam_faces: usize,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+fn wrap_pi(a: f64) -> f64 {
+    (a + PI).rem_euclid(TAU) - PI
+}
+
+impl ConfigSpace {
+    /// A configuration space for `robot` in `world` with `goal`, safety margin `margin` and
+    /// lattice spacing `spacing` (mesh units); checks the goal against the robot (errors
+    /// name `goal…`).
+    pub fn new(
+        robot: Robot,
+        world: World,
+        goal: ConfigGoal,
+        margin: f64,
+        spacing: f64,
+    ) -> Result<ConfigSpace, CspaceError> {
+        let bad = |path: &str, message: String| CspaceError::Invalid {
+            path: path.into(),
+            message,
+        };
+        if !(margin.is_finite() && margin >= 0.0) {
+            return Err(bad("mesh.margin", format!("must be ≥ 0, got {margin}")));
+        }
+        if !(spacing.is_finite() && spacing > 0.0) {
+            return Err(bad(
+                "mesh.spacing",
+                format!("must be positive, got {spacing}"),
+            ));
+        }
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        match (&robot, &goal) {
+            (
+                Robot::Rigid(_),
+                ConfigGoal::Pose {
+                    pose,
+                    position,
+                    angle,
+                },
+            ) => {
+                if !pose.iter().all(|c| c.is_finite()) {
+                    return Err(bad("goal.pose", "must be finite".into()));
+                }
+                if !positive(*position) || !positive(*angle) {
+                    return Err(bad(
+                        "goal.tolerance",
+                        "position and angle must be positive".into(),
+                    ));
+                }
+            }
+            (Robot::Arm(arm), ConfigGoal::Joints { joints, tolerance }) => {
+                if joints.len() != arm.links.len() || !joints.iter().all(|c| c.is_finite()) {
+                    return Err(bad(
+                        "goal.joints",
+                        format!("needs {} finite angles", arm.links.len()),
+                    ));
+                }
+                if !positive(*tolerance) {
+                    return Err(bad("goal.tolerance", "must be positive".into()));
+                }
+            }
+            (Robot::Arm(_), ConfigGoal::EndEffector { point, tolerance }) => {
+                if !point.iter().all(|c| c.is_finite()) {
+                    return Err(bad("goal.end_effector", "must be finite".into()));
+                }
+                if !positive(*tolerance) {
+                    return Err(bad("goal.tolerance", "must be positive".into()));
+                }
+            }
+            (Robot::Rigid(_), _) => {
+                return Err(bad("goal", "a polygon robot's goal is a \"pose\"".into()));
+            }
+            (Robot::Arm(_), _) => {
+                return Err(bad(
+                    "goal",
+                    "an arm's goal is \"joints\" or \"end_effector\"".into(),
+                ));
+            }
+        }
+        let (lo, hi) = world.bounds();
+        let mut axes = [Axis::Periodic; 3];
+        let mut scale = [1.0; 3];
+        match &robot {
+            Robot::Rigid(r) => {
+                axes[0] = Axis::Position {
+                    lo: lo[0],
+                    hi: hi[0],
+                };
+                axes[1] = Axis::Position {
+                    lo: lo[1],
+                    hi: hi[1],
+                };
+                scale[2] = r.radius_of_gyration;
+            }
+            Robot::Arm(arm) => {
+                for (i, l) in arm.limits.iter().enumerate() {
+                    axes[i] = match l {
+                        Some([lo, hi]) => Axis::Limited { lo: *lo, hi: *hi },
+                        None => Axis::Periodic,
+                    };
+                    scale[i] = arm.reach_from(i);
+                }
+                if arm.links.len() == 2 {
+                    axes[2] = Axis::Extruded {
+                        thickness: 3.0 * spacing,
+                    };
+                }
+            }
+        }
+        let mut cells = [None; 3];
+        for a in 0..3 {
+            if axes[a] == Axis::Periodic {
+                let n = ((TAU * scale[a] / spacing).round() as usize).max(3);
+                cells[a] = Some(n);
+                scale[a] = n as f64 * spacing / TAU;
+            }
+        }
+        Ok(ConfigSpace {
+            robot,
+            world,
+            goal,
+            margin,
+            spacing,
+            axes,
+            scale,
+            cells,
+        })
+    }
+
+    /// The robot.
+    pub fn robot(&self) -> &Robot {
+        &self.robot
+    }
+    /// The world.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+    /// The goal.
+    pub fn goal(&self) -> &ConfigGoal {
+        &self.goal
+    }
+    /// The safety margin ε.
+    pub fn margin(&self) -> f64 {
+        self.margin
+    }
+    /// The axes.
+    pub fn axes(&self) -> [Axis; 3] {
+        self.axes
+    }
+    /// Mesh units per configuration unit, per axis.
+    pub fn scale(&self) -> [f64; 3] {
+        self.scale
+    }
+    /// The robot's degrees of freedom.
+    pub fn dof(&self) -> usize {
+        self.robot.dof()
+    }
+
+    /// The configuration of a mesh point (the slab coordinate of a two-link arm dropped).
+    pub fn config(&self, p: &Point) -> Vec<f64> {
+        (0..self.dof()).map(|a| p[a] / self.scale[a]).collect()
+    }
+
+    /// The mesh point of `q` with its periodic coordinates brought into the first period,
+    /// and what was taken off them (so `q = config(p) + shift`).
+    pub fn to_mesh(&self, q: &[f64]) -> (Point, Vec<f64>) {
+        let mut p = Point::origin();
+        let mut shift = vec![0.0; self.dof()];
+        for a in 0..3 {
+            match self.axes[a] {
+                Axis::Extruded { thickness } => p[a] = 0.5 * thickness,
+                Axis::Periodic => {
+                    let r = q[a].rem_euclid(TAU);
+                    shift[a] = q[a] - r;
+                    p[a] = r * self.scale[a];
+                }
+                _ => p[a] = q[a] * self.scale[a],
+            }
+        }
+        (p, shift)
+    }
+
+    /// The goal's own function at `q`: negative inside the goal region.
+    pub fn goal_value(&self, q: &[f64]) -> f64 {
+        match &self.goal {
+            ConfigGoal::Pose {
+                pose,
+                position,
+                angle,
+            } => {
+                let d = (q[0] - pose[0]).hypot(q[1] - pose[1]) - position;
+                let t = (wrap_pi(q[2] - pose[2]).abs() - angle) * self.scale[2];
+                d.max(t)
+            }
+            ConfigGoal::Joints { joints, tolerance } => (0..joints.len())
+                .map(|a| {
+                    let d = q[a] - joints[a];
+                    let d = if self.axes[a] == Axis::Periodic {
+                        wrap_pi(d)
+                    } else {
+                        d
+                    };
+                    (d.abs() - tolerance) * self.scale[a]
+                })
+                .fold(f64::NEG_INFINITY, f64::max),
+            ConfigGoal::EndEffector { point, tolerance } => match &self.robot {
+                Robot::Arm(arm) => {
+                    let t = arm.tip(q);
+                    (t[0] - point[0]).hypot(t[1] - point[1]) - tolerance
+                }
+                Robot::Rigid(_) => f64::INFINITY,
+            },
+        }
+    }
+
+    /// The robot's distance to the nearest obstacle or wall at `q` (negated outside the
+    /// workspace), and which that is.
+    pub fn clearance(&self, q: &[f64]) -> (f64, Nearest) {
+        match &self.robot {
+            Robot::Rigid(r) => {
+                let placed = r.placed(q);
+                let outline = r.outline(&q[..3]);
+                self.world.clearance(&placed, outline[0])
+            }
+            Robot::Arm(arm) => {
+                let parts = arm.placed_parts(q);
+                let placed: Vec<_> = parts.iter().map(|(pose, p)| (*pose, p)).collect();
+                self.world.clearance(&placed, arm.base)
+            }
+        }
+    }
+
+    /// The terms of the value and the boundary part of the largest.
+    fn terms(&self, p: &Point) -> (f64, BoundaryTag) {
+        let q = self.config(p);
+        let (d, nearest) = self.clearance(&q);
+        let mut best = (
+            self.margin - d,
+            match nearest {
+                Nearest::Wall => BoundaryTag::Wall,
+                Nearest::Obstacle(i) => BoundaryTag::Obstacle(i),
+            },
+        );
+        let mut raise = |v: f64, tag: BoundaryTag| {
+            if v > best.0 {
+                best = (v, tag);
+            }
+        };
+        for a in 0..3 {
+            match self.axes[a] {
+                Axis::Limited { lo, hi } => {
+                    raise((lo - q[a]) * self.scale[a], BoundaryTag::Wall);
+                    raise((q[a] - hi) * self.scale[a], BoundaryTag::Wall);
+                }
+                Axis::Extruded { thickness } => {
+                    raise(-p[a], BoundaryTag::Obstacle(EXTRUDE_PART));
+                    raise(p[a] - thickness, BoundaryTag::Obstacle(EXTRUDE_PART));
+                }
+                _ => {}
+            }
+        }
+        raise(-self.goal_value(&q), BoundaryTag::Goal(0));
+        best
+    }
+
+    /// Where `q` lies.
+    pub fn classify(&self, q: &[f64]) -> ConfigClass {
+        for (axis, qa) in self.axes.iter().zip(q) {
+            if let Axis::Limited { lo, hi } = *axis
+                && !(lo..=hi).contains(qa)
+            {
+                return ConfigClass::OutsideLimits;
+            }
+        }
+        if self.clearance(q).0 <= self.margin {
+            return ConfigClass::Collision;
+        }
+        if self.goal_value(q) <= 0.0 {
+            ConfigClass::Goal
+        } else {
+            ConfigClass::Free
+        }
+    }
+
+    /// The lattice tetrahedra meshing would examine.
+    pub fn estimated_tetrahedra(&self) -> u64 {
+        periodic_lattice_tetrahedra(self.bounds(), self.spacing, self.cells)
+    }
+
+    /// Meshes the free configuration space (refusing, before any work, a lattice of more than
+    /// `max_tetrahedra`): the slab of one period and a covering of three along each periodic
+    /// axis.
+    pub fn mesh(
+        &self,
+        max_tetrahedra: u64,
+    ) -> Result<(PeriodicMesh, CspaceMeshReport), CspaceError> {
+        let start = std::time::Instant::now();
+        let estimated = self.estimated_tetrahedra();
+        if estimated > max_tetrahedra {
+            return Err(CspaceError::TooLarge {
+                estimated,
+                budget: max_tetrahedra,
+                spacing: self.spacing,
+            });
+        }
+        let stuffed = stuff_periodic(
+            self,
+            &StuffingOptions {
+                spacing: self.spacing,
+                max_tetrahedra,
+            },
+            self.cells,
+        )?;
+        if stuffed.stuffed.tetrahedra.is_empty() {
+            return Err(CspaceError::NoFreeSpace {
+                spacing: self.spacing,
+            });
+        }
+        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.terms(p).1)?;
+        if !mesh
+            .slab
+            .boundary_faces()
+            .iter()
+            .any(|f| matches!(f.tag, BoundaryTag::Goal(_)))
+        {
+            return Err(CspaceError::GoalNotMeshed {
+                spacing: self.spacing,
+            });
+        }
+        let report = CspaceMeshReport {
+            spacing: self.spacing,
+            scale: self.scale,
+            cells: self.cells,
+            lattice_tetrahedra: estimated,
+            seam_faces: mesh.seam_faces,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        Ok((mesh, report))
+    }
+}
+
+impl ImplicitDomain for ConfigSpace {
+    fn value(&self, p: &Point) -> f64 {
+        self.terms(p).0
+    }
+    fn tag(&self, p: &Point) -> BoundaryTag {
+        self.terms(p).1
+    }
+    fn bounds(&self) -> (Point, Point) {
+        let mut lo = Point::origin();
+        let mut hi = Point::origin();
+        for a in 0..3 {
+            let (l, h) = match self.axes[a] {
+                Axis::Position { lo, hi } => (lo, hi),
+                Axis::Periodic => (0.0, TAU),
+                Axis::Limited { lo, hi } => (lo, hi),
+                Axis::Extruded { thickness } => (0.0, thickness / self.scale[a]),
+            };
+            lo[a] = l * self.scale[a];
+            hi[a] = h * self.scale[a];
+        }
+        // The periodic extent exactly N·h, as the lattice needs.
+        for a in 0..3 {
+            if let Some(n) = self.cells[a] {
+                lo[a] = 0.0;
+                hi[a] = n as f64 * self.spacing;
+            }
+        }
+        (lo, hi)
+    }
+}

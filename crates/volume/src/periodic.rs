@@ -1,0 +1,485 @@
+//! Isosurface stuffing of a domain that is periodic along some axes (a configuration space's
+//! angles: a rigid robot's heading θ, an arm's unlimited joints), and the two meshes a
+//! periodic mesh is used through.
+//!
+//! **The lattice closes on itself.** Along a periodic axis the lattice has exactly `N` cells
+//! of the spacing `h`, so the period is `L = N·h`, and lattice vertex `k` and `k + N` (in cells)
+//! are one vertex. Signs, cut points and warping are computed once per such class on its
+//! *canonical* member (index in `0..N`) with the neighbourhood wrapped around, so every copy
+//! of a vertex is warped the same way and every copy of an edge is cut at the same point.
+//! The stencils are then emitted for one representative of every class of lattice
+//! tetrahedra (those whose first centre has a canonical index), each with its vertices
+//! *unwrapped* next to it, so every tetrahedron keeps its true shape. The output — the
+//! **slab** — is a conforming tetrahedral mesh of one period whose two ends are the same
+//! jagged surface, one a translate of the other by `L`; [`PeriodicStuffed::orbit`] names, per
+//! output vertex, the class it belongs to, and [`PeriodicStuffed::wrap`] its period offset.
+//!
+//! * [`PeriodicMesh::slab`] is that period as a [`TetMesh`]; its end faces are tagged
+//!   `Obstacle(`[`SEAM_PART`]`)` and [`PeriodicMesh::images`] maps every vertex to the one
+//!   it is identified with, which is how the FEM folds the system (`harmonic_fem::volume`'s
+//!   `identify_periodic`): the ends carry no condition of their own and every pair of
+//!   identified vertices is one unknown, so the discrete potential is exactly periodic.
+//! * [`PeriodicMesh::covering`] is `2c + 1` copies of the slab laid end to end along every
+//!   periodic axis and glued (a finite piece of the universal cover), on which a tracer
+//!   follows the periodic potential with the angles unwrapped: a path crosses θ = 2π as any
+//!   other face.
+
+use std::collections::{HashMap, HashSet};
+
+use harmonic_mesh::BoundaryTag;
+
+use crate::error::VolumeError;
+use crate::implicit::ImplicitDomain;
+use crate::mesh::TetMesh;
+use crate::solid::{Point, Vector};
+use crate::stuffing::{
+    ALPHA_LONG, ALPHA_SHORT, Lattice, NONE, Stuffed, StuffingOptions, Sv, emit_stencils, key,
+};
+
+/// The obstacle index given to the slab's end faces (see the module docs): the FEM gives
+/// that part the natural condition (no term) before folding the two ends into one.
+pub const SEAM_PART: u32 = u32::MAX;
+
+/// The output of [`stuff_periodic`].
+#[derive(Clone, Debug, Default)]
+pub struct PeriodicStuffed {
+    /// The slab: vertices (unwrapped, each tetrahedron with its true shape) and tetrahedra.
+    pub stuffed: Stuffed,
+    /// Per output vertex: its class (vertices of one class are one vertex of the periodic
+    /// mesh).
+    pub orbit: Vec<u32>,
+    /// Per output vertex: its offset from its class's canonical position, in periods.
+    pub wrap: Vec<[i32; 3]>,
+    /// The period along each axis (`None`: not periodic).
+    pub period: [Option<f64>; 3],
+}
+
+/// The number of lattice tetrahedra [`stuff_periodic`] examines.
+pub fn periodic_lattice_tetrahedra(
+    bounds: (Point, Point),
+    spacing: f64,
+    cells: [Option<usize>; 3],
+) -> u64 {
+    let d = bounds.1 - bounds.0;
+    (0..3)
+        .map(|a| match cells[a] {
+            Some(c) => c as u64 + 1,
+            None => ((d[a] / spacing).ceil().max(1.0) as u64).saturating_add(4),
+        })
+        .fold(12u64, |acc, n| acc.saturating_mul(n))
+}
+
+/// Half-coordinate offsets of the 6 long and 8 short lattice edges.
+const STEPS: [([i64; 3], bool); 14] = [
+    ([2, 0, 0], true),
+    ([-2, 0, 0], true),
+    ([0, 2, 0], true),
+    ([0, -2, 0], true),
+    ([0, 0, 2], true),
+    ([0, 0, -2], true),
+    ([1, 1, 1], false),
+    ([1, 1, -1], false),
+    ([1, -1, 1], false),
+    ([1, -1, -1], false),
+    ([-1, 1, 1], false),
+    ([-1, 1, -1], false),
+    ([-1, -1, 1], false),
+    ([-1, -1, -1], false),
+];
+
+struct Wrapped<'a> {
+    lattice: &'a Lattice,
+    cells: [Option<usize>; 3],
+    period: Vector,
+}
+
+impl Wrapped<'_> {
+    /// The canonical vertex of `q` (half coordinates, any integers) and its offset in periods,
+    /// or `None` off the lattice along a non-periodic axis.
+    fn canonical_half(&self, mut q: [i64; 3]) -> Option<(u32, [i32; 3])> {
+        let mut w = [0i32; 3];
+        for a in 0..3 {
+            if let Some(c) = self.cells[a] {
+                let p = 2 * c as i64;
+                w[a] = q[a].div_euclid(p) as i32;
+                q[a] = q[a].rem_euclid(p);
+            }
+        }
+        self.lattice.at_half(q).map(|v| (v, w))
+    }
+    fn canonical(&self, v: u32) -> (u32, [i32; 3]) {
+        self.canonical_half(self.lattice.half_coords(v))
+            .unwrap_or((v, [0; 3]))
+    }
+    fn offset(&self, w: [i32; 3]) -> Vector {
+        Vector::new(
+            w[0] as f64 * self.period.x,
+            w[1] as f64 * self.period.y,
+            w[2] as f64 * self.period.z,
+        )
+    }
+    /// The 14 neighbours of `v` around the periodic axes: (canonical vertex, long edge,
+    /// its offset in periods relative to `v`'s frame).
+    fn neighbours(&self, v: u32) -> impl Iterator<Item = (u32, bool, [i32; 3])> + '_ {
+        let q = self.lattice.half_coords(v);
+        STEPS.iter().filter_map(move |(d, long)| {
+            self.canonical_half([q[0] + d[0], q[1] + d[1], q[2] + d[2]])
+                .map(|(w, s)| (w, *long, s))
+        })
+    }
+}
+
+/// Isosurface stuffing of `domain`, periodic along every axis `a` with `cells[a] = Some(N)`:
+/// there the domain must be periodic with period `N·spacing`, starting at its bounds' lower
+/// coordinate, and `N ≥ 3` (see the module docs).
+pub fn stuff_periodic(
+    domain: &(dyn ImplicitDomain + Sync),
+    opts: &StuffingOptions,
+    cells: [Option<usize>; 3],
+) -> Result<PeriodicStuffed, VolumeError> {
+    let h = opts.spacing;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(VolumeError::BadMaxVolume { value: h });
+    }
+    if let Some(c) = cells.iter().flatten().find(|&&c| c < 3) {
+        return Err(VolumeError::InvalidMesh(format!(
+            "a periodic axis needs at least 3 lattice cells, got {c}"
+        )));
+    }
+    let bounds = domain.bounds();
+    let estimated = periodic_lattice_tetrahedra(bounds, h, cells);
+    if estimated > opts.max_tetrahedra {
+        return Err(VolumeError::TooManyTetrahedra {
+            estimated,
+            budget: opts.max_tetrahedra,
+        });
+    }
+    let d = bounds.1 - bounds.0;
+    let mut n = [0usize; 3];
+    let mut origin = bounds.0 - Vector::repeat(2.0 * h);
+    let mut period = Vector::zeros();
+    for a in 0..3 {
+        match cells[a] {
+            Some(c) => {
+                n[a] = c + 1;
+                origin[a] = bounds.0[a];
+                period[a] = c as f64 * h;
+            }
+            None => n[a] = (d[a] / h).ceil().max(1.0) as usize + 4,
+        }
+    }
+    let lattice = Lattice {
+        n,
+        origin,
+        h,
+        corners: (n[0] + 1) * (n[1] + 1) * (n[2] + 1),
+    };
+    if lattice.count() >= NONE as usize / 2 {
+        return Err(VolumeError::TooManyTetrahedra {
+            estimated,
+            budget: opts.max_tetrahedra,
+        });
+    }
+    let wrapped = Wrapped {
+        lattice: &lattice,
+        cells,
+        period,
+    };
+    let nv = lattice.count();
+    let canon: Vec<(u32, [i32; 3])> = (0..nv as u32).map(|v| wrapped.canonical(v)).collect();
+    let is_canonical = |v: u32| canon[v as usize].0 == v;
+    let mut pos: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
+    let zero = 1e-12 * h;
+    let mut f = vec![0.0f64; nv];
+    {
+        use rayon::prelude::*;
+        let values: Vec<(usize, f64)> = (0..nv as u32)
+            .into_par_iter()
+            .filter(|&v| is_canonical(v))
+            .map(|v| {
+                let x = domain.value(&pos[v as usize]);
+                (v as usize, if x.abs() <= zero { 0.0 } else { x })
+            })
+            .collect();
+        for (v, x) in values {
+            f[v] = x;
+        }
+    }
+
+    // 1. Cut points on canonical edges, each stored in the frame of its lower-numbered end.
+    let mut cuts: HashMap<(u32, u32), Point> = HashMap::new();
+    {
+        use rayon::prelude::*;
+        let edges: Vec<(u32, u32, [i32; 3])> = (0..nv as u32)
+            .filter(|&v| is_canonical(v) && f[v as usize] < 0.0)
+            .flat_map(|v| {
+                wrapped
+                    .neighbours(v)
+                    .filter(|&(w, _, _)| f[w as usize] > 0.0)
+                    .map(move |(w, _, s)| (v, w, s))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let found: Vec<((u32, u32), Point)> = edges
+            .par_iter()
+            .map(|&(v, w, s)| {
+                let c = domain.cut(&pos[v as usize], &(pos[w as usize] + wrapped.offset(s)));
+                let c = if v < w { c } else { c - wrapped.offset(s) };
+                (key(v, w), c)
+            })
+            .collect();
+        cuts.extend(found);
+    }
+
+    // 2. Warping, on canonical vertices with their wrapped neighbourhoods.
+    let long_len = h;
+    let short_len = 0.5 * 3f64.sqrt() * h;
+    let mut warped = 0;
+    for v in 0..nv as u32 {
+        if !is_canonical(v) || f[v as usize] == 0.0 {
+            continue;
+        }
+        let mut best: Option<(f64, Point)> = None;
+        for (w, long, s) in wrapped.neighbours(v) {
+            if let Some(c) = cuts.get(&key(v, w)) {
+                let c = if v < w { *c } else { c + wrapped.offset(s) };
+                let dist = (c - pos[v as usize]).norm();
+                let (alpha, len) = if long {
+                    (ALPHA_LONG, long_len)
+                } else {
+                    (ALPHA_SHORT, short_len)
+                };
+                if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
+                    best = Some((dist, c));
+                }
+            }
+        }
+        if let Some((_, c)) = best {
+            pos[v as usize] = c;
+            f[v as usize] = 0.0;
+            warped += 1;
+            for (w, _, _) in wrapped.neighbours(v) {
+                cuts.remove(&key(v, w));
+            }
+        }
+    }
+
+    // The unwrapped lattice: every copy where its class's canonical member is, shifted.
+    let mut f_ext = vec![0.0; nv];
+    let mut pos_ext = pos.clone();
+    for v in 0..nv {
+        let (c, w) = canon[v];
+        f_ext[v] = f[c as usize];
+        pos_ext[v] = pos[c as usize] + wrapped.offset(w);
+    }
+    let mut cuts_ext: HashMap<(u32, u32), Point> = HashMap::new();
+    for e in 0..nv as u32 {
+        if f_ext[e as usize] >= 0.0 {
+            continue;
+        }
+        for (x, _) in lattice.neighbours(e) {
+            if f_ext[x as usize] <= 0.0 {
+                continue;
+            }
+            let ((ce, we), (cx, wx)) = (canon[e as usize], canon[x as usize]);
+            if let Some(c) = cuts.get(&key(ce, cx)) {
+                let w = if ce < cx { we } else { wx };
+                cuts_ext.insert(key(e, x), c + wrapped.offset(w));
+            }
+        }
+    }
+
+    // 3. Stencils of one lattice tetrahedron per class: its first centre canonical.
+    let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
+    let (stuffed, sources) =
+        emit_stencils(&lattice, &pos_ext, &f_ext, &cuts_ext, domain, warped, &keep);
+
+    // Classes of the output vertices.
+    #[derive(Hash, PartialEq, Eq)]
+    enum Class {
+        Lattice(u32),
+        Cut(u32, u32),
+    }
+    let mut class_of: HashMap<Class, u32> = HashMap::new();
+    let mut orbit = Vec::with_capacity(sources.len());
+    let mut wrap = Vec::with_capacity(sources.len());
+    for s in &sources {
+        let (class, w) = match *s {
+            Sv::Lattice(e) => {
+                let (c, w) = canon[e as usize];
+                (Class::Lattice(c), w)
+            }
+            Sv::Cut(a, b) => {
+                let ((ca, wa), (cb, wb)) = (canon[a as usize], canon[b as usize]);
+                if ca < cb {
+                    (Class::Cut(ca, cb), wa)
+                } else {
+                    (Class::Cut(cb, ca), wb)
+                }
+            }
+        };
+        let next = class_of.len() as u32;
+        orbit.push(*class_of.entry(class).or_insert(next));
+        wrap.push(w);
+    }
+    let period = [0, 1, 2].map(|a| cells[a].map(|c| c as f64 * h));
+    Ok(PeriodicStuffed {
+        stuffed,
+        orbit,
+        wrap,
+        period,
+    })
+}
+
+/// A mesh of a periodic domain: the slab of one period for the FEM and a covering of
+/// several periods for tracing (see the module docs).
+#[derive(Debug)]
+pub struct PeriodicMesh {
+    /// One period; its end faces are tagged `Obstacle(`[`SEAM_PART`]`)`.
+    pub slab: TetMesh,
+    /// Per slab vertex: the slab vertex it is identified with (itself for one member of
+    /// every class).
+    pub images: Vec<u32>,
+    /// `2·copies + 1` periods along every periodic axis, glued; the middle copy is the slab.
+    pub covering: TetMesh,
+    /// Per covering vertex: a slab vertex of its class.
+    pub slab_vertex: Vec<u32>,
+    /// The period along each axis.
+    pub period: [Option<f64>; 3],
+    /// The copies on each side of the slab in the covering.
+    pub copies: i32,
+    /// Slab end faces (each end counted).
+    pub seam_faces: usize,
+}
+
+impl PeriodicMesh {
+    /// Builds both meshes from stuffing output; boundary faces are tagged by `tag` (the
+    /// domain's), the slab's ends by [`SEAM_PART`].
+    pub fn new(
+        stuffed: &PeriodicStuffed,
+        copies: i32,
+        tag: &dyn Fn(&Point) -> BoundaryTag,
+    ) -> Result<PeriodicMesh, VolumeError> {
+        let s = &stuffed.stuffed;
+        let periodic: Vec<usize> = (0..3).filter(|&a| stuffed.period[a].is_some()).collect();
+        let period = Vector::new(
+            stuffed.period[0].unwrap_or(0.0),
+            stuffed.period[1].unwrap_or(0.0),
+            stuffed.period[2].unwrap_or(0.0),
+        );
+        let offset = |w: [i32; 3]| {
+            Vector::new(
+                w[0] as f64 * period.x,
+                w[1] as f64 * period.y,
+                w[2] as f64 * period.z,
+            )
+        };
+        // Representative of each class: its first vertex.
+        let classes = stuffed
+            .orbit
+            .iter()
+            .copied()
+            .max()
+            .map_or(0, |m| m as usize + 1);
+        let mut rep = vec![NONE; classes];
+        for (v, &o) in stuffed.orbit.iter().enumerate() {
+            if rep[o as usize] == NONE {
+                rep[o as usize] = v as u32;
+            }
+        }
+        let images: Vec<u32> = stuffed.orbit.iter().map(|&o| rep[o as usize]).collect();
+
+        // The covering: copies c along every periodic axis.
+        let mut shifts: Vec<[i32; 3]> = vec![[0; 3]];
+        for &a in &periodic {
+            let mut next = Vec::new();
+            for sh in &shifts {
+                for c in -copies..=copies {
+                    let mut t = *sh;
+                    t[a] = c;
+                    next.push(t);
+                }
+            }
+            shifts = next;
+        }
+        let mut index: HashMap<(u32, [i32; 3]), u32> = HashMap::new();
+        let mut vertices = Vec::new();
+        let mut slab_vertex = Vec::new();
+        let mut tets = Vec::with_capacity(s.tetrahedra.len() * shifts.len());
+        let mut middle_of_slab = vec![NONE; s.vertices.len()];
+        for sh in &shifts {
+            let mut local = vec![NONE; s.vertices.len()];
+            for tet in &s.tetrahedra {
+                let mapped = tet.map(|v| {
+                    if local[v as usize] != NONE {
+                        return local[v as usize];
+                    }
+                    let w = stuffed.wrap[v as usize];
+                    let k = (
+                        stuffed.orbit[v as usize],
+                        [w[0] + sh[0], w[1] + sh[1], w[2] + sh[2]],
+                    );
+                    let id = *index.entry(k).or_insert_with(|| {
+                        vertices.push(s.vertices[v as usize] + offset(*sh));
+                        slab_vertex.push(v);
+                        (vertices.len() - 1) as u32
+                    });
+                    local[v as usize] = id;
+                    id
+                });
+                tets.push(mapped);
+            }
+            if *sh == [0; 3] {
+                middle_of_slab = local;
+            }
+        }
+        let covering = TetMesh::new(vertices, tets, tag)?;
+
+        // The slab's ends: boundary faces of the slab that are inside the covering.
+        let real: HashSet<[u32; 3]> = covering
+            .boundary_faces()
+            .iter()
+            .map(|f| {
+                let mut k = f.vertices;
+                k.sort_unstable();
+                k
+            })
+            .collect();
+        let probe = TetMesh::new(s.vertices.clone(), s.tetrahedra.clone(), &|_| {
+            BoundaryTag::Wall
+        })?;
+        let centroid = |f: &[u32; 3]| {
+            let v = probe.vertices();
+            Point::from(
+                (v[f[0] as usize].coords + v[f[1] as usize].coords + v[f[2] as usize].coords) / 3.0,
+            )
+        };
+        let bits = |p: &Point| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        let mut seams: HashSet<[u64; 3]> = HashSet::new();
+        for f in probe.boundary_faces() {
+            let mut k = f.vertices.map(|v| middle_of_slab[v as usize]);
+            k.sort_unstable();
+            if !real.contains(&k) {
+                seams.insert(bits(&centroid(&f.vertices)));
+            }
+        }
+        let seam_faces = seams.len();
+        drop(probe);
+        let slab = TetMesh::new(s.vertices.clone(), s.tetrahedra.clone(), &|p| {
+            if seams.contains(&bits(p)) {
+                BoundaryTag::Obstacle(SEAM_PART)
+            } else {
+                tag(p)
+            }
+        })?;
+        Ok(PeriodicMesh {
+            slab,
+            images,
+            covering,
+            slab_vertex,
+            period: stuffed.period,
+            copies,
+            seam_faces,
+        })
+    }
+}

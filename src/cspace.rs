@@ -1,0 +1,671 @@
+//! Robots that are not discs, planned in their configuration space: a rigid polygon in
+//! (x, y, θ) and a planar arm of two or three links in its joint angles. The scene's
+//! `"robot"` has a `"polygon"` or an `"arm"` (`AnyScene::Config`); the free configuration
+//! space is meshed by `harmonic_cspace` (periodic isosurface stuffing from exact parry2d
+//! distances), solved with the volume FEM on the slab of one period with its ends identified
+//! (`harmonic_fem::volume::solve_periodic_for_planning`), and traced by the volume tracers on
+//! a covering of three periods, so that angles come out continuous.
+//!
+//! ```
+//! use harmonic_planner::cspace::{ConfigPlanner, parse_config_scene};
+//! let scene = parse_config_scene(r#"{
+//!     "workspace": [[0, 0], [6, 0], [6, 4], [0, 4]],
+//!     "obstacles": [{"polygon": [[2.8, 0], [3.2, 0], [3.2, 1.5], [2.8, 1.5]]},
+//!                   {"polygon": [[2.8, 2.5], [3.2, 2.5], [3.2, 4], [2.8, 4]]}],
+//!     "robot": {"polygon": [[-0.7, -0.1], [0.7, -0.1], [0.7, 0.1], [-0.7, 0.1]]},
+//!     "goal": {"pose": [5.0, 2.0, 0.0], "tolerance": {"position": 0.3, "angle": 0.4}},
+//!     "starts": [[1.0, 2.0, 1.5708]],
+//!     "mesh": {"spacing": 0.2, "margin": 0.03}
+//! }"#)?;
+//! let planner = ConfigPlanner::new(&scene)?;
+//! let path = planner.plan(&[1.0, 2.0, 1.5708]);
+//! assert!(path.status.reached_goal());
+//! // The bar turns to pass the door (1 wide, the bar 1.4 long).
+//! let poses = path.poses.as_ref().unwrap();
+//! let door = poses.iter().find(|p| (p[0] - 3.0).abs() < 0.05).unwrap();
+//! assert!(door[2].cos().abs() > 0.7);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use harmonic_cspace::check::{check_path, exact_clearance};
+use harmonic_cspace::svg::{MotionSvgOptions, motion_svg};
+use harmonic_cspace::{
+    Arm, ConfigClass, ConfigGoal, ConfigSpace, CspaceError, CspaceMeshReport,
+    DEFAULT_MAX_TETRAHEDRA, EXTRUDE_PART, ObstacleInput, RigidRobot, Robot, World,
+};
+use harmonic_fem::BoundaryCondition;
+use harmonic_fem::volume::{VolumeFemError, VolumePotential, solve_periodic_for_planning};
+use harmonic_trajectory::volume::{
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
+    VolumeTraceStatus, trace_exact_volume, trace_smooth_volume,
+};
+use harmonic_trajectory::{Locate, TraceError, Tracer};
+use harmonic_volume::{PeriodicMesh, Point, TetMesh, quality};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::planner::{Timings, finite_or_zero};
+use crate::scene::{BoundarySpec, Region, SceneError};
+
+/// The `"robot"` of a configuration-space scene: exactly one of `polygon` and `arm`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfigRobotSpec {
+    /// A rigid robot's body-frame polygon.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polygon: Option<Vec<[f64; 2]>>,
+    /// A planar arm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm: Option<ArmSpec>,
+    /// A disc robot's radius: not allowed here (a disc is planned in the plane).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+}
+
+/// A planar arm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArmSpec {
+    /// The base `[x, y]`.
+    pub base: [f64; 2],
+    /// Two or three link lengths.
+    pub links: Vec<f64>,
+    /// Link width (absent or 0: segments).
+    #[serde(default)]
+    pub width: f64,
+    /// `[lo, hi]` per joint, radians; absent: every joint turns freely.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_limits: Option<Vec<[f64; 2]>>,
+}
+
+/// A goal tolerance: a number, or `{"position": d, "angle": a}` for a pose.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ToleranceSpec {
+    /// One number (radians for joints, a distance for an end-effector point).
+    Number(f64),
+    /// A pose's tolerances.
+    Pose {
+        /// Distance.
+        position: f64,
+        /// Radians.
+        angle: f64,
+    },
+}
+
+/// The goal of a configuration-space scene: exactly one of `pose`, `joints`,
+/// `end_effector`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfigGoalSpec {
+    /// `[x, y, θ]` of a rigid robot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose: Option<[f64; 3]>,
+    /// An arm's joint angles.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joints: Option<Vec<f64>>,
+    /// A point for an arm's tip.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_effector: Option<[f64; 2]>,
+    /// The tolerance (defaults: 2 lattice spacings, in the goal's units).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<ToleranceSpec>,
+    /// The goal's boundary condition (default φ = 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub boundary: Option<crate::scene::Condition>,
+}
+
+/// Mesh options of a configuration-space scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfigMeshSpec {
+    /// Lattice spacing in scaled configuration units (default: the scene size / 24).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
+    /// Safety margin ε added around the robot (default: the scene size / 200).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin: Option<f64>,
+    /// Refuse lattices of more tetrahedra (default 3 M).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_tetrahedra: Option<u64>,
+}
+
+/// A scene whose robot is a polygon or an arm (the scene format's "Rigid robots and arms").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfigScene {
+    /// A name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The workspace polygon.
+    pub workspace: Vec<[f64; 2]>,
+    /// Obstacles: polygons or circles.
+    #[serde(default)]
+    pub obstacles: Vec<Region>,
+    /// The robot.
+    pub robot: ConfigRobotSpec,
+    /// The goal.
+    pub goal: ConfigGoalSpec,
+    /// Start configurations.
+    #[serde(default)]
+    pub starts: Vec<Vec<f64>>,
+    /// Boundary conditions (walls, obstacles, goal), as for plane scenes.
+    #[serde(default)]
+    pub boundary: BoundarySpec,
+    /// Mesh options.
+    #[serde(default)]
+    pub mesh: ConfigMeshSpec,
+}
+
+/// Parses a configuration-space scene; errors name the JSON path, line and column.
+pub fn parse_config_scene(text: &str) -> Result<ConfigScene, SceneError> {
+    crate::scene::parse_json(text)
+}
+
+/// Why a configuration-space planner could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigPlanError {
+    /// The scene is invalid (names the JSON path).
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The configuration space cannot be built or meshed.
+    #[error(transparent)]
+    Cspace(#[from] CspaceError),
+    /// Assembly or solve failed.
+    #[error(transparent)]
+    Fem(#[from] VolumeFemError),
+    /// The potential cannot be traced.
+    #[error(transparent)]
+    Trace(#[from] TraceError),
+    /// A mesh could not be built.
+    #[error(transparent)]
+    Volume(#[from] harmonic_volume::VolumeError),
+}
+
+fn invalid(path: &str, message: impl Into<String>) -> ConfigPlanError {
+    ConfigPlanError::Scene(SceneError::Invalid {
+        path: path.into(),
+        message: message.into(),
+    })
+}
+
+impl ConfigScene {
+    /// The world, the robot and the goal, validated, and the mesh options.
+    pub fn build(&self) -> Result<ConfigSpace, ConfigPlanError> {
+        let mut obstacles = Vec::new();
+        for (i, o) in self.obstacles.iter().enumerate() {
+            match (&o.polygon, &o.circle, &o.point) {
+                (Some(p), None, None) => obstacles.push(ObstacleInput::Polygon(p.clone())),
+                (None, Some(c), None) => obstacles.push(ObstacleInput::Circle {
+                    center: c.center,
+                    radius: c.radius,
+                }),
+                _ => {
+                    return Err(invalid(
+                        &format!("obstacles[{i}]"),
+                        "an obstacle is exactly one of \"polygon\" and \"circle\"",
+                    ));
+                }
+            }
+        }
+        let world = World::new(&self.workspace, &obstacles)?;
+        let robot = match (&self.robot.polygon, &self.robot.arm, self.robot.radius) {
+            (Some(p), None, None) => Robot::Rigid(RigidRobot::new(p)?),
+            (None, Some(a), None) => Robot::Arm(Arm::new(
+                a.base,
+                &a.links,
+                a.width,
+                a.joint_limits.as_deref(),
+            )?),
+            _ => {
+                return Err(invalid(
+                    "robot",
+                    "a robot has exactly one of \"radius\", \"polygon\" and \"arm\"",
+                ));
+            }
+        };
+        let size = world.size();
+        let spacing = self.mesh.spacing.unwrap_or(size / 24.0);
+        let margin = self.mesh.margin.unwrap_or(size / 200.0);
+        let g = &self.goal;
+        let tol = g.tolerance;
+        let goal = match (&g.pose, &g.joints, &g.end_effector) {
+            (Some(pose), None, None) => {
+                let (position, angle) = match tol {
+                    Some(ToleranceSpec::Pose { position, angle }) => (position, angle),
+                    Some(ToleranceSpec::Number(_)) => {
+                        return Err(invalid(
+                            "goal.tolerance",
+                            "a pose's tolerance is {\"position\": d, \"angle\": a}",
+                        ));
+                    }
+                    None => {
+                        let rg = match &robot {
+                            Robot::Rigid(r) => r.radius_of_gyration,
+                            Robot::Arm(_) => 1.0,
+                        };
+                        (2.0 * spacing, 2.0 * spacing / rg)
+                    }
+                };
+                ConfigGoal::Pose {
+                    pose: *pose,
+                    position,
+                    angle,
+                }
+            }
+            (None, Some(joints), None) => ConfigGoal::Joints {
+                joints: joints.clone(),
+                tolerance: number_tolerance(tol, 0.1)?,
+            },
+            (None, None, Some(point)) => ConfigGoal::EndEffector {
+                point: *point,
+                tolerance: number_tolerance(tol, 2.0 * spacing)?,
+            },
+            _ => {
+                return Err(invalid(
+                    "goal",
+                    "a goal is exactly one of \"pose\", \"joints\" and \"end_effector\"",
+                ));
+            }
+        };
+        Ok(ConfigSpace::new(robot, world, goal, margin, spacing)?)
+    }
+
+    /// The boundary conditions: walls, obstacles (with per-obstacle overrides), the goal;
+    /// joint limits are walls; a two-link arm's slab faces natural.
+    pub fn boundary_conditions(&self) -> harmonic_fem::BoundaryConditions {
+        let mut bcs = harmonic_fem::BoundaryConditions::default();
+        let cond = crate::planner::condition;
+        if let Some(c) = self.boundary.walls {
+            bcs.walls = cond(c);
+        }
+        if let Some(c) = self.boundary.obstacles {
+            bcs.obstacles = cond(c);
+        }
+        if let Some(c) = self.goal.boundary.or(self.boundary.goal) {
+            bcs.goals = cond(c);
+        }
+        for (i, o) in self.obstacles.iter().enumerate() {
+            if let Some(c) = o.boundary {
+                bcs.obstacle_overrides.insert(i as u32, cond(c));
+            }
+        }
+        bcs.obstacle_overrides
+            .insert(EXTRUDE_PART, BoundaryCondition::Neumann(0.0));
+        bcs
+    }
+}
+
+fn number_tolerance(t: Option<ToleranceSpec>, default: f64) -> Result<f64, ConfigPlanError> {
+    match t {
+        None => Ok(default),
+        Some(ToleranceSpec::Number(v)) => Ok(v),
+        Some(ToleranceSpec::Pose { .. }) => Err(invalid(
+            "goal.tolerance",
+            "a joints or end_effector goal's tolerance is one number",
+        )),
+    }
+}
+
+/// One planned motion, as `hplan plan --json` prints it.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfigPlannedPath {
+    /// The start configuration.
+    pub start: Vec<f64>,
+    /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
+    /// `outside_workspace`, `max_steps`).
+    pub status: VolumeTraceStatus,
+    /// Which tracer made it.
+    pub tracer: Tracer,
+    /// Length in configuration space, in its scaled metric (θ times the radius of gyration,
+    /// joint i times its reach), the unit of the scene.
+    pub length: f64,
+    /// Smallest exact clearance of the robot at the path's entries (polygons, not the mesh).
+    pub min_clearance: f64,
+    /// Smallest |∇φ| met.
+    pub min_gradient: f64,
+    /// A rigid robot's poses `[x, y, θ]` (θ continuous, not wrapped).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub poses: Option<Vec<[f64; 3]>>,
+    /// An arm's joints `[q1, …]` (continuous).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joints: Option<Vec<Vec<f64>>>,
+}
+
+impl ConfigPlannedPath {
+    /// The path's configurations.
+    pub fn configurations(&self) -> Vec<Vec<f64>> {
+        match (&self.poses, &self.joints) {
+            (Some(p), _) => p.iter().map(|q| q.to_vec()).collect(),
+            (None, Some(j)) => j.clone(),
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// The mesh part of a configuration-space report.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfigMeshSummary {
+    /// Slab vertices (one period).
+    pub vertices: usize,
+    /// Slab tetrahedra.
+    pub tetrahedra: usize,
+    /// Unknowns of the folded (periodic) system.
+    pub unknowns: usize,
+    /// Covering tetrahedra (three periods along each periodic axis).
+    pub covering_tetrahedra: usize,
+    /// Smallest dihedral angle (slab), degrees.
+    pub min_dihedral_deg: f64,
+    /// Largest dihedral angle (slab), degrees.
+    pub max_dihedral_deg: f64,
+    /// Lattice spacing.
+    pub spacing: f64,
+    /// Scale of each coordinate.
+    pub scale: [f64; 3],
+    /// Lattice cells per turn along periodic axes.
+    pub cells: [Option<usize>; 3],
+    /// Slab end faces identified.
+    pub seam_faces: usize,
+    /// Safety margin ε.
+    pub margin: f64,
+    /// Edges clamped by the planning solve.
+    pub clamped_edges: usize,
+}
+
+/// The report of `hplan plan` on a configuration-space scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfigPlanReport {
+    /// `"pose"` or `"joints"`.
+    pub configuration: &'static str,
+    /// The mesh.
+    pub mesh: ConfigMeshSummary,
+    /// Milliseconds per stage.
+    pub timings_ms: Timings,
+    /// Interior local extrema of the potential on the slab.
+    pub interior_local_extrema: usize,
+    /// One entry per start.
+    pub paths: Vec<ConfigPlannedPath>,
+}
+
+/// A harmonic planner in a robot's configuration space: built once, queried many times.
+pub struct ConfigPlanner {
+    space: ConfigSpace,
+    slab: Arc<TetMesh>,
+    covering: Arc<TetMesh>,
+    potential: VolumePotential,
+    field: Arc<VolumeFieldParts>,
+    report: CspaceMeshReport,
+    unknowns: usize,
+    clamped_edges: usize,
+    timings: Timings,
+    scale: f64,
+    size: f64,
+}
+
+fn millis(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl ConfigPlanner {
+    /// Builds the planner: validates the scene, meshes its configuration space, solves.
+    pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, ConfigPlanError> {
+        let t = Instant::now();
+        let space = scene.build()?;
+        let budget = scene.mesh.max_tetrahedra.unwrap_or(DEFAULT_MAX_TETRAHEDRA);
+        let (mesh, report) = space.mesh(budget)?;
+        let PeriodicMesh {
+            slab,
+            images,
+            covering,
+            slab_vertex,
+            ..
+        } = mesh;
+        let slab = Arc::new(slab);
+        let covering = Arc::new(covering);
+        let mesh_ms = millis(t);
+
+        let t = Instant::now();
+        let bcs = scene.boundary_conditions();
+        let (potential, solved) = solve_periodic_for_planning(Arc::clone(&slab), &images, &bcs)?;
+        let psi: Vec<f64> = slab_vertex
+            .iter()
+            .map(|&v| potential.psi()[v as usize])
+            .collect();
+        let field = Arc::clone(P1VolumeField::ascending(&covering, &psi)?.parts());
+        let solve_ms = millis(t);
+        let (lo, hi) = covering.bounds();
+        let size = space.world().size();
+        Ok(ConfigPlanner {
+            space,
+            slab,
+            covering,
+            potential,
+            field,
+            report,
+            unknowns: solved.unknowns,
+            clamped_edges: solved.clamped_edges,
+            timings: Timings {
+                mesh: mesh_ms,
+                assemble: 0.0,
+                solve: solve_ms,
+                trace: 0.0,
+            },
+            scale: (hi - lo).max(),
+            size,
+        })
+    }
+
+    /// The configuration space.
+    pub fn space(&self) -> &ConfigSpace {
+        &self.space
+    }
+    /// The slab mesh (one period).
+    pub fn slab(&self) -> &TetMesh {
+        &self.slab
+    }
+    /// The covering mesh the tracer follows.
+    pub fn covering(&self) -> &TetMesh {
+        &self.covering
+    }
+    /// The potential on the slab.
+    pub fn potential(&self) -> &VolumePotential {
+        &self.potential
+    }
+    /// Milliseconds spent building (assembly counted in `solve`).
+    pub fn timings(&self) -> Timings {
+        self.timings
+    }
+    /// The meshing report.
+    pub fn mesh_report(&self) -> &CspaceMeshReport {
+        &self.report
+    }
+
+    /// Plans from the configuration `start` (`[x, y, θ]` or the joint angles).
+    pub fn plan(&self, start: &[f64]) -> ConfigPlannedPath {
+        let dof = self.space.dof();
+        if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
+            return self.planned(start, None, Tracer::Exact);
+        }
+        let (p, shift) = self.space.to_mesh(start);
+        let classify = |q: &Point| match self.space.classify(&self.space.config(q)) {
+            ConfigClass::Free => Locate::Inside(0),
+            ConfigClass::Goal => Locate::Goal(0),
+            ConfigClass::Collision => Locate::InObstacle,
+            ConfigClass::OutsideLimits => Locate::OutsideWorkspace,
+        };
+        let Ok(field) = P1VolumeField::from_parts(&self.covering, Arc::clone(&self.field)) else {
+            return self.planned(start, None, Tracer::Exact);
+        };
+        let field = field.with_outside(&classify);
+        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale));
+        let (path, tracer) = match smooth {
+            Ok(path)
+                if !matches!(
+                    path.status,
+                    VolumeTraceStatus::Stalled { .. } | VolumeTraceStatus::MaxSteps
+                ) =>
+            {
+                (path, Tracer::Smooth)
+            }
+            _ => (
+                trace_exact_volume(&field, p, &ExactVolumeOptions::default()),
+                Tracer::Exact,
+            ),
+        };
+        let configs: Vec<Vec<f64>> = path
+            .points
+            .iter()
+            .map(|q| {
+                let c = self.space.config(q);
+                c.iter().zip(&shift).map(|(a, s)| a + s).collect()
+            })
+            .collect();
+        let mut out = self.planned(start, Some((path, configs)), tracer);
+        if let Some(first) = out.poses.as_mut().and_then(|p| p.first_mut()) {
+            first.copy_from_slice(&start[..3]);
+        }
+        if let Some(first) = out.joints.as_mut().and_then(|p| p.first_mut()) {
+            first.copy_from_slice(start);
+        }
+        out
+    }
+
+    fn planned(
+        &self,
+        start: &[f64],
+        path: Option<(VolumePath, Vec<Vec<f64>>)>,
+        tracer: Tracer,
+    ) -> ConfigPlannedPath {
+        let (status, min_gradient, configs, length) = match path {
+            Some((p, c)) => (p.status, p.min_gradient, c, p.length),
+            None => (VolumeTraceStatus::OutsideWorkspace, 0.0, Vec::new(), 0.0),
+        };
+        let clearance = configs
+            .iter()
+            .map(|q| exact_clearance(self.space.robot(), self.space.world(), q))
+            .fold(f64::INFINITY, f64::min);
+        let (poses, joints) = match self.space.robot() {
+            Robot::Rigid(_) => (
+                Some(configs.iter().map(|q| [q[0], q[1], q[2]]).collect()),
+                None,
+            ),
+            Robot::Arm(_) => (None, Some(configs)),
+        };
+        ConfigPlannedPath {
+            start: start.to_vec(),
+            status,
+            tracer,
+            length,
+            min_clearance: finite_or_zero(clearance),
+            min_gradient: finite_or_zero(min_gradient),
+            poses,
+            joints,
+        }
+    }
+
+    /// Plans from every start, in parallel.
+    pub fn plan_many(&self, starts: &[Vec<f64>]) -> Vec<ConfigPlannedPath> {
+        starts.par_iter().map(|s| self.plan(s)).collect()
+    }
+
+    /// Checks every motion of `path` against the exact polygons at samples no robot point
+    /// moves more than `1e-3 ×` the scene size between; the smallest clearance met.
+    pub fn check(&self, path: &ConfigPlannedPath) -> f64 {
+        check_path(
+            self.space.robot(),
+            self.space.world(),
+            &path.configurations(),
+            1e-3 * self.size,
+        )
+        .min_clearance
+    }
+
+    /// Plans from `starts` and reports as `hplan plan --json` prints.
+    pub fn plan_report(&self, starts: &[Vec<f64>]) -> ConfigPlanReport {
+        let t = Instant::now();
+        let paths = self.plan_many(starts);
+        let mut timings = self.timings;
+        timings.trace = millis(t);
+        let q = quality(&self.slab);
+        ConfigPlanReport {
+            configuration: match self.space.robot() {
+                Robot::Rigid(_) => "pose",
+                Robot::Arm(_) => "joints",
+            },
+            mesh: ConfigMeshSummary {
+                vertices: q.vertices,
+                tetrahedra: q.tetrahedra,
+                unknowns: self.unknowns,
+                covering_tetrahedra: self.covering.tetrahedra().len(),
+                min_dihedral_deg: q.min_dihedral_deg,
+                max_dihedral_deg: q.max_dihedral_deg,
+                spacing: self.report.spacing,
+                scale: self.report.scale,
+                cells: self.report.cells,
+                seam_faces: self.report.seam_faces,
+                margin: self.space.margin(),
+                clamped_edges: self.clamped_edges,
+            },
+            timings_ms: timings,
+            interior_local_extrema: self.potential.interior_local_extrema(),
+            paths,
+        }
+    }
+
+    /// A human-readable summary of a report.
+    pub fn summary(report: &ConfigPlanReport) -> String {
+        use std::fmt::Write as _;
+        let (m, t) = (&report.mesh, &report.timings_ms);
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "configuration space: {} vertices, {} tetrahedra per period ({} unknowns), spacing {}, margin {}",
+            m.vertices, m.tetrahedra, m.unknowns, m.spacing, m.margin
+        );
+        let _ = writeln!(
+            s,
+            "time: mesh {:.1} ms, assemble and solve {:.1} ms, trace {:.1} ms",
+            t.mesh, t.solve, t.trace
+        );
+        for path in &report.paths {
+            let end = path.configurations().last().cloned().unwrap_or_default();
+            let _ = writeln!(
+                s,
+                "{:?}: {}, length {:.3}, clearance {:.3}, end {:?}",
+                path.start,
+                path.status.as_str(),
+                path.length,
+                path.min_clearance,
+                end.iter()
+                    .map(|v| (v * 1e3).round() / 1e3)
+                    .collect::<Vec<_>>()
+            );
+        }
+        s
+    }
+
+    /// The scene with the robot drawn along each path.
+    pub fn svg(&self, paths: &[Vec<Vec<f64>>], title: Option<String>) -> String {
+        let marker = match self.space.goal() {
+            ConfigGoal::Pose { pose, .. } => Some([pose[0], pose[1]]),
+            ConfigGoal::EndEffector { point, .. } => Some(*point),
+            ConfigGoal::Joints { joints, .. } => match self.space.robot() {
+                Robot::Arm(a) => Some(a.tip(joints)),
+                Robot::Rigid(_) => None,
+            },
+        };
+        motion_svg(
+            self.space.robot(),
+            self.space.world(),
+            paths,
+            marker,
+            &MotionSvgOptions {
+                title,
+                ..MotionSvgOptions::default()
+            },
+        )
+    }
+}

@@ -1,0 +1,224 @@
+//! Configuration-space planning end to end: the bundled polygon and arm scenes reach their
+//! goals along motions that are collision-free against the exact polygons (checked at samples
+//! no robot point moves more than 1e-3 × the scene size between), a robot that cannot pass
+//! is `unreachable`, angles come out continuous across the period, and bad input is refused
+//! with its JSON path.
+
+use harmonic_planner::cspace::{ConfigPlanError, ConfigPlanner, ConfigScene, parse_config_scene};
+use harmonic_planner::{AnyScene, SceneError};
+
+fn load(path: &std::path::Path) -> ConfigScene {
+    match AnyScene::from_file(path).expect("scene parses") {
+        AnyScene::Config(s) => *s,
+        _ => panic!("{} is not a configuration-space scene", path.display()),
+    }
+}
+
+#[test]
+fn bundled_config_scenes_reach_the_goal_collision_free() {
+    let scenes = harmonic_fixtures::config_scenes();
+    let names: Vec<String> = scenes
+        .iter()
+        .filter_map(|p| p.file_stem()?.to_str().map(String::from))
+        .collect();
+    for want in ["arm_aperture", "bar_kim_khosla", "piano"] {
+        assert!(names.iter().any(|n| n == want), "{want} bundled: {names:?}");
+    }
+    for path in scenes {
+        let scene = load(&path);
+        let planner = ConfigPlanner::new(&scene).expect("plannable");
+        assert_eq!(planner.potential().interior_local_extrema(), 0, "{path:?}");
+        assert!(!scene.starts.is_empty());
+        for start in &scene.starts {
+            let p = planner.plan(start);
+            assert!(
+                p.status.reached_goal(),
+                "{path:?} from {start:?}: {:?}",
+                p.status
+            );
+            let configs = p.configurations();
+            assert_eq!(&configs[0], start);
+            // The last entry is in the goal region (its own function ≤ 0, to the mesh's chord).
+            let last = configs.last().expect("entries");
+            assert!(
+                planner.space().goal_value(last) <= 1e-6,
+                "{path:?}: ends outside the goal at {last:?}"
+            );
+            // Angles continuous: no jump of a wrapped angle between entries.
+            for w in configs.windows(2) {
+                for (a, b) in w[0].iter().zip(&w[1]) {
+                    assert!((a - b).abs() < 1.0, "{path:?}: jump {a} → {b}");
+                }
+            }
+            let clearance = planner.check(&p);
+            assert!(
+                clearance > 0.0,
+                "{path:?}: a motion touches an obstacle (clearance {clearance})"
+            );
+        }
+    }
+}
+
+const PIANO: &str = r#"{
+    "workspace": [[0, 0], [8, 0], [8, 5], [0, 5]],
+    "obstacles": [{"polygon": [[3.8, 0], [4.2, 0], [4.2, DOOR_LO], [3.8, DOOR_LO]]},
+                  {"polygon": [[3.8, DOOR_HI], [4.2, DOOR_HI], [4.2, 5], [3.8, 5]]}],
+    "robot": {"polygon": [[-0.9, -0.12], [0.9, -0.12], [0.9, 0.12], [-0.9, 0.12]]},
+    "goal": {"pose": [6.5, 2.5, 1.5708], "tolerance": {"position": 0.35, "angle": 0.35}},
+    "starts": [[1.5, 2.5, 1.5708]],
+    "mesh": {"spacing": 0.2, "margin": 0.03}
+}"#;
+
+#[test]
+fn a_bar_wider_than_the_door_is_unreachable_not_a_collision() {
+    // The door is 0.2 wide, the bar 0.24 thick: no configuration passes.
+    let text = PIANO.replace("DOOR_LO", "2.4").replace("DOOR_HI", "2.6");
+    let scene = parse_config_scene(&text).expect("parses");
+    let planner = ConfigPlanner::new(&scene).expect("plannable");
+    let p = planner.plan(&[1.5, 2.5, std::f64::consts::FRAC_PI_2]);
+    assert_eq!(p.status.as_str(), "unreachable", "{:?}", p.status);
+    // A start in collision is reported as such.
+    let p = planner.plan(&[4.0, 1.0, 0.0]);
+    assert_eq!(p.status.as_str(), "start_in_obstacle");
+}
+
+#[test]
+fn heading_crosses_the_period_continuously() {
+    // Start at θ = 5.9, goal at θ = 0.4: the short way is across 2π; the path's θ must end
+    // near 0.4 + 2π, not jump back to 0.4.
+    let scene = parse_config_scene(
+        r#"{
+        "workspace": [[0, 0], [4, 0], [4, 3], [0, 3]],
+        "robot": {"polygon": [[-0.5, -0.1], [0.5, -0.1], [0.5, 0.1], [-0.5, 0.1]]},
+        "goal": {"pose": [3.0, 1.5, 0.4], "tolerance": {"position": 0.3, "angle": 0.3}},
+        "mesh": {"spacing": 0.2, "margin": 0.02}
+    }"#,
+    )
+    .expect("parses");
+    let planner = ConfigPlanner::new(&scene).expect("plannable");
+    let p = planner.plan(&[1.0, 1.5, 5.9]);
+    assert!(p.status.reached_goal(), "{:?}", p.status);
+    let poses = p.poses.as_ref().expect("poses");
+    let end = poses.last().expect("entries")[2];
+    assert!(
+        (end - (0.4 + std::f64::consts::TAU)).abs() < 0.35,
+        "θ ends at {end}"
+    );
+    assert!(planner.check(&p) > 0.0);
+}
+
+#[test]
+fn a_two_link_arm_plans_in_its_joint_plane() {
+    let scene = parse_config_scene(
+        r#"{
+        "workspace": [[-3, -3], [3, -3], [3, 3], [-3, 3]],
+        "obstacles": [{"circle": {"center": [1.2, 1.2], "radius": 0.35}}],
+        "robot": {"arm": {"base": [0, 0], "links": [1.3, 1.0],
+                          "joint_limits": [[-3.14159, 3.14159], [-2.6, 2.6]]}},
+        "goal": {"joints": [2.0, -0.5], "tolerance": 0.15},
+        "starts": [[0.0, 0.3]],
+        "mesh": {"spacing": 0.12, "margin": 0.02}
+    }"#,
+    )
+    .expect("parses");
+    let planner = ConfigPlanner::new(&scene).expect("plannable");
+    let p = planner.plan(&[0.0, 0.3]);
+    assert!(p.status.reached_goal(), "{:?}", p.status);
+    let joints = p.joints.as_ref().expect("joints");
+    assert!(joints.iter().all(|q| q.len() == 2));
+    assert!(planner.check(&p) > 0.0);
+}
+
+fn error_of(text: &str) -> String {
+    match parse_config_scene(text) {
+        Err(e) => e.to_string(),
+        Ok(scene) => match ConfigPlanner::new(&scene) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("accepted: {text}"),
+        },
+    }
+}
+
+#[test]
+fn bad_robots_and_goals_name_their_json_path() {
+    let base =
+        r#"{"workspace": [[0, 0], [4, 0], [4, 4], [0, 4]], ROBOT, GOAL, "mesh": {"spacing": 0.4}}"#;
+    let bar = r#""robot": {"polygon": [[-0.5, -0.1], [0.5, -0.1], [0.5, 0.1], [-0.5, 0.1]]}"#;
+    let pose = r#""goal": {"pose": [3, 3, 0], "tolerance": {"position": 0.4, "angle": 0.5}}"#;
+    let cases = [
+        (
+            base.replace(
+                "ROBOT",
+                r#""robot": {"polygon": [[0, 0], [1, 1], [1, 0], [0, 1]]}"#,
+            )
+            .replace("GOAL", pose),
+            "robot.polygon",
+        ),
+        (
+            base.replace(
+                "ROBOT",
+                r#""robot": {"arm": {"base": [2, 2], "links": [1, 1, 1, 1]}}"#,
+            )
+            .replace("GOAL", r#""goal": {"joints": [0, 0, 0, 0]}"#),
+            "robot.arm.links",
+        ),
+        (
+            base.replace(
+                "ROBOT",
+                r#""robot": {"arm": {"base": [2, 2], "links": [1, -1]}}"#,
+            )
+            .replace("GOAL", r#""goal": {"joints": [0, 0]}"#),
+            "robot.arm.links[1]",
+        ),
+        (
+            base.replace("ROBOT", bar)
+                .replace("GOAL", r#""goal": {"joints": [0, 0, 0]}"#),
+            "goal",
+        ),
+        (
+            base.replace("ROBOT", bar)
+                .replace("GOAL", r#""goal": {"pose": [3, 3, 0], "tolerance": 0.3}"#),
+            "goal.tolerance",
+        ),
+        (
+            base.replace("ROBOT", bar)
+                .replace("GOAL", r#""goal": {"pose": [3, 3]}"#),
+            "goal.pose",
+        ),
+        (
+            base.replace(
+                "ROBOT",
+                r#""robot": {"polygon": [[0, 0], [1, 0], [0, 1]], "radius": 1}"#,
+            )
+            .replace("GOAL", pose),
+            "robot",
+        ),
+    ];
+    for (text, path) in cases {
+        let e = error_of(&text);
+        assert!(e.starts_with(path), "expected {path}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+}
+
+#[test]
+fn an_oversized_lattice_is_refused_before_any_work() {
+    let text = PIANO
+        .replace("DOOR_LO", "1.9")
+        .replace("DOOR_HI", "3.1")
+        .replace("\"spacing\": 0.2", "\"spacing\": 0.004");
+    let scene = parse_config_scene(&text).expect("parses");
+    let t = std::time::Instant::now();
+    let e = ConfigPlanner::new(&scene).err().expect("refused");
+    assert!(t.elapsed().as_secs_f64() < 1.0);
+    assert!(matches!(e, ConfigPlanError::Cspace(_)), "{e}");
+    let s = e.to_string();
+    assert!(
+        s.contains("tetrahedra") && s.contains("mesh.spacing") && !s.contains('\n'),
+        "{s}"
+    );
+    let _ = SceneError::Invalid {
+        path: String::new(),
+        message: String::new(),
+    };
+}
