@@ -64,6 +64,7 @@ mod geometry;
 pub mod grid_harmonic;
 pub mod navigation;
 pub mod panel;
+pub mod panel_published;
 mod plan;
 pub mod potential_field;
 mod raster;
@@ -74,7 +75,11 @@ pub use grid_harmonic::{
     GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown, WallCondition,
 };
 pub use navigation::{Disc, NavigationField, NavigationFunction, NavigationOptions};
-pub use panel::{Panel, PanelField, PanelFlow, PanelOptions, PanelPlanner};
+pub use panel::{Panel, PanelField, PanelFlow, PanelOptions, PanelPlanner, PanelVariant};
+pub use panel_published::{
+    ObstacleStrength, PublishedSetting, Remedied, Remedy, RemedyOutcome, RemedyRound,
+    StagnationPoint, StagnationSearch, StrengthCheck,
+};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};
 pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};

@@ -89,6 +89,9 @@ pub struct PanelField {
     strengths: Vec<f64>,
     uniform: Vector,
     sink: Option<(Point, f64)>,
+    /// The obstacles the panels cover, each with its range of panels (empty for a field
+    /// built by [`PanelField::solve`]; [`PanelField::published`] fills it).
+    pub(crate) bodies: Vec<crate::panel_published::Body>,
 }
 
 impl PanelField {
@@ -133,6 +136,7 @@ impl PanelField {
             panels,
             uniform,
             sink,
+            bodies: Vec::new(),
         };
         let m = field.panels.len();
         let mut a = DMatrix::zeros(m, m);
@@ -169,6 +173,16 @@ impl PanelField {
             v -= r * (q / (2.0 * PI * r.norm_squared()));
         }
         v
+    }
+
+    /// The uniform stream's velocity `U (cos α, sin α)`.
+    pub fn uniform(&self) -> Vector {
+        self.uniform
+    }
+
+    /// The goal sink `(point, Q)`, if any.
+    pub fn sink(&self) -> Option<(Point, f64)> {
+        self.sink
     }
 
     /// The panels.
@@ -230,6 +244,48 @@ pub struct PanelOptions {
     pub max_steps: usize,
     /// Stalled when the flow speed falls below this (a stagnation point).
     pub stall_speed: f64,
+    /// Which panel method: ours with the workspace closed by wall panels, or Kim & Khosla's
+    /// unbounded one with its checks.
+    pub variant: PanelVariant,
+}
+
+/// Which panel method a [`PanelPlanner`] runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PanelVariant {
+    /// Panels on the boundary of free space (walls too when `include_walls`), the sink
+    /// swallowing what the panels emit: a flow that stays in the workspace.
+    Bounded,
+    /// Kim & Khosla as published (§§3–4, [`PanelField::published_with_remedy`]): the
+    /// unbounded plane, no wall panels, one body per connected obstacle (the outer rings of
+    /// the union of the obstacles), a goal sink of strength `sink_strength` (their `λ_g`),
+    /// and, with a `remedy`, per query the stagnation-point search and the remedy that raises
+    /// `V_i` of an obstacle with more than one (each round searches every obstacle's box, so
+    /// it costs far more than the solve). `include_walls` is ignored.
+    Published {
+        /// The search's samples per side of each obstacle's box.
+        search_samples: usize,
+        /// The remedy's increase of `V_i` per round and its rounds; `None`: solve with the
+        /// given `V_i` and search nothing.
+        remedy: Option<crate::Remedy>,
+    },
+}
+
+impl PanelVariant {
+    /// The published variant with the default search and remedy.
+    pub fn published() -> Self {
+        PanelVariant::Published {
+            search_samples: crate::StagnationSearch::default().samples,
+            remedy: Some(crate::Remedy::default()),
+        }
+    }
+
+    /// `"bounded"` or `"published"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            PanelVariant::Bounded => "bounded",
+            PanelVariant::Published { .. } => "published",
+        }
+    }
 }
 
 impl Default for PanelOptions {
@@ -244,6 +300,7 @@ impl Default for PanelOptions {
             goal_tolerance: 0.05,
             max_steps: 100_000,
             stall_speed: 1e-9,
+            variant: PanelVariant::Bounded,
         }
     }
 }
@@ -264,12 +321,14 @@ pub struct PanelPlanner {
     obstacles: Vec<Vec<Point>>,
     goal: Point,
     options: PanelOptions,
-    /// The panels, normals pointing into free space.
+    /// The panels, normals pointing into free space (the bounded variant).
     panels: Vec<Panel>,
+    /// The outer rings of the union of the obstacles (the published variant's bodies).
+    bodies: Vec<Vec<Point>>,
 }
 
 /// Twice the signed area of a polygon: positive when counter-clockwise.
-fn signed_area2(poly: &[Point]) -> f64 {
+pub(crate) fn signed_area2(poly: &[Point]) -> f64 {
     (0..poly.len())
         .map(|k| {
             let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
@@ -343,9 +402,27 @@ fn boundary_panels(
     panels
 }
 
+/// The outer rings of the union of the obstacles (clipped to the workspace), vertices
+/// merged as in [`boundary_panels`].
+fn union_rings(workspace: &[Point], obstacles: &[Vec<Point>]) -> Vec<Vec<Point>> {
+    let (lo, hi) = workspace
+        .iter()
+        .chain(obstacles.iter().flatten())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.x.min(p.y)), hi.max(p.x.max(p.y)))
+        });
+    let eps = 1e-12 * (hi - lo).max(1.0);
+    let shapes: Vec<Polygon<f64>> = obstacles.iter().map(|o| to_geo(o)).collect();
+    unary_union(shapes.iter())
+        .iter()
+        .map(|p| from_geo(p.exterior(), eps))
+        .filter(|r| r.len() >= 3)
+        .collect()
+}
+
 /// Panels on the edges of `poly`, at most `max_len` long, with normals pointing out of it
 /// (`outward`) or into it.
-fn edge_panels(poly: &[Point], outward: bool, max_len: f64, panels: &mut Vec<Panel>) {
+pub(crate) fn edge_panels(poly: &[Point], outward: bool, max_len: f64, panels: &mut Vec<Panel>) {
     let ccw = signed_area2(poly) > 0.0;
     for k in 0..poly.len() {
         let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
@@ -406,22 +483,88 @@ impl PanelPlanner {
                 });
             }
         }
+        let (panels, bodies) = match options.variant {
+            PanelVariant::Bounded => (
+                boundary_panels(
+                    workspace,
+                    obstacles,
+                    options.include_walls,
+                    options.max_panel_length,
+                ),
+                Vec::new(),
+            ),
+            PanelVariant::Published { search_samples, .. } => {
+                if search_samples < 3 {
+                    return Err(BaselineError::InvalidParameter {
+                        name: "search_samples",
+                        value: search_samples as f64,
+                        reason: "the stagnation search needs at least 3 samples a side",
+                    });
+                }
+                check_positive("sink_strength", options.sink_strength)?;
+                (Vec::new(), union_rings(workspace, obstacles))
+            }
+        };
         Ok(PanelPlanner {
             workspace: workspace.to_vec(),
             obstacles: obstacles.to_vec(),
             goal,
             options,
-            panels: boundary_panels(
-                workspace,
-                obstacles,
-                options.include_walls,
-                options.max_panel_length,
-            ),
+            panels,
+            bodies,
         })
+    }
+
+    /// The published variant's flow for a query from `start`, with the rounds of its remedy
+    /// (`None` for the bounded variant and for the published one without a remedy).
+    pub fn published(&self, start: Point) -> Result<Option<crate::Remedied>, BaselineError> {
+        let PanelVariant::Published {
+            search_samples,
+            remedy,
+        } = self.options.variant
+        else {
+            return Ok(None);
+        };
+        let o = &self.options;
+        let setting = crate::PublishedSetting {
+            uniform_speed: o.uniform_speed,
+            goal_strength: o.sink_strength,
+            normal_velocity: o.normal_velocity,
+            max_panel_length: o.max_panel_length,
+        };
+        let search = crate::StagnationSearch {
+            samples: search_samples,
+            ..crate::StagnationSearch::default()
+        };
+        let Some(remedy) = remedy else {
+            return Ok(None);
+        };
+        PanelField::published_with_remedy(
+            &self.bodies,
+            start,
+            self.goal,
+            &setting,
+            &search,
+            &remedy,
+        )
+        .map(Some)
     }
 
     /// The flow for a query from `start`: the stream runs from `start` toward the goal.
     pub fn field(&self, start: Point) -> Result<PanelField, BaselineError> {
+        if let Some(remedied) = self.published(start)? {
+            return Ok(remedied.field);
+        }
+        if let PanelVariant::Published { .. } = self.options.variant {
+            let o = &self.options;
+            let setting = crate::PublishedSetting {
+                uniform_speed: o.uniform_speed,
+                goal_strength: o.sink_strength,
+                normal_velocity: o.normal_velocity,
+                max_panel_length: o.max_panel_length,
+            };
+            return PanelField::published(&self.bodies, start, self.goal, &setting);
+        }
         let panels = self.panels.clone();
         let sink = if self.options.include_walls {
             let perimeter: f64 = panels.iter().map(|p| (p.end - p.start).norm()).sum();
@@ -456,6 +599,21 @@ impl PanelPlanner {
     /// Follows the flow from `start` in fixed-length steps along the velocity direction.
     /// Errors only if the panel system is singular.
     pub fn plan(&self, start: Point) -> Result<PlanResult, BaselineError> {
+        if !self.is_free(start) {
+            return Ok(self.follow(None, start));
+        }
+        let field = self.field(start)?;
+        Ok(self.follow(Some(&field), start))
+    }
+
+    /// Follows `field` (any flow over this planner's scene, such as one round of the
+    /// published variant's remedy) from `start` with the planner's steps and stops. The start
+    /// is checked first: outside the workspace or in an obstacle the path is just the start.
+    pub fn follow_field(&self, field: &PanelField, start: Point) -> PlanResult {
+        self.follow(Some(field), start)
+    }
+
+    fn follow(&self, field: Option<&PanelField>, start: Point) -> PlanResult {
         let clock = Instant::now();
         let o = &self.options;
         let mut points = vec![start];
@@ -463,8 +621,7 @@ impl PanelPlanner {
             TraceStatus::OutsideWorkspace
         } else if !self.is_free(start) {
             TraceStatus::StartInObstacle
-        } else {
-            let field = self.field(start)?;
+        } else if let Some(field) = field {
             let mut q = start;
             let mut status = TraceStatus::MaxSteps;
             for _ in 0..o.max_steps {
@@ -489,8 +646,10 @@ impl PanelPlanner {
                 points.push(q);
             }
             status
+        } else {
+            TraceStatus::StartInObstacle
         };
-        Ok(PlanResult::new(points, status, clock.elapsed()))
+        PlanResult::new(points, status, clock.elapsed())
     }
 }
 

@@ -38,8 +38,8 @@ use std::time::Instant;
 
 use harmonic_baselines::{
     BaselineError, Connectivity, Disc, GridHarmonic, NavigationFunction, NavigationOptions,
-    PanelOptions, PanelPlanner, PlanResult, PotentialField, PotentialFieldOptions, Raster,
-    SorOptions, Wavefront,
+    PanelOptions, PanelPlanner, PanelVariant, PlanResult, PotentialField, PotentialFieldOptions,
+    Raster, SorOptions, Wavefront,
 };
 use harmonic_mesh::geom::{closest_point_on_segment, polygon_contains, ring_distance};
 use harmonic_mesh::{BoundaryTag, Domain, Point, orient2d};
@@ -323,21 +323,26 @@ pub enum PlannerKind {
     Wavefront,
     /// Khatib's attractive/repulsive potential, descended with a fixed step.
     AttractiveRepulsive,
-    /// Kim & Khosla's panel method.
+    /// Our bounded panel method (wall panels close the workspace; `PanelVariant::Bounded`).
     Panel,
+    /// Kim & Khosla's panel method as published: unbounded, no wall panels, λ_g = 30 s, V_i
+    /// = 0.5 (`PanelVariant::Published` without the per-query remedy, whose stagnation
+    /// search costs seconds a query on the cluttered scenes).
+    PanelPublished,
     /// Rimon & Koditschek's navigation function (sphere worlds only).
     NavigationFunction,
 }
 
 impl PlannerKind {
     /// Every planner, in the order of the tables.
-    pub const ALL: [PlannerKind; 7] = [
+    pub const ALL: [PlannerKind; 8] = [
         PlannerKind::FemDirichlet,
         PlannerKind::FemRobin,
         PlannerKind::GridSor,
         PlannerKind::Wavefront,
         PlannerKind::AttractiveRepulsive,
         PlannerKind::Panel,
+        PlannerKind::PanelPublished,
         PlannerKind::NavigationFunction,
     ];
 
@@ -349,7 +354,8 @@ impl PlannerKind {
             PlannerKind::GridSor => "grid harmonic (SOR)",
             PlannerKind::Wavefront => "wavefront (8-conn.)",
             PlannerKind::AttractiveRepulsive => "attractive/repulsive",
-            PlannerKind::Panel => "panel method",
+            PlannerKind::Panel => "panel method (bounded)",
+            PlannerKind::PanelPublished => "panel method (published)",
             PlannerKind::NavigationFunction => "navigation function",
         }
     }
@@ -362,6 +368,7 @@ impl PlannerKind {
             PlannerKind::Wavefront => "#17becf",
             PlannerKind::AttractiveRepulsive => "#9467bd",
             PlannerKind::Panel => "#8c564b",
+            PlannerKind::PanelPublished => "#bcbd22",
             PlannerKind::NavigationFunction => "#e377c2",
         }
     }
@@ -685,6 +692,24 @@ impl Builder<'_> {
                     max_panel_length: 0.25 * s,
                     step: 0.02 * s,
                     goal_tolerance: goal_radius,
+                    ..PanelOptions::default()
+                };
+                Engine::Panel(
+                    PanelPlanner::new(workspace, obstacles, goal, opts).map_err(baseline)?,
+                )
+            }
+            PlannerKind::PanelPublished => {
+                // Their setting (50) scaled to the scene: U = 1, V_i = 0.5, λ_g = 30 s (the
+                // sink outweighs the stream at the same distance in every scene).
+                let opts = PanelOptions {
+                    sink_strength: 30.0 * s,
+                    max_panel_length: 0.25 * s,
+                    step: 0.02 * s,
+                    goal_tolerance: goal_radius,
+                    variant: PanelVariant::Published {
+                        search_samples: 24,
+                        remedy: None,
+                    },
                     ..PanelOptions::default()
                 };
                 Engine::Panel(

@@ -8,5 +8,6 @@
 #![warn(missing_docs)]
 
 pub mod compare;
+pub mod kim_khosla;
 pub mod paper;
 pub mod tables;

@@ -160,3 +160,67 @@ pub const CONNOLLY_RUNS: [ConnollyRun; 4] = [
         seconds: 176.0,
     },
 ];
+
+/// Kim & Khosla (1992), *Real-Time Obstacle Avoidance Using Harmonic Potential Functions*,
+/// §5.1, their setting (50) for the bar-shaped robot: obstacle-1 of their Figure 8 with
+/// m = 16 panels numbered clockwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KimKhoslaSetting {
+    /// Start of the primary control point `(x₀, y₀)` (m); the bar's angle η₀ = 0.
+    pub start: [f64; 2],
+    /// The goal `(x_g, y_g)` (m).
+    pub goal: [f64; 2],
+    /// Strength of the uniform flow U.
+    pub uniform_speed: f64,
+    /// Strength of the goal sink λ_g.
+    pub goal_strength: f64,
+    /// Desired outward normal velocity V_i on every panel.
+    pub normal_velocity: f64,
+    /// The minimum allowable distance δ (m).
+    pub delta: f64,
+}
+
+/// Kim & Khosla (1992), eq. 50 and the text around it.
+pub const KIM_KHOSLA_SETTING_50: KimKhoslaSetting = KimKhoslaSetting {
+    start: [1.2, 8.5],
+    goal: [8.0, 2.0],
+    uniform_speed: 1.0,
+    goal_strength: 30.0,
+    normal_velocity: 0.5,
+    delta: 0.2,
+};
+
+/// Kim & Khosla (1992), Table 1: the strengths of the 16 panels of obstacle-1, panel 1 first,
+/// in the paper's sign (negative: source).
+pub const KIM_KHOSLA_TABLE1: [f64; 16] = [
+    -4.955, -8.487, -8.572, -5.077, -1.269, -5.408, 5.457, 4.719, 3.931, 2.626, 2.489, 3.832,
+    4.632, 5.390, -5.449, -1.364,
+];
+
+/// Kim & Khosla (1992), Table 1's caption: the obstacle strength λ_o of obstacle-1.
+pub const KIM_KHOSLA_TABLE1_LAMBDA_O: f64 = -7.503;
+
+/// Kim & Khosla (1992), §5.1: "one stagnation point around (2.5, 6.5)".
+pub const KIM_KHOSLA_STAGNATION_POINT: [f64; 2] = [2.5, 6.5];
+
+/// Kim & Khosla (1992), eq. 51 and §5.2, the 3-dof manipulator: end effector from
+/// (−2, 8) to the goal (5, 9), base at (−2, 2), U = 1, λ_g = 30, V_i = 1, two rectangles of
+/// 12 panels each (their Figure 10), δ = 0.2.
+pub const KIM_KHOSLA_SETTING_51: KimKhoslaSetting = KimKhoslaSetting {
+    start: [-2.0, 8.0],
+    goal: [5.0, 9.0],
+    uniform_speed: 1.0,
+    goal_strength: 30.0,
+    normal_velocity: 1.0,
+    delta: 0.2,
+};
+
+/// Kim & Khosla (1992), Table 2: the strengths of the 24 panels of obstacle-2 (paper's sign).
+pub const KIM_KHOSLA_TABLE2: [f64; 24] = [
+    -14.014, -18.239, -20.175, -20.123, -17.267, 0.780, 14.849, 17.990, 18.054, 16.096, 11.748,
+    -0.700, -22.325, -28.297, -29.466, -26.807, -20.224, -0.532, 17.999, 24.802, 27.55, 26.386,
+    20.479, -2.342,
+];
+
+/// Kim & Khosla (1992), Table 2's caption: the lower and upper obstacle strengths.
+pub const KIM_KHOSLA_TABLE2_LAMBDA_O: [f64; 2] = [-11.040, -11.332];
