@@ -12,6 +12,9 @@
 //!   flat), followed by bilinear interpolation. [`GridHarmonic`] implements the shared
 //!   [`harmonic_trajectory::Field`] trait, so the same tracer follows it, and reports
 //!   Connolly's flat-cell count.
+//! - [`integer_relaxation`]: Connolly et al.'s own procedure (§4): Gauss–Seidel in k-bit
+//!   integers until no node changes, the flat-region count, and a left shift of every value
+//!   by c bits while flat regions remain ([`IntegerRelaxation`]).
 //! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
 //!   a brushfire of move counts from the goal over the grid, 4- or 8-connected, and descent to
 //!   the lowest neighbour.
@@ -62,6 +65,7 @@
 mod error;
 mod geometry;
 pub mod grid_harmonic;
+pub mod integer_relaxation;
 pub mod navigation;
 pub mod panel;
 pub mod panel_published;
@@ -73,6 +77,9 @@ pub mod wavefront;
 pub use error::BaselineError;
 pub use grid_harmonic::{
     GridHarmonic, Relaxation, SolveReport, SorOptions, StopRule, Unknown, WallCondition,
+};
+pub use integer_relaxation::{
+    IntegerOptions, IntegerOutcome, IntegerPass, IntegerRelaxation, MAX_BITS,
 };
 pub use navigation::{Disc, NavigationField, NavigationFunction, NavigationOptions};
 pub use panel::{Panel, PanelField, PanelFlow, PanelOptions, PanelPlanner, PanelVariant};

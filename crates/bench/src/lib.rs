@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod compare;
+pub mod connolly;
 pub mod kim_khosla;
 pub mod paper;
 pub mod tables;
