@@ -403,6 +403,54 @@ impl Scene {
         }
         bcs
     }
+
+    /// With `boundary.blend`: its weight `k` and the conditions of its Dirichlet and Neumann
+    /// solves.
+    pub fn blend_conditions(&self) -> Option<(f64, BoundaryConditions, BoundaryConditions)> {
+        let b = self.boundary.blend?;
+        let mut dirichlet = self.boundary_conditions();
+        if self.boundary.walls.is_none() {
+            dirichlet.walls = BoundaryCondition::Dirichlet(1.0);
+        }
+        if self.boundary.obstacles.is_none() {
+            dirichlet.obstacles = BoundaryCondition::Dirichlet(1.0);
+        }
+        let mut neumann = dirichlet.clone();
+        neumann.walls = BoundaryCondition::Neumann(b.neumann);
+        neumann.obstacles = BoundaryCondition::Neumann(b.neumann);
+        Some((b.k, dirichlet, neumann))
+    }
+}
+
+/// The ME766 blend `k·φ_D + (1 − k)·φ_N` on `mesh`, `φ_N` scaled to a largest value of 1.
+fn blended_potential(
+    mesh: &Arc<Mesh>,
+    k: f64,
+    dirichlet: &BoundaryConditions,
+    neumann: &BoundaryConditions,
+) -> Result<Potential, PlanError> {
+    let solve = |bcs: &BoundaryConditions| -> Result<Potential, PlanError> {
+        let assembler = Assembler::new(Arc::clone(mesh), bcs, AssemblyOptions::default())?;
+        let system = assembler.assemble(bcs)?;
+        let solver = Solver::new(&system, assembler.nested_dissection())?;
+        Ok(solver.potential(Arc::clone(mesh), &system)?)
+    };
+    let d = solve(dirichlet)?;
+    let n = solve(neumann)?;
+    // φ = c − ψ; the largest φ is c − min ψ.
+    let min_psi = n.psi().iter().copied().fold(f64::INFINITY, f64::min);
+    let top = n.reference() - min_psi;
+    let scale = if top > 0.0 && top.is_finite() {
+        1.0 / top
+    } else {
+        1.0
+    };
+    let scaled = Potential::new(
+        Arc::clone(mesh),
+        n.psi().iter().map(|v| v * scale).collect(),
+        n.reference() * scale,
+    )?;
+    Ok(harmonic_fem::blend(k, &d, &scaled)?)
 }
 
 fn millis(t: Instant) -> f64 {
@@ -433,16 +481,26 @@ impl Planner {
 
         stage(Stage::Assembling);
         let t = Instant::now();
-        let bcs = scene.boundary_conditions();
-        let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
-        let system = assembler.assemble(&bcs)?;
-        let assemble_ms = millis(t);
+        let (potential, assemble_ms, t) = if let Some((k, d, n)) = scene.blend_conditions() {
+            stage(Stage::Solving);
+            let p = blended_potential(&mesh, k, &d, &n)?;
+            (p, 0.0, t)
+        } else {
+            let bcs = scene.boundary_conditions();
+            let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
+            let system = assembler.assemble(&bcs)?;
+            let assemble_ms = millis(t);
 
-        stage(Stage::Solving);
-        let t = Instant::now();
-        // Geometric nested dissection: about half AMD's factorisation time at 1M triangles.
-        let solver = Solver::new(&system, assembler.nested_dissection())?;
-        let potential = solver.potential(Arc::clone(&mesh), &system)?;
+            stage(Stage::Solving);
+            let t = Instant::now();
+            // Geometric nested dissection: about half AMD's factorisation time at 1M triangles.
+            let solver = Solver::new(&system, assembler.nested_dissection())?;
+            (
+                solver.potential(Arc::clone(&mesh), &system)?,
+                assemble_ms,
+                t,
+            )
+        };
         let nodal_gradients = potential.nodal_gradients_psi().to_vec();
         // Checked once here, so queries need not.
         smooth_field_of(&mesh, &potential, &nodal_gradients)?;

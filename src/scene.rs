@@ -70,6 +70,29 @@ pub struct BoundarySpec {
     /// Every goal without its own condition (default φ = 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub goal: Option<Condition>,
+    /// The ME766 blend `k·φ_D + (1 − k)·φ_N` of a Dirichlet and a Neumann solve on the same
+    /// mesh (walls and obstacles then take no condition of their own but a Dirichlet one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blend: Option<BlendSpec>,
+}
+
+/// `"blend": {"k": 0.3, "neumann": 1.0}`: the potential is `k·φ_D + (1 − k)·φ_N`, where
+/// `φ_D` holds walls and obstacles at their Dirichlet value (`boundary.walls` /
+/// `boundary.obstacles` if given, else 1) and `φ_N` lets the uniform inflow
+/// `∂φ/∂n = neumann` through them, scaled so that its largest value is 1; both hold the
+/// goals as `boundary.goal` says. `k = 1` is the Dirichlet field, `k = 0` the Neumann one.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlendSpec {
+    /// The weight of the Dirichlet solve, in [0, 1].
+    pub k: f64,
+    /// The inflow `g > 0` of the Neumann solve (default 1).
+    #[serde(default = "default_blend_inflow")]
+    pub neumann: f64,
+}
+
+fn default_blend_inflow() -> f64 {
+    1.0
 }
 
 /// Mesh options of a scene.
@@ -363,6 +386,43 @@ impl Scene {
         ] {
             if let Some(c) = c {
                 check_condition(&format!("boundary.{part}"), &c)?;
+            }
+        }
+        if let Some(b) = self.boundary.blend {
+            if !(0.0..=1.0).contains(&b.k) {
+                return invalid(
+                    "boundary.blend.k".into(),
+                    format!("must lie in [0, 1], got {}", b.k),
+                );
+            }
+            if !(b.neumann.is_finite() && b.neumann > 0.0) {
+                return invalid(
+                    "boundary.blend.neumann".into(),
+                    format!(
+                        "the Neumann inflow must be a positive number, got {}",
+                        b.neumann
+                    ),
+                );
+            }
+            for (part, c) in [
+                ("walls", self.boundary.walls),
+                ("obstacles", self.boundary.obstacles),
+            ] {
+                if let Some(c) = c
+                    && !matches!(c, Condition::Dirichlet(_))
+                {
+                    return invalid(
+                        format!("boundary.{part}"),
+                        "with boundary.blend, walls and obstacles take a Dirichlet value only"
+                            .into(),
+                    );
+                }
+            }
+            if let Some(i) = self.obstacles.iter().position(|o| o.boundary.is_some()) {
+                return invalid(
+                    format!("obstacles[{i}].boundary"),
+                    "with boundary.blend, obstacles take no condition of their own".into(),
+                );
             }
         }
         if let Some(a) = self.mesh.max_area

@@ -15,6 +15,8 @@
 //! - [`integer_relaxation`]: Connolly et al.'s own procedure (§4): Gauss–Seidel in k-bit
 //!   integers until no node changes, the flat-region count, and a left shift of every value
 //!   by c bits while flat regions remain ([`IntegerRelaxation`]).
+//! - [`parabolic`]: the ME766 term paper's relaxation: the heat equation stepped explicitly
+//!   to its steady state, with the stability bound `Δt/h² ≤ 1/4` ([`Parabolic`]).
 //! - [`wavefront`]: the wavefront planner (Choset et al., *Principles of Robot Motion*, §4.5):
 //!   a brushfire of move counts from the goal over the grid, 4- or 8-connected, and descent to
 //!   the lowest neighbour.
@@ -69,6 +71,7 @@ pub mod integer_relaxation;
 pub mod navigation;
 pub mod panel;
 pub mod panel_published;
+pub mod parabolic;
 mod plan;
 pub mod potential_field;
 mod raster;
@@ -87,6 +90,7 @@ pub use panel_published::{
     ObstacleStrength, PublishedSetting, Remedied, Remedy, RemedyOutcome, RemedyRound,
     StagnationPoint, StagnationSearch, StrengthCheck,
 };
+pub use parabolic::{Parabolic, ParabolicOptions, ParabolicOutcome, ParabolicWalls, STABLE_R};
 pub use plan::PlanResult;
 pub use potential_field::{PotentialField, PotentialFieldOptions};
 pub use raster::{Cell, Connectivity, MIN_GRID, Raster, UNREACHED};

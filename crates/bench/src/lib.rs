@@ -10,5 +10,6 @@
 pub mod compare;
 pub mod connolly;
 pub mod kim_khosla;
+pub mod me766;
 pub mod paper;
 pub mod tables;

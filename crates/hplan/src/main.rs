@@ -119,6 +119,10 @@ struct Common {
     /// Override a volume scene's largest tetrahedron volume.
     #[arg(long, value_name = "V")]
     max_volume: Option<f64>,
+    /// Plan on the ME766 blend k·φ_D + (1 − k)·φ_N (k in [0, 1]; the scene's
+    /// `boundary.blend`, see docs/scene-format.md).
+    #[arg(long, value_name = "K")]
+    blend: Option<f64>,
 }
 
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
@@ -240,11 +244,21 @@ fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
             if let Some(a) = common.max_area {
                 scene.mesh.max_area = Some(positive("--max-area", a)?);
             }
+            if let Some(k) = common.blend {
+                if !(0.0..=1.0).contains(&k) {
+                    return Err(format!("--blend must lie in [0, 1], got {k}"));
+                }
+                let neumann = scene.boundary.blend.map_or(1.0, |b| b.neumann);
+                scene.boundary.blend = Some(harmonic_planner::scene::BlendSpec { k, neumann });
+            }
             Ok(AnyScene::Plane(scene))
         }
         AnyScene::Volume(mut scene) => {
             if common.max_area.is_some() {
                 return Err("--max-area is for plane scenes; use --max-volume".into());
+            }
+            if common.blend.is_some() {
+                return Err("--blend is for plane scenes".into());
             }
             if let Some(v) = common.max_volume {
                 scene.mesh.max_volume = Some(positive("--max-volume", v)?);
