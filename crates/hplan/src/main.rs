@@ -606,6 +606,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 vtk: None,
                 max_area: None,
                 max_volume: None,
+                blend: None,
             };
             if let AnyScene::Volume(scene) = load(&path, &no_overrides)? {
                 let planner = build_volume(&scene, &path)?;
