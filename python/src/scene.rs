@@ -114,12 +114,14 @@ impl PyScene {
             .call1((self.to_json_text()?,))
     }
 
-    /// 2 for a plane scene, 3 for a volume scene.
+    /// 2 for a plane scene, 3 for a volume scene; for a configuration-space robot the size
+    /// of its configuration (3 for a polygon robot's (x, y, θ), the joint count of an arm).
     #[getter]
     fn dimension(&self) -> u32 {
-        match self.scene {
+        match &self.scene {
             AnyScene::Plane(_) => 2,
             AnyScene::Volume(_) => 3,
+            AnyScene::Config(s) => s.starts.first().map_or(3, |q| q.len() as u32),
         }
     }
 
@@ -129,6 +131,7 @@ impl PyScene {
         match &self.scene {
             AnyScene::Plane(s) => s.name.clone(),
             AnyScene::Volume(s) => s.name.clone(),
+            AnyScene::Config(s) => s.name.clone(),
         }
     }
 
@@ -144,6 +147,9 @@ impl PyScene {
         match &self.scene {
             AnyScene::Plane(s) => arrays::rows_f64(py, &s.starts).into_any(),
             AnyScene::Volume(s) => arrays::rows_f64(py, &s.starts).into_any(),
+            AnyScene::Config(s) => numpy::PyArray2::from_vec2(py, &s.starts)
+                .map(|a| a.into_any())
+                .unwrap_or_else(|_| arrays::rows_f64::<3>(py, &[]).into_any()),
         }
     }
 
@@ -160,6 +166,10 @@ impl PyScene {
             ),
             AnyScene::Volume(s) => format!(
                 "Scene(name={name}, dimension=3, obstacles={})",
+                s.obstacles.len()
+            ),
+            AnyScene::Config(s) => format!(
+                "Scene(name={name}, configuration space, obstacles={})",
                 s.obstacles.len()
             ),
         }
