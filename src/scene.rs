@@ -281,7 +281,13 @@ impl AnyScene {
             dimension: Option<serde_json::Value>,
             robot: Option<serde_json::Value>,
         }
-        let probe = serde_json::from_str::<Dimension>(text).ok();
+        // Only an object is probed: serde would read `[1, 2]` as a struct (dimension 1), and
+        // anything that is not an object gets the plane parser's "a scene is a JSON object".
+        let probe = text
+            .trim_start()
+            .starts_with('{')
+            .then(|| serde_json::from_str::<Dimension>(text).ok())
+            .flatten();
         let config = probe
             .as_ref()
             .and_then(|d| d.robot.as_ref())
