@@ -24,6 +24,7 @@
 
 use std::time::Instant;
 
+use harmonic_fixtures::{Rng, max_relative_difference};
 use harmonic_planner::scene::{Goals, Region};
 use harmonic_planner::{Goal, Planner, Point, Scene, Workspace};
 use serde::Serialize;
@@ -45,35 +46,17 @@ struct Row {
     max_length_difference: f64,
 }
 
-/// A small deterministic generator (the same goals on every run).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn random_free_points(ws: &Workspace, n: usize, rng: &mut Lcg) -> Vec<Point> {
-    let mut out = Vec::with_capacity(n);
-    while out.len() < n {
-        let p = Point::new(10.0 * rng.next(), 10.0 * rng.next());
-        if ws.domain().contains_free(p) && ws.domain().distance_to_obstacles(p) > 0.05 {
-            out.push(p);
-        }
-    }
-    out
-}
-
-fn max_relative_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .filter(|(x, y)| x.abs().max(y.abs()) > 0.0)
-        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
-        .fold(0.0, f64::max)
+/// `n` random points of free space, 5 cm or more from every wall and obstacle.
+fn random_free_points(ws: &Workspace, n: usize, rng: &mut Rng) -> Vec<Point> {
+    let (lo, hi) = ws.domain().bounding_box();
+    let domain = ws.domain();
+    rng.points_in(n, [lo.x, lo.y], [hi.x, hi.y], |p| {
+        let p = Point::new(p[0], p[1]);
+        domain.contains_free(p) && domain.distance_to_obstacles(p) > 0.05
+    })
+    .into_iter()
+    .map(|p| Point::new(p[0], p[1]))
+    .collect()
 }
 
 fn ms(t: Instant) -> f64 {
@@ -84,7 +67,7 @@ fn row(base: &Scene, max_area: f64, n_goals: usize) -> Result<Row, Box<dyn std::
     let mut scene = base.clone();
     scene.mesh.max_area = Some(max_area);
     let ws = Workspace::new(&scene)?;
-    let mut rng = Lcg(2026);
+    let mut rng = Rng(2026);
     let goals = random_free_points(&ws, n_goals, &mut rng);
     let starts = random_free_points(&ws, 4, &mut rng);
 
@@ -179,18 +162,7 @@ fn map_row(
     let scene = grid.to_scene(first, robot_radius, &MapOptions::default())?;
     let ws = Workspace::new(&scene)?;
     let workspace_ms = ms(t);
-    let (lo, hi) = ws.domain().bounding_box();
-    let mut rng = Lcg(2026);
-    let mut goals = Vec::with_capacity(n_goals);
-    while goals.len() < n_goals {
-        let p = Point::new(
-            lo.x + (hi.x - lo.x) * rng.next(),
-            lo.y + (hi.y - lo.y) * rng.next(),
-        );
-        if ws.domain().contains_free(p) && ws.domain().distance_to_obstacles(p) > 0.1 {
-            goals.push(p);
-        }
-    }
+    let goals = random_free_points(&ws, n_goals, &mut Rng(2026));
     let t = Instant::now();
     let mut reached = 0;
     for (k, g) in goals.iter().enumerate() {

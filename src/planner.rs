@@ -62,6 +62,48 @@ pub struct PlannerOptions {
     pub on_stage: Option<StageObserver>,
 }
 
+impl PlannerOptions {
+    /// Tells the observer, if any, that `stage` starts.
+    pub(crate) fn stage(&self, stage: Stage) {
+        if let Some(observe) = &self.on_stage {
+            observe(stage);
+        }
+    }
+}
+
+/// A scene's free space meshed: what [`Planner`] and [`crate::Workspace`] both start from.
+pub(crate) struct Meshed {
+    pub(crate) domain: Arc<Domain>,
+    pub(crate) mesh: Arc<Mesh>,
+    pub(crate) report: MeshReport,
+    pub(crate) quality: QualityReport,
+    /// The larger side of the domain's bounding box.
+    pub(crate) scale: f64,
+    /// Validating and meshing, in milliseconds.
+    pub(crate) ms: f64,
+}
+
+impl Meshed {
+    /// Validates and meshes `spec` with the scene's mesh options.
+    pub(crate) fn new(scene: &Scene, spec: &DomainSpec) -> Result<Meshed, PlanError> {
+        let t = Instant::now();
+        let mesh_options = scene.mesh_options();
+        let domain = Domain::new(spec, &mesh_options)?;
+        let (mesh, report) = domain.mesh(&mesh_options)?;
+        let ms = millis(t);
+        let quality = mesh.quality();
+        let (lo, hi) = domain.bounding_box();
+        Ok(Meshed {
+            domain: Arc::new(domain),
+            mesh: Arc::new(mesh),
+            report,
+            quality,
+            scale: (hi.x - lo.x).max(hi.y - lo.y),
+            ms,
+        })
+    }
+}
+
 impl std::fmt::Debug for PlannerOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PlannerOptions")
@@ -466,18 +508,10 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        let stage = |s: Stage| {
-            if let Some(observe) = &options.on_stage {
-                observe(s);
-            }
-        };
+        let stage = |s: Stage| options.stage(s);
         stage(Stage::Meshing);
-        let t = Instant::now();
-        let mesh_options = scene.mesh_options();
-        let domain = Domain::new(&scene.domain_spec(), &mesh_options)?;
-        let (mesh, mesh_report) = domain.mesh(&mesh_options)?;
-        let mesh = Arc::new(mesh);
-        let mesh_ms = millis(t);
+        let meshed = Meshed::new(scene, &scene.domain_spec())?;
+        let mesh = Arc::clone(&meshed.mesh);
 
         stage(Stage::Assembling);
         let t = Instant::now();
@@ -506,24 +540,20 @@ impl Planner {
         smooth_field_of(&mesh, &potential, &nodal_gradients)?;
         let solve_ms = millis(t);
         stage(Stage::Done);
-
-        let quality = mesh.quality();
-        let (lo, hi) = domain.bounding_box();
-        let scale = (hi.x - lo.x).max(hi.y - lo.y);
         Ok(Planner {
-            domain: Arc::new(domain),
+            domain: meshed.domain,
             mesh,
-            mesh_report,
-            quality,
+            mesh_report: meshed.report,
+            quality: meshed.quality,
             potential,
             nodal_gradients,
             timings: Timings {
-                mesh: mesh_ms,
+                mesh: meshed.ms,
                 assemble: assemble_ms,
                 solve: solve_ms,
                 trace: 0.0,
             },
-            scale,
+            scale: meshed.scale,
             vertex_goals: None,
         })
     }

@@ -33,13 +33,13 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::{Assembler, AssemblyOptions, GoalReport, GoalSolver, SolveMethod};
-use harmonic_mesh::{Domain, DomainSpec, Mesh, MeshReport, NO_NEIGHBOR, Point, QualityReport};
+use harmonic_mesh::{Domain, DomainSpec, Mesh, NO_NEIGHBOR, Point};
 use harmonic_trajectory::{NOT_A_GOAL, SmoothP1Field};
 use serde::Serialize;
 
 use crate::planner::{
-    MeshSummary, PathSummary, PlanError, PlannedPath, Planner, PlannerOptions, PotentialSummary,
-    Stage, Timings, VertexGoals,
+    MeshSummary, Meshed, PathSummary, PlanError, PlannedPath, Planner, PlannerOptions,
+    PotentialSummary, Stage, Timings, VertexGoals,
 };
 use crate::scene::Scene;
 
@@ -136,19 +136,15 @@ pub struct WorkspaceTimings {
 
 /// A scene's free space meshed and its walls' system factored once; goals come later.
 pub struct Workspace {
-    domain: Arc<Domain>,
-    mesh: Arc<Mesh>,
-    mesh_report: MeshReport,
-    quality: QualityReport,
+    meshed: Meshed,
     goals: GoalSolver,
     timings: WorkspaceTimings,
-    scale: f64,
 }
 
 impl std::fmt::Debug for Workspace {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Workspace")
-            .field("triangles", &self.mesh.triangles().len())
+            .field("triangles", &self.meshed.mesh.triangles().len())
             .field("goals", &self.goals)
             .finish_non_exhaustive()
     }
@@ -170,60 +166,44 @@ impl Workspace {
 
     /// [`Workspace::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Workspace, PlanError> {
-        let stage = |s: Stage| {
-            if let Some(observe) = &options.on_stage {
-                observe(s);
-            }
-        };
-        stage(Stage::Meshing);
-        let t = Instant::now();
-        let mesh_options = scene.mesh_options();
+        options.stage(Stage::Meshing);
         let spec = DomainSpec {
             goals: Vec::new(),
             ..scene.domain_spec()
         };
-        let domain = Domain::new(&spec, &mesh_options)?;
-        let (mesh, mesh_report) = domain.mesh(&mesh_options)?;
-        let mesh = Arc::new(mesh);
-        let mesh_ms = millis(t);
+        let meshed = Meshed::new(scene, &spec)?;
 
-        stage(Stage::Assembling);
+        options.stage(Stage::Assembling);
         let t = Instant::now();
         let bcs = scene.boundary_conditions();
-        let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
+        let assembler = Assembler::new(Arc::clone(&meshed.mesh), &bcs, AssemblyOptions::default())?;
         let assemble_ms = millis(t);
 
-        stage(Stage::Solving);
+        options.stage(Stage::Solving);
         let t = Instant::now();
         let goals = GoalSolver::new(&assembler, &bcs, SolveMethod::Auto)?;
         let factor_ms = millis(t);
-        stage(Stage::Done);
+        options.stage(Stage::Done);
 
-        let quality = mesh.quality();
-        let (lo, hi) = domain.bounding_box();
         Ok(Workspace {
-            domain: Arc::new(domain),
-            mesh,
-            mesh_report,
-            quality,
-            goals,
             timings: WorkspaceTimings {
-                mesh: mesh_ms,
+                mesh: meshed.ms,
                 assemble: assemble_ms,
                 factor: factor_ms,
             },
-            scale: (hi.x - lo.x).max(hi.y - lo.y),
+            meshed,
+            goals,
         })
     }
 
     /// The mesh of free space (no goal in it).
     pub fn mesh(&self) -> &Mesh {
-        &self.mesh
+        &self.meshed.mesh
     }
 
     /// The validated free space.
     pub fn domain(&self) -> &Domain {
-        &self.domain
+        &self.meshed.domain
     }
 
     /// Time spent meshing, assembling and factoring.
@@ -238,7 +218,7 @@ impl Workspace {
 
     /// The mesh vertices `goal` holds (goal `index` of a request, for error messages).
     pub fn goal_vertices(&self, goal: &Goal, index: usize) -> Result<Vec<u32>, GoalError> {
-        let mesh = &self.mesh;
+        let mesh = &self.meshed.mesh;
         let system = self.goals.system();
         let free = |v: u32| system.unknown_of(v).is_some();
         match goal {
@@ -301,7 +281,7 @@ impl Workspace {
     /// The vertices within `radius` of `at`, found by growing from triangle `t` across
     /// triangles that come within the radius.
     fn vertices_within(&self, t: u32, at: Point, radius: f64) -> impl Iterator<Item = u32> {
-        let mesh = &self.mesh;
+        let mesh = &self.meshed.mesh;
         let mut seen = std::collections::HashSet::from([t]);
         let mut stack = vec![t];
         let mut found = Vec::new();
@@ -386,7 +366,7 @@ impl Workspace {
 
     /// The per-vertex goal marks, end points and markers of some goals.
     fn marks(&self, goals: &[(&Goal, &Vec<u32>)]) -> VertexGoals {
-        let mut goal_of = vec![NOT_A_GOAL; self.mesh.vertices().len()];
+        let mut goal_of = vec![NOT_A_GOAL; self.meshed.mesh.vertices().len()];
         let mut ends = Vec::with_capacity(goals.len());
         let mut markers = Vec::with_capacity(goals.len());
         for (j, (goal, held)) in goals.iter().enumerate() {
@@ -402,7 +382,7 @@ impl Workspace {
             ends.push(end);
             let centroid = held
                 .iter()
-                .map(|&v| self.mesh.vertices()[v as usize].coords)
+                .map(|&v| self.meshed.mesh.vertices()[v as usize].coords)
                 .sum::<harmonic_mesh::Vector>()
                 / held.len().max(1) as f64;
             markers.push(end.unwrap_or(Point::from(centroid)));
@@ -419,16 +399,16 @@ impl Workspace {
     fn assemble_planner(&self, psi: Vec<f64>, marks: VertexGoals) -> Result<Planner, PlanError> {
         let potential = self.goals.potential_of(psi)?;
         let nodal_gradients = potential.nodal_gradients_psi().to_vec();
-        SmoothP1Field::ascending(&self.mesh, potential.psi(), &nodal_gradients)?;
+        SmoothP1Field::ascending(&self.meshed.mesh, potential.psi(), &nodal_gradients)?;
         Ok(Planner {
-            domain: Arc::clone(&self.domain),
-            mesh: Arc::clone(&self.mesh),
-            mesh_report: self.mesh_report.clone(),
-            quality: self.quality.clone(),
+            domain: Arc::clone(&self.meshed.domain),
+            mesh: Arc::clone(&self.meshed.mesh),
+            mesh_report: self.meshed.report.clone(),
+            quality: self.meshed.quality.clone(),
             potential,
             nodal_gradients,
             timings: Timings::default(),
-            scale: self.scale,
+            scale: self.meshed.scale,
             vertex_goals: Some(Arc::new(marks)),
         })
     }

@@ -1,7 +1,7 @@
 //! A workspace factored once answers any goal: the same field as a fresh solve of the same
 //! held vertices, the same paths, every path reaching and ending on its goal point.
 
-use harmonic_fixtures::{Rng, mesh_file};
+use harmonic_fixtures::{Rng, max_relative_difference, mesh_file};
 use harmonic_planner::trajectory::TraceStatus;
 use harmonic_planner::{Goal, PlanError, Planner, Point, Scene, Workspace};
 
@@ -13,25 +13,15 @@ fn reference(max_area: f64) -> Scene {
 
 /// `n` random points of free space (at least `margin` from every wall and obstacle).
 fn random_free_points(workspace: &Workspace, n: usize, seed: u64, margin: f64) -> Vec<Point> {
-    let mut rng = Rng(seed);
-    let mut out = Vec::new();
-    while out.len() < n {
-        let p = Point::new(10.0 * rng.next_f64(), 10.0 * rng.next_f64());
-        if workspace.domain().contains_free(p)
-            && workspace.domain().distance_to_obstacles(p) > margin
-        {
-            out.push(p);
-        }
-    }
-    out
-}
-
-fn max_relative_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .filter(|(x, y)| x.abs().max(y.abs()) > 0.0)
-        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
-        .fold(0.0, f64::max)
+    let domain = workspace.domain();
+    Rng(seed)
+        .points_in(n, [0.0, 0.0], [10.0, 10.0], |p| {
+            let p = Point::new(p[0], p[1]);
+            domain.contains_free(p) && domain.distance_to_obstacles(p) > margin
+        })
+        .into_iter()
+        .map(|p| Point::new(p[0], p[1]))
+        .collect()
 }
 
 #[test]

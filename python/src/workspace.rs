@@ -4,14 +4,13 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{Goal, Point, Scene, Workspace};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
-use crate::planner::{PyPlanner, positive};
+use crate::planner::{PyPlanner, map_scene, positive};
 use crate::scene::PyScene;
 
 /// A plane scene's free space meshed without its goals and its walls' system factored once.
@@ -87,19 +86,7 @@ impl PyWorkspace {
         robot_radius: f64,
         max_area: Option<f64>,
     ) -> PyResult<PyWorkspace> {
-        let around = arrays::point::<2>(around, "around")?;
-        let opts = MapOptions {
-            max_area: positive("max_area", max_area)?,
-            ..MapOptions::default()
-        };
-        let shown = yaml.display().to_string();
-        let scene = py.detach(|| {
-            guarded(|| {
-                OccupancyMap::load(&yaml)
-                    .and_then(|m| m.to_scene(around, robot_radius, &opts))
-                    .map_err(|e| scene_error(e.to_string()))
-            })
-        })?;
+        let (scene, shown) = map_scene(py, &yaml, around, "around", robot_radius, max_area)?;
         PyWorkspace::build(py, scene, Some(shown))
     }
 
