@@ -10,6 +10,8 @@
 pub mod compare;
 pub mod connolly;
 pub mod kim_khosla;
+pub mod kim_khosla_arm;
+pub mod kim_khosla_control;
 pub mod me766;
 pub mod paper;
 pub mod tables;

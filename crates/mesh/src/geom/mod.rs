@@ -112,6 +112,54 @@ pub fn segment_segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
         .sqrt()
 }
 
+/// The closest pair of points of the closed segments `ab` and `cd`: a point of `ab`, a point
+/// of `cd`, and their distance (where they meet, a common point and 0).
+///
+/// ```
+/// use harmonic_mesh::{Point, geom::closest_points_segment_segment};
+/// let (p, q, d) = closest_points_segment_segment(
+///     Point::new(0.0, 0.0), Point::new(2.0, 0.0), Point::new(1.0, 1.0), Point::new(3.0, 3.0));
+/// assert_eq!((p, q, d), (Point::new(1.0, 0.0), Point::new(1.0, 1.0), 1.0));
+/// ```
+pub fn closest_points_segment_segment(
+    a: Point,
+    b: Point,
+    c: Point,
+    d: Point,
+) -> (Point, Point, f64) {
+    if segments_intersect(a, b, c, d) {
+        // Proper crossing: solve a + s(b − a) = c + t(d − c); collinear overlap (or a touch
+        // at an end point): an end point that lies on the other segment.
+        let (r, e) = (b - a, d - c);
+        let den = r.perp(&e);
+        if den != 0.0 {
+            let s = ((c - a).perp(&e) / den).clamp(0.0, 1.0);
+            let p = a + r * s;
+            return (p, p, 0.0);
+        }
+        for (p, x, y) in [(a, c, d), (b, c, d), (c, a, b), (d, a, b)] {
+            if point_segment_dist2(p, x, y) == 0.0 {
+                return (p, p, 0.0);
+            }
+        }
+    }
+    let candidates = [
+        (a, closest_point_on_segment(a, c, d)),
+        (b, closest_point_on_segment(b, c, d)),
+        (closest_point_on_segment(c, a, b), c),
+        (closest_point_on_segment(d, a, b), d),
+    ];
+    let (p, q) = candidates
+        .into_iter()
+        .min_by(|x, y| {
+            (x.1 - x.0)
+                .norm_squared()
+                .total_cmp(&(y.1 - y.0).norm_squared())
+        })
+        .unwrap_or((a, c));
+    (p, q, (q - p).norm())
+}
+
 /// The point of the boundary of `ring` closest to `p`, and its distance (`None` for an
 /// empty ring).
 pub fn closest_point_on_ring<P: Copy + Into<Point>>(
@@ -150,16 +198,27 @@ pub fn segment_polygon_distance<P: Copy + Into<Point>>(
     b: impl Into<Point>,
     ring: &[P],
 ) -> f64 {
+    closest_points_segment_polygon(a, b, ring).map_or(f64::INFINITY, |(_, _, d)| d)
+}
+
+/// The closest pair of points of the segment `ab` and the polygon `ring` as a solid: a point
+/// of the segment, a point of the polygon's boundary, their distance — or, when the segment
+/// starts inside the polygon, `a` twice and 0. `None` for an empty ring.
+pub fn closest_points_segment_polygon<P: Copy + Into<Point>>(
+    a: impl Into<Point>,
+    b: impl Into<Point>,
+    ring: &[P],
+) -> Option<(Point, Point, f64)> {
     let (a, b) = (a.into(), b.into());
     if ring.is_empty() {
-        return f64::INFINITY;
+        return None;
     }
     if polygon_contains(ring, a) {
-        return 0.0;
+        return Some((a, a, 0.0));
     }
     ring_edges(ring)
-        .map(|(c, d)| segment_segment_distance(a, b, c, d))
-        .fold(f64::INFINITY, f64::min)
+        .map(|(c, d)| closest_points_segment_segment(a, b, c, d))
+        .min_by(|x, y| x.2.total_cmp(&y.2))
 }
 
 /// Total length of the polyline through `points`.
