@@ -592,6 +592,61 @@ fn the_fuzz_corpus_replays_without_a_panic() {
     assert!(planned >= 7, "the bundled scenes plan: {planned}");
 }
 
+/// The three inputs the `scene` target flagged as slow (`fuzz/corpus/scene/found_slow_*`,
+/// up to 32 s under AddressSanitizer): two reference variants with a goal polygon whose
+/// vertices jump thousands of units outside the workspace, and a 1.4° sliver workspace.
+/// Their time went to refinement rounds that each could add the whole vertex budget again
+/// (the halves' cut rounds times the bridge rounds on the first two, the bridge rounds on
+/// the sliver: 146 k triangles for a 23-triangle estimate). The budget now bounds the
+/// vertices of all rounds of a piece together, so each finishes with a mesh of at most the
+/// input plus the budget's vertices per piece, and plans (or is refused with a typed error).
+#[test]
+fn the_slow_fuzz_inputs_stay_within_the_vertex_budget() {
+    use harmonic_planner::mesh::{Domain, MeshOptions};
+    let dir = root().join("fuzz/corpus/scene");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("fuzz/corpus/scene exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("found_slow_"))
+        })
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 3, "{files:?}");
+    for file in &files {
+        let text = std::fs::read_to_string(file).expect("readable");
+        let mut scene = Scene::from_json(&text).expect("a valid scene");
+        fuzz_case::cap_mesh(&mut scene);
+        for halves_from in [0, usize::MAX] {
+            let opts = MeshOptions {
+                halves_from,
+                ..scene.mesh_options()
+            };
+            let domain = Domain::new(&scene.domain_spec(), &opts).expect("a valid domain");
+            let (mesh, report) = domain.mesh(&opts).expect("meshes");
+            // The budget's floor is 10 000 added vertices (a piece of a mesh in halves has
+            // half of it; the cut exchange adds the other half's cut vertices).
+            let bound = report.input_vertices + 2 * 10_000;
+            assert!(
+                mesh.vertices().len() <= bound,
+                "{}: {} vertices, more than {bound} (halves_from {halves_from})",
+                file.display(),
+                mesh.vertices().len()
+            );
+        }
+        assert!(
+            matches!(
+                fuzz_case::run(text.as_bytes()),
+                fuzz_case::Outcome::Planned(_) | fuzz_case::Outcome::NotPlannable
+            ),
+            "{}",
+            file.display()
+        );
+    }
+}
+
 /// The fuzzer's `found_spade_locate_panic_near_wall_vertex.json`: an obstacle corner 2e-16
 /// above the wall y = 0. It used to fail with a misleading "invalid mesh" error (spade's
 /// refinement panicked on the sliver); the corner is now snapped onto the wall, the obstacle
