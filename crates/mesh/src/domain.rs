@@ -98,7 +98,8 @@ pub struct Domain {
     bbox: (Point, Point),
     target_edge: f64,
     robot_radius: f64,
-    /// Every free-space boundary edge (for the even-odd inside test).
+    /// Every free-space boundary edge (for the even-odd inside test), with its position
+    /// among the edges of `free`, ring after ring.
     boundary_index: SegmentIndex,
     /// Free-space boundary edges on walls and obstacles (not goals), for clearance.
     wall_index: SegmentIndex,
@@ -862,9 +863,14 @@ fn tagged_free_rings(
 /// The segment indices of free space's boundary: every edge (for the inside test), and the
 /// edges on walls and obstacles (for clearance).
 fn boundary_indices(free: &[TaggedRing]) -> (SegmentIndex, SegmentIndex) {
+    // Payload: the edge's position among all ring edges, ring after ring (what the mesher's
+    // boundary tagging looks segments up by).
+    let mut next = 0u32;
     let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {
         let n = r.points.len();
-        (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
+        let first = next;
+        next += n as u32;
+        (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], first + k as u32))
     }));
     let wall_index = SegmentIndex::new(free.iter().flat_map(|r| {
         let n = r.points.len();
@@ -1005,6 +1011,11 @@ impl Domain {
     /// The free-space rings in unit coordinates (what the mesher triangulates).
     pub(crate) fn unit_rings(&self) -> &[TaggedRing] {
         &self.free
+    }
+    /// The unit rings' edges in an R-tree, each with its position among all ring edges
+    /// (ring after ring, edge `k` of a ring from its point `k`).
+    pub(crate) fn unit_boundary_index(&self) -> &SegmentIndex {
+        &self.boundary_index
     }
     /// The workspace bounding box in unit coordinates.
     pub(crate) fn unit_bbox(&self) -> (Point, Point) {

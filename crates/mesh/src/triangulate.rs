@@ -691,7 +691,7 @@ impl Domain {
         let frame = self.frame();
         let opts = &crate::domain::options_to_unit(opts, &frame);
         let budget = Budget::of(self, opts)?;
-        let segments = BoundarySegments::of(self.unit_rings());
+        let segments = BoundarySegments::of(self);
         let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * budget.max_area);
         let refiner = Refiner::new(opts, &budget);
         let (parts, input_vertices, seam) =
@@ -762,7 +762,7 @@ impl Domain {
             .chain(cuts.iter().find(|c| c.exact).filter(|_| !cuts[0].exact));
         for &cut in attempts {
             let Some((inputs, s)) =
-                split_inputs(self.unit_rings(), cut, spacing, &segments.index, hi.x)
+                split_inputs(self.unit_rings(), cut, spacing, segments.index, hi.x)
             else {
                 continue;
             };
@@ -973,27 +973,26 @@ impl BoundaryDetail {
 
 /// Every boundary segment of free space with its tag, and an index of them (by position in
 /// `tags`) to tag the mesh's boundary edges.
-struct BoundarySegments {
+struct BoundarySegments<'a> {
     tags: Vec<(Point, Point, BoundaryTag)>,
-    index: SegmentIndex,
+    index: &'a SegmentIndex,
 }
 
-impl BoundarySegments {
-    /// The segments of `rings`.
-    fn of(rings: &[TaggedRing]) -> BoundarySegments {
-        let tags: Vec<(Point, Point, BoundaryTag)> = rings
+impl<'a> BoundarySegments<'a> {
+    /// The segments of `domain`'s unit rings, with the domain's own index of them.
+    fn of(domain: &'a Domain) -> BoundarySegments<'a> {
+        let tags: Vec<(Point, Point, BoundaryTag)> = domain
+            .unit_rings()
             .iter()
             .flat_map(|ring| {
                 let n = ring.points.len();
                 (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
             })
             .collect();
-        let index = SegmentIndex::new(
-            tags.iter()
-                .enumerate()
-                .map(|(k, &(a, b, _))| (a, b, k as u32)),
-        );
-        BoundarySegments { tags, index }
+        BoundarySegments {
+            tags,
+            index: domain.unit_boundary_index(),
+        }
     }
 }
 
