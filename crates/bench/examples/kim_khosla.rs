@@ -1,21 +1,24 @@
 //! Kim & Khosla (1992), §5.1: their setting (50) — U = 1, λ_g = 30, V_i = 0.5, start
 //! (1.2, 8.5), goal (8, 2) — on the published (unbounded) panel method, our panel strengths
 //! beside their Table 1, λ_o and eq. 39, the stagnation points of eq. 41, the remedy and the
-//! point robot's path. The obstacle (their Figure 8) is a reconstruction: see
-//! `harmonic_bench::kim_khosla`.
+//! point robot's path; then §5.2's setting (51), our 24 strengths beside their Table 2. The
+//! obstacles (their Figures 8 and 10) are reconstructions: see `harmonic_bench::kim_khosla`
+//! and `harmonic_bench::kim_khosla_arm`.
 //!
 //! ```text
 //! cargo run --release -p harmonic-bench --example kim_khosla            # Markdown
-//! cargo run --release -p harmonic-bench --example kim_khosla -- --json  # one JSON object
+//! cargo run --release -p harmonic-bench --example kim_khosla -- --json  # {"table1": …, "table2": …}
 //! ```
 
 use harmonic_bench::kim_khosla::kim_khosla_table1;
+use harmonic_bench::kim_khosla_arm::kim_khosla_table2;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let json = std::env::args().any(|a| a == "--json");
     let t = kim_khosla_table1()?;
+    let t2 = kim_khosla_table2()?;
     if json {
-        println!("{}", serde_json::to_string(&t)?);
+        println!("{}", serde_json::json!({"table1": t, "table2": t2}));
         return Ok(());
     }
     println!(
@@ -86,6 +89,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "| point robot from (1.2, 8.5) | reaches the goal (bar robot, Fig. 9) | {}, length {:.2} m (straight {:.2} m), clearance {:.3} m |",
         t.path_status, t.path_length, t.straight_distance, t.path_clearance
+    );
+    let f = t2.fit;
+    println!(
+        "\nSetting (51), obstacle-2 (their Figure 10, not in the text) reconstructed as two \
+         {:.3} m × 5 m rectangles with lower-left corners ({:.3}, {:.3}) and ({:.3}, {:.3}) \
+         (fitted; RMS misfit from Table 2 {:.1e}).\n",
+        f.width, f.lower[0], f.lower[1], f.upper[0], f.upper[1], t2.rms_misfit
+    );
+    println!("| panel | centre | paper λ | ours | difference |");
+    println!("|---:|---|---:|---:|---:|");
+    for r in &t2.rows {
+        println!(
+            "| {} | ({:.2}, {:.1}) | {:.3} | {:.3} | {:+.3} |",
+            r.panel,
+            r.centre[0],
+            r.centre[1],
+            r.paper,
+            r.ours,
+            r.ours - r.paper
+        );
+    }
+    println!(
+        "\n| quantity | paper | ours |\n|---|---|---|\n| λ_o lower, upper | {:.3}, {:.3} | {:.3}, {:.3} |\n| eq. 39 | satisfied | {:?} |",
+        t2.paper_lambda_o[0],
+        t2.paper_lambda_o[1],
+        t2.lambda_o[0],
+        t2.lambda_o[1],
+        t2.lambda_o_check
     );
     Ok(())
 }
