@@ -33,6 +33,8 @@ use std::path::Path;
 
 use crate::{BoundaryTag, Mesh, MeshError, Point};
 
+pub mod poly;
+
 const OBSTACLE_BASE: i64 = 100;
 const GOAL_BASE: i64 = 1_000_000;
 
