@@ -105,9 +105,9 @@ impl PolyScene {
 pub fn read_mesh(path: &Path) -> Result<ImportedMesh, PlanError> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("msh") => Ok(harmonic_mesh::io::msh::read_msh(path)?),
-        Some("node" | "ele" | "poly" | "edge") => {
-            Ok(harmonic_mesh::io::read_triangle_mesh(&path.with_extension(""))?)
-        }
+        Some("node" | "ele" | "poly" | "edge") => Ok(harmonic_mesh::io::read_triangle_mesh(
+            &path.with_extension(""),
+        )?),
         _ => Ok(harmonic_mesh::io::read_triangle_mesh(path)?),
     }
 }

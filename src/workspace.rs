@@ -181,7 +181,11 @@ impl Workspace {
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Workspace, PlanError> {
         options.stage(Stage::Meshing);
         let meshed = Meshed::of_mesh(mesh)?;
-        Workspace::factored(meshed, &harmonic_fem::BoundaryConditions::default(), options)
+        Workspace::factored(
+            meshed,
+            &harmonic_fem::BoundaryConditions::default(),
+            options,
+        )
     }
 
     /// Assembles the walls' system of `meshed` under `bcs` and factors it.

@@ -79,7 +79,12 @@ enum Command {
         mesh_in: Option<PathBuf>,
         /// With --mesh-in: the goal is the boundary edges of this marker or physical group
         /// (a number, or a gmsh physical name), held at φ = 0; all other boundary edges at 1.
-        #[arg(long, value_name = "NAME|NUMBER", requires = "mesh_in", conflicts_with = "goal")]
+        #[arg(
+            long,
+            value_name = "NAME|NUMBER",
+            requires = "mesh_in",
+            conflicts_with = "goal"
+        )]
         goal_tag: Option<String>,
     },
     /// Drive a car-like robot (front-wheel steering) along the potential.
@@ -531,7 +536,11 @@ fn plan_mesh_in(
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
     };
-    let planner = mesh_planner(&mesh, &goal, &opts).map_err(|e| e.to_string())?;
+    let planner = mesh_planner(&mesh, &goal, &opts).map_err(|e| match e {
+        // Errors about the file name it already.
+        harmonic_planner::PlanError::Mesh(e) => e.to_string(),
+        e => format!("{}: {e}", path.display()),
+    })?;
     report_plan(&planner, &starts, common)
 }
 

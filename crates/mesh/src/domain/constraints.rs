@@ -33,8 +33,10 @@ fn cross_properly(a: Point, b: Point, p: Point, q: Point) -> bool {
 impl Domain {
     /// The domain with interior constraints: `segments` the mesh must hold as edges (split
     /// where refinement needs to) and `points` it must hold as vertices. Each must lie in
-    /// free space (a segment may end on the boundary but not cross it). Meshes of a domain
-    /// with constraints are made in one piece (not in halves).
+    /// free space (a segment may end on the boundary but not cross it); those that meet a
+    /// goal region are left out (the goal takes their place: a point goal's small disc may
+    /// cover a file's interior vertices). Meshes of a domain with constraints are made in one
+    /// piece (not in halves).
     ///
     /// ```
     /// use harmonic_mesh::{Domain, DomainSpec, MeshOptions, Point};
@@ -79,9 +81,18 @@ impl Domain {
             index,
             reason,
         };
+        let goals: Vec<Vec<Point>> = self.goals.iter().map(|g| g.exterior.clone()).collect();
+        let meets_goal = |a: Point, b: Point| {
+            goals
+                .iter()
+                .any(|g| crate::geom::segment_polygon_distance(a, b, g) == 0.0)
+        };
         for (k, &[a, b]) in segments.iter().enumerate() {
             if ![a.x, a.y, b.x, b.y].iter().all(|v| v.is_finite()) {
                 return Err(bad("segment", k, "has a non-finite coordinate"));
+            }
+            if meets_goal(a, b) {
+                continue;
             }
             if a == b {
                 return Err(bad("segment", k, "has zero length"));
@@ -105,6 +116,9 @@ impl Domain {
         for (k, &p) in points.iter().enumerate() {
             if !(p.x.is_finite() && p.y.is_finite()) {
                 return Err(bad("point", k, "has a non-finite coordinate"));
+            }
+            if meets_goal(p, p) {
+                continue;
             }
             if !self.contains_free(p) {
                 return Err(bad("point", k, "does not lie in free space"));

@@ -410,8 +410,15 @@ fn marked_segments<'a>(
 /// non-zero marker has it). Marker 0 means none. `.ele` files with six nodes per triangle
 /// (`-o2`) are read by their corners.
 pub fn read_triangle_mesh(base: &Path) -> Result<ImportedMesh, MeshError> {
-    let node_path = base.with_extension("node");
-    let ele_path = base.with_extension("ele");
+    // `A.1` names `A.1.node`: the extension is appended, not replaced.
+    let with = |ext: &str| {
+        let mut p = base.as_os_str().to_owned();
+        p.push(".");
+        p.push(ext);
+        std::path::PathBuf::from(p)
+    };
+    let node_path = with("node");
+    let ele_path = with("ele");
     let node_name = node_path.display().to_string();
     let ele_name = ele_path.display().to_string();
     let node = read(&node_path)?;
@@ -435,9 +442,13 @@ pub fn read_triangle_mesh(base: &Path) -> Result<ImportedMesh, MeshError> {
     let mut tbase = 0;
     let mut last = ln;
     for k in 0..nt {
-        let (ln, f) = lines
-            .next()
-            .ok_or_else(|| err(&ele_name, last, format!("expected {nt} triangles, found {k}")))?;
+        let (ln, f) = lines.next().ok_or_else(|| {
+            err(
+                &ele_name,
+                last,
+                format!("expected {nt} triangles, found {k}"),
+            )
+        })?;
         last = ln;
         if k == 0 {
             tbase = num(&ele_name, ln, &f, 0)?;
@@ -456,8 +467,8 @@ pub fn read_triangle_mesh(base: &Path) -> Result<ImportedMesh, MeshError> {
         }
         triangles.push(t);
     }
-    let poly_path = base.with_extension("poly");
-    let edge_path = base.with_extension("edge");
+    let poly_path = with("poly");
+    let edge_path = with("edge");
     let mut segments: HashMap<(u32, u32), i64> = HashMap::new();
     let from_segments = if poly_path.exists() {
         let name = poly_path.display().to_string();

@@ -60,7 +60,12 @@ pub fn from_msh_bytes(bytes: &[u8], file: &str) -> Result<ImportedMesh, MeshErro
             format!("not a gmsh MSH 4.1 file it can read: {kind}")
         })
     }))
-    .map_err(|_| input(file, "not a gmsh MSH 4.1 file it can read (the parser gave up)"))?
+    .map_err(|_| {
+        input(
+            file,
+            "not a gmsh MSH 4.1 file it can read (the parser gave up)",
+        )
+    })?
     .map_err(|m| input(file, m))?;
     let nodes = parsed
         .data
@@ -96,12 +101,12 @@ pub fn from_msh_bytes(bytes: &[u8], file: &str) -> Result<ImportedMesh, MeshErro
         }
         for (node, tag) in block.nodes.iter().zip(by_index) {
             if !(node.x.is_finite() && node.y.is_finite()) {
-                return Err(input(file, format!("node {tag} has a non-finite coordinate")));
+                return Err(input(
+                    file,
+                    format!("node {tag} has a non-finite coordinate"),
+                ));
             }
-            if position
-                .insert(tag, vertices.len() as u32)
-                .is_some()
-            {
+            if position.insert(tag, vertices.len() as u32).is_some() {
                 return Err(input(file, format!("node {tag} is given twice")));
             }
             vertices.push(Point::new(node.x, node.y));
@@ -135,7 +140,10 @@ pub fn from_msh_bytes(bytes: &[u8], file: &str) -> Result<ImportedMesh, MeshErro
             ElementType::Tri3 | ElementType::Tri6 => {
                 for e in &block.elements {
                     if e.nodes.len() < 3 {
-                        return Err(input(file, format!("triangle {} has too few nodes", e.element_tag)));
+                        return Err(input(
+                            file,
+                            format!("triangle {} has too few nodes", e.element_tag),
+                        ));
                     }
                     let mut t = [0u32; 3];
                     for (slot, &n) in t.iter_mut().zip(&e.nodes) {
@@ -150,9 +158,15 @@ pub fn from_msh_bytes(bytes: &[u8], file: &str) -> Result<ImportedMesh, MeshErro
                 let group = curve_group.get(&block.entity_tag).copied();
                 for e in &block.elements {
                     if e.nodes.len() < 2 {
-                        return Err(input(file, format!("line {} has too few nodes", e.element_tag)));
+                        return Err(input(
+                            file,
+                            format!("line {} has too few nodes", e.element_tag),
+                        ));
                     }
-                    let (a, b) = (node(e.nodes[0], e.element_tag)?, node(e.nodes[1], e.element_tag)?);
+                    let (a, b) = (
+                        node(e.nodes[0], e.element_tag)?,
+                        node(e.nodes[1], e.element_tag)?,
+                    );
                     for &n in &e.nodes {
                         referenced[node(n, e.element_tag)? as usize] = true;
                     }

@@ -488,21 +488,20 @@ impl Pslg {
                 .iter()
                 .any(|&e| self.vertices[e] == self.vertices[vi])
         });
-        let at = seg.map_or(String::new(), |(k, s)| {
-            format!(
-                " segment {} (line {}) ends at",
-                k + self.first_index,
-                s.line
-            )
+        let which = seg.map_or(String::new(), |(k, s)| {
+            format!(" segment {} (line {})", k + self.first_index, s.line)
         });
+        let meet = match degree[&v] {
+            1 => format!("only{which} ends there"),
+            d => format!("{d} segments end there (an odd number), e.g.{which}"),
+        };
         input_error(
             &self.file,
             format!(
-                "the outer boundary is not closed:{at} vertex {} ({}, {}), which {} segment(s) meet (an odd number: no closed ring passes through it)",
+                "the outer boundary is not closed at vertex {} ({}, {}): {meet}",
                 self.vertex_name(vi),
                 self.vertices[vi].x,
                 self.vertices[vi].y,
-                degree[&v]
             ),
         )
     }
