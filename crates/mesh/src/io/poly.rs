@@ -17,8 +17,8 @@
 //!
 //! ```
 //! use harmonic_mesh::io::poly::Pslg;
+//! // A square with a square hole.
 //! let text = "\
-//! # a square with a square hole
 //! 8 2 0 0
 //! 1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 2 1\n7 2 2\n8 1 2
 //! 8 0
