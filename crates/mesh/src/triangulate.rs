@@ -720,7 +720,7 @@ impl Domain {
         let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * budget.max_area);
         let mut refiner = Refiner::new(opts, &budget);
         if !self.unit_constraints().is_empty() {
-            refiner.inside = Some((&segments.index, self.unit_bbox().1.x));
+            refiner.inside = Some((segments.index, self.unit_bbox().1.x));
         }
         let (parts, input_vertices, seam) =
             match self.mesh_in_halves(opts, &budget, spacing, &segments, &refiner)? {
