@@ -32,6 +32,7 @@
 #![warn(missing_docs)]
 
 pub mod cspace;
+pub mod inputs;
 #[cfg(feature = "map")]
 pub mod map;
 pub mod planner;

@@ -86,9 +86,23 @@ pub(crate) struct Meshed {
 impl Meshed {
     /// Validates and meshes `spec` with the scene's mesh options.
     pub(crate) fn new(scene: &Scene, spec: &DomainSpec) -> Result<Meshed, PlanError> {
+        Meshed::constrained(scene, spec, &[], &[])
+    }
+
+    /// [`Meshed::new`] with interior constraint segments and points the mesh must hold
+    /// (see [`Domain::with_constraints`]).
+    pub(crate) fn constrained(
+        scene: &Scene,
+        spec: &DomainSpec,
+        segments: &[[Point; 2]],
+        points: &[Point],
+    ) -> Result<Meshed, PlanError> {
         let t = Instant::now();
         let mesh_options = scene.mesh_options();
-        let domain = Domain::new(spec, &mesh_options)?;
+        let mut domain = Domain::new(spec, &mesh_options)?;
+        if !segments.is_empty() || !points.is_empty() {
+            domain = domain.with_constraints(segments, points)?;
+        }
         let (mesh, report) = domain.mesh(&mesh_options)?;
         let ms = millis(t);
         let quality = mesh.quality();
@@ -100,6 +114,42 @@ impl Meshed {
             quality,
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms,
+        })
+    }
+
+    /// A mesh made elsewhere, as it is: its domain from its boundary loops
+    /// ([`Domain::of_mesh`]).
+    pub(crate) fn of_mesh(mesh: Mesh) -> Result<Meshed, PlanError> {
+        let t = Instant::now();
+        let domain = Domain::of_mesh(&mesh)?;
+        let quality = mesh.quality();
+        let largest = mesh
+            .triangles()
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
+                0.5 * harmonic_mesh::orient2d(a, b, c)
+            })
+            .fold(0.0, f64::max);
+        let report = MeshReport {
+            refinement_complete: true,
+            seam: None,
+            input_vertices: mesh.vertices().len(),
+            added_vertices: 0,
+            max_area: largest,
+            min_angle_deg: quality.min_angle_deg,
+            estimated_triangles: mesh.triangles().len(),
+            bridges_split: 0,
+            bridges_remaining: 0,
+        };
+        let (lo, hi) = domain.bounding_box();
+        Ok(Meshed {
+            domain: Arc::new(domain),
+            mesh: Arc::new(mesh),
+            report,
+            quality,
+            scale: (hi.x - lo.x).max(hi.y - lo.y),
+            ms: millis(t),
         })
     }
 }
@@ -508,21 +558,63 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        let stage = |s: Stage| options.stage(s);
-        stage(Stage::Meshing);
+        options.stage(Stage::Meshing);
         let meshed = Meshed::new(scene, &scene.domain_spec())?;
-        let mesh = Arc::clone(&meshed.mesh);
+        Planner::solved(
+            meshed,
+            &scene.boundary_conditions(),
+            scene.blend_conditions(),
+            options,
+        )
+    }
 
+    /// [`Planner::with_options`] on a scene whose mesh must also hold interior constraint
+    /// segments and points (a Triangle `.poly` file's inner segments and vertices, see
+    /// [`crate::inputs`]).
+    pub fn with_constraints(
+        scene: &Scene,
+        segments: &[[Point; 2]],
+        points: &[Point],
+        options: &PlannerOptions,
+    ) -> Result<Planner, PlanError> {
+        options.stage(Stage::Meshing);
+        let meshed = Meshed::constrained(scene, &scene.domain_spec(), segments, points)?;
+        Planner::solved(
+            meshed,
+            &scene.boundary_conditions(),
+            scene.blend_conditions(),
+            options,
+        )
+    }
+
+    /// A planner on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]), solved as
+    /// it is: goal-tagged boundary edges ([`BoundaryTag::Goal`]) held at φ = 0, every other
+    /// boundary edge at φ = 1 (the default conditions). The mesh must have goal edges.
+    pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Planner, PlanError> {
+        options.stage(Stage::Meshing);
+        let meshed = Meshed::of_mesh(mesh)?;
+        Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+    }
+
+    /// Assembles and solves on `meshed` under `bcs` (or the blend), the stages after
+    /// meshing that every way of building a planner shares.
+    fn solved(
+        meshed: Meshed,
+        bcs: &BoundaryConditions,
+        blend: Option<(f64, BoundaryConditions, BoundaryConditions)>,
+        options: &PlannerOptions,
+    ) -> Result<Planner, PlanError> {
+        let stage = |s: Stage| options.stage(s);
+        let mesh = Arc::clone(&meshed.mesh);
         stage(Stage::Assembling);
         let t = Instant::now();
-        let (potential, assemble_ms, t) = if let Some((k, d, n)) = scene.blend_conditions() {
+        let (potential, assemble_ms, t) = if let Some((k, d, n)) = blend {
             stage(Stage::Solving);
             let p = blended_potential(&mesh, k, &d, &n)?;
             (p, 0.0, t)
         } else {
-            let bcs = scene.boundary_conditions();
-            let assembler = Assembler::new(Arc::clone(&mesh), &bcs, AssemblyOptions::default())?;
-            let system = assembler.assemble(&bcs)?;
+            let assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
+            let system = assembler.assemble(bcs)?;
             let assemble_ms = millis(t);
 
             stage(Stage::Solving);

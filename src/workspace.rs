@@ -172,10 +172,31 @@ impl Workspace {
             ..scene.domain_spec()
         };
         let meshed = Meshed::new(scene, &spec)?;
+        Workspace::factored(meshed, &scene.boundary_conditions(), options)
+    }
 
+    /// A workspace on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]): every
+    /// boundary edge is held at the walls' value φ = 1 (whatever its tag), goals come later
+    /// as points or vertices.
+    pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Workspace, PlanError> {
+        options.stage(Stage::Meshing);
+        let meshed = Meshed::of_mesh(mesh)?;
+        Workspace::factored(
+            meshed,
+            &harmonic_fem::BoundaryConditions::default(),
+            options,
+        )
+    }
+
+    /// Assembles the walls' system of `meshed` under `bcs` and factors it.
+    fn factored(
+        meshed: Meshed,
+        bcs: &harmonic_fem::BoundaryConditions,
+        options: &PlannerOptions,
+    ) -> Result<Workspace, PlanError> {
         options.stage(Stage::Assembling);
         let t = Instant::now();
-        let bcs = scene.boundary_conditions();
+        let bcs = bcs.clone();
         let assembler = Assembler::new(Arc::clone(&meshed.mesh), &bcs, AssemblyOptions::default())?;
         let assemble_ms = millis(t);
 

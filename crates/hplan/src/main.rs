@@ -4,6 +4,8 @@
 //! hplan plan SCENE.json [--json] [--svg OUT.svg] [--start X,Y]...
 //! hplan plan --map MAP.yaml --goal X,Y [--robot-radius R] [--start X,Y]... [--json] [--svg OUT.svg]
 //! hplan plan (SCENE.json | --map MAP.yaml) --goal X,Y [--start X,Y]... --goal X,Y [--start X,Y]...
+//! hplan plan --poly FILE.poly --goal X,Y --start X,Y...
+//! hplan plan --mesh-in (BASE | FILE.msh) (--goal-tag TAG | --goal X,Y) --start X,Y...
 //! hplan car  SCENE.json --pose X,Y,THETA [--wheelbase L] [--max-steer DEG] [--json] [--svg OUT.svg]
 //! hplan export SCENE.json --potential OUT.json
 //! ```
@@ -14,6 +16,7 @@ use std::process::ExitCode;
 mod progress;
 
 use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
 use harmonic_planner::{
     AnyScene, CarParams, ConfigPlanner, ConfigScene, Planner, PlannerOptions, Point, Scene,
@@ -39,7 +42,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Plan paths from start points to the goal.
-    #[command(group(ArgGroup::new("input").required(true).args(["scene", "map"])))]
+    #[command(group(ArgGroup::new("input").required(true).args(["scene", "map", "poly", "mesh_in"])))]
     Plan {
         #[command(flatten)]
         common: Common,
@@ -64,6 +67,25 @@ enum Command {
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
+        /// Plan in a Triangle .poly file's free space (its outer boundary the workspace, the
+        /// regions around its hole points obstacles, its other segments mesh constraints);
+        /// needs --goal X,Y.
+        #[arg(long, value_name = "FILE.poly", conflicts_with_all = ["scene", "map"], requires = "goal")]
+        poly: Option<PathBuf>,
+        /// Plan on a mesh made elsewhere, as it is: Triangle's BASE.node + BASE.ele (boundary
+        /// markers from BASE.poly or BASE.edge if present), or a gmsh FILE.msh (format 4.1,
+        /// ASCII or binary); the goal by --goal-tag or --goal X,Y.
+        #[arg(long, value_name = "BASE|FILE.msh", conflicts_with_all = ["scene", "map", "poly"])]
+        mesh_in: Option<PathBuf>,
+        /// With --mesh-in: the goal is the boundary edges of this marker or physical group
+        /// (a number, or a gmsh physical name), held at φ = 0; all other boundary edges at 1.
+        #[arg(
+            long,
+            value_name = "NAME|NUMBER",
+            requires = "mesh_in",
+            conflicts_with = "goal"
+        )]
+        goal_tag: Option<String>,
     },
     /// Drive a car-like robot (front-wheel steering) along the potential.
     Car {
@@ -429,6 +451,99 @@ impl ArgOrder {
     }
 }
 
+/// The starts of `--poly` and `--mesh-in` (they have no scene to take defaults from).
+fn given_starts(starts: &[Vec<f64>], input: &str) -> Result<Vec<[f64; 2]>, String> {
+    let starts = starts_of::<2>(starts, "X,Y")?;
+    if starts.is_empty() {
+        return Err(format!("{input} needs at least one --start X,Y"));
+    }
+    Ok(starts)
+}
+
+/// Plans from `starts` on `planner` and writes what `common` asks for.
+fn report_plan(planner: &Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), String> {
+    let report = planner.plan_report(starts);
+    if let Some(svg) = &common.svg {
+        let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
+        let opts = SvgOptions {
+            show_mesh: common.mesh,
+            ..SvgOptions::default()
+        };
+        write_file(svg, &planner.svg(&paths, &[], &opts))?;
+    }
+    if let Some(vtk) = &common.vtk {
+        write_file(vtk, &planner.vtu())?;
+    }
+    if common.json {
+        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&report.summary())
+    }
+}
+
+/// `hplan plan --poly FILE.poly --goal X,Y --start X,Y...`.
+fn plan_poly(
+    path: &Path,
+    common: &Common,
+    goal: &[[f64; 2]],
+    starts: &[Vec<f64>],
+) -> Result<(), String> {
+    let [goal] = goal else {
+        return Err("--poly takes one --goal X,Y".into());
+    };
+    if common.max_volume.is_some() || common.blend.is_some() {
+        return Err("--max-volume and --blend are not for --poly".into());
+    }
+    let starts = given_starts(starts, "--poly")?;
+    let mut poly = PolyScene::read(path, *goal).map_err(|e| e.to_string())?;
+    if let Some(a) = common.max_area {
+        if !(a.is_finite() && a > 0.0) {
+            return Err(format!("--max-area must be a positive number, got {a}"));
+        }
+        poly.scene.mesh.max_area = Some(a);
+    }
+    let opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+    };
+    let planner = poly
+        .planner(&opts)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    report_plan(&planner, &starts, common)
+}
+
+/// `hplan plan --mesh-in (BASE | FILE.msh) (--goal-tag TAG | --goal X,Y) --start X,Y...`.
+fn plan_mesh_in(
+    path: &Path,
+    common: &Common,
+    goal: &[[f64; 2]],
+    goal_tag: Option<&str>,
+    starts: &[Vec<f64>],
+) -> Result<(), String> {
+    if common.max_area.is_some() || common.max_volume.is_some() || common.blend.is_some() {
+        return Err(
+            "--max-area, --max-volume and --blend are not for --mesh-in (the mesh is planned on as it is)"
+                .into(),
+        );
+    }
+    let goal = match (goal_tag, goal) {
+        (Some(tag), []) => MeshGoal::Tag(tag.to_string()),
+        (None, [p]) => MeshGoal::Point(*p),
+        _ => return Err("--mesh-in takes one goal: --goal-tag NAME|NUMBER or --goal X,Y".into()),
+    };
+    let starts = given_starts(starts, "--mesh-in")?;
+    let mesh = read_mesh(path).map_err(|e| e.to_string())?;
+    let opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+    };
+    let planner = mesh_planner(&mesh, &goal, &opts).map_err(|e| match e {
+        // Errors about the file name it already.
+        harmonic_planner::PlanError::Mesh(e) => e.to_string(),
+        e => format!("{}: {e}", path.display()),
+    })?;
+    report_plan(&planner, &starts, common)
+}
+
 /// `hplan plan` with several goals: one workspace, one factorisation, one result per goal.
 fn plan_goals(
     scene: &Scene,
@@ -477,7 +592,16 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             map,
             goal,
             robot_radius,
+            poly,
+            mesh_in,
+            goal_tag,
         } => {
+            if let Some(poly) = &poly {
+                return plan_poly(poly, &common, &goal, &starts);
+            }
+            if let Some(mesh) = &mesh_in {
+                return plan_mesh_in(mesh, &common, &goal, goal_tag.as_deref(), &starts);
+            }
             let (mut scene, path) = match (&common.scene, &map, goal.first()) {
                 (_, Some(map), Some(&first)) => {
                     let opts = MapOptions {

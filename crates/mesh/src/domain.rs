@@ -16,6 +16,11 @@ use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
 use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
 
+mod constraints;
+mod of_mesh;
+
+pub(crate) use constraints::Constraints;
+
 /// An obstacle shape, in workspace coordinates.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -108,6 +113,9 @@ pub struct Domain {
     frame: Frame,
     /// `free` in the scene's coordinates (what [`Domain::free_rings`] returns).
     user_free: Vec<TaggedRing>,
+    /// Interior segments and points the mesh must hold, in unit coordinates (see
+    /// [`Domain::with_constraints`]).
+    constraints: Constraints,
 }
 
 /// Drops the edges that two oriented rings of one polygon share in opposite directions and
@@ -960,6 +968,7 @@ impl Domain {
             wall_index,
             frame: Frame::identity(),
             user_free: Vec::new(),
+            constraints: Constraints::default(),
         })
     }
 

@@ -207,6 +207,56 @@ pub enum MeshError {
     /// The triangulation library failed on the (already validated) boundary.
     #[error("triangulation failed: {0}")]
     Triangulation(String),
+    /// A file is wrong as a whole rather than on one line (a `.poly` whose segments do not
+    /// close the outer boundary, a mesh file with no triangles).
+    #[error("{file}: {message}")]
+    Input {
+        /// The file's path (or kind).
+        file: String,
+        /// What is wrong, naming the vertices, segments or lines concerned.
+        message: String,
+    },
+    /// A triangle of an imported mesh has zero area.
+    #[error("{file}: triangle {triangle} has zero area (its vertices are collinear)")]
+    DegenerateTriangle {
+        /// The mesh file.
+        file: String,
+        /// The triangle, numbered as in the file.
+        triangle: usize,
+    },
+    /// An edge of an imported mesh is shared by more than two triangles, or two triangles
+    /// overlap along it.
+    #[error(
+        "{file}: edge ({a}, {b}) is shared by {count} triangles or by two on the same side (the mesh is not a manifold)"
+    )]
+    NonManifoldEdge {
+        /// The mesh file.
+        file: String,
+        /// One end, numbered as in the file.
+        a: usize,
+        /// The other end, numbered as in the file.
+        b: usize,
+        /// How many triangles use it.
+        count: usize,
+    },
+    /// A vertex of an imported mesh that no triangle uses.
+    #[error("{file}: vertex {vertex} is used by no triangle")]
+    UnusedVertex {
+        /// The mesh file.
+        file: String,
+        /// The vertex, numbered as in the file.
+        vertex: usize,
+    },
+    /// An interior constraint given to [`Domain::with_constraints`] is unusable.
+    #[error("constraint {what} {index}: {reason}")]
+    Constraint {
+        /// `segment` or `point`.
+        what: &'static str,
+        /// Its position in the list given.
+        index: usize,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// A Triangle `.node/.ele/.poly` file could not be read or written.
     #[error("{file}: line {line}: {message}")]
     Io {

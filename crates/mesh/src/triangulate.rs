@@ -121,8 +121,16 @@ fn sort3(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
 /// constraint edges, less those on the seam of a mesh made in halves: the seam's own edges
 /// are interior edges of the glued mesh), except the third edges of ears.
 fn boundary_bridges(cdt: &Cdt, excluded: &[bool], seam: Option<&Seam>) -> Vec<Point2<f64>> {
+    let free = |h: spade::handles::DirectedEdgeHandle<'_, _, _, _, _>| {
+        h.face()
+            .as_inner()
+            .is_some_and(|f| !excluded.get(f.fix().index()).copied().unwrap_or(false))
+    };
+    // A constraint edge with free space on both sides is an interior constraint, no boundary.
     let boundary = |e: spade::handles::UndirectedEdgeHandle<'_, _, _, _, _>| {
+        let d = e.as_directed();
         e.is_constraint_edge()
+            && !(free(d) && free(d.rev()))
             && !seam.is_some_and(|s| {
                 let [p, q] = e.positions();
                 s.holds_edge(p, q)
@@ -283,6 +291,10 @@ struct Refiner<'a> {
     cap: usize,
     /// The seam of a mesh made in halves: its constraint edges are not boundary.
     seam: Option<&'a Seam>,
+    /// With interior constraints: the boundary rings' segments and the largest x, by which
+    /// faces are told inside or outside (spade's own outer-face search counts every
+    /// constraint edge as a boundary, and an interior one is not).
+    inside: Option<(&'a SegmentIndex, f64)>,
 }
 
 impl<'a> Refiner<'a> {
@@ -298,6 +310,7 @@ impl<'a> Refiner<'a> {
             size_field: budget.size_field.as_ref(),
             cap: budget.cap,
             seam: None,
+            inside: None,
         }
     }
 }
@@ -310,15 +323,27 @@ impl Refiner<'_> {
         cdt: &mut Cdt,
         vertex_cap: usize,
     ) -> Result<(Vec<bool>, bool), MeshError> {
-        let params = self
+        let mut params = self
             .params
             .clone()
             .with_max_additional_vertices(vertex_cap.saturating_sub(cdt.num_vertices()));
+        if self.inside.is_some() {
+            // Every face is refined (outside ones too); which are free is decided below.
+            params = params.exclude_outer_faces(false);
+        }
         let result = catch_unwind(AssertUnwindSafe(|| cdt.refine(params)))
             .map_err(|e| MeshError::Triangulation(panic_message(e)))?;
         let mut excluded = vec![false; cdt.num_all_faces()];
-        for f in &result.excluded_faces {
-            excluded[f.index()] = true;
+        if let Some((rings, x_max)) = self.inside {
+            for f in cdt.inner_faces() {
+                let [a, b, c] = f.positions();
+                let m = Point::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
+                excluded[f.fix().index()] = !rings.ray_parity(m, x_max);
+            }
+        } else {
+            for f in &result.excluded_faces {
+                excluded[f.index()] = true;
+            }
         }
         Ok((excluded, result.refinement_complete))
     }
@@ -693,7 +718,10 @@ impl Domain {
         let budget = Budget::of(self, opts)?;
         let segments = BoundarySegments::of(self);
         let spacing = crate::domain::edge_for_area(LATTICE_AREA_RATIO * budget.max_area);
-        let refiner = Refiner::new(opts, &budget);
+        let mut refiner = Refiner::new(opts, &budget);
+        if !self.unit_constraints().is_empty() {
+            refiner.inside = Some((segments.index, self.unit_bbox().1.x));
+        }
         let (parts, input_vertices, seam) =
             match self.mesh_in_halves(opts, &budget, spacing, &segments, &refiner)? {
                 Some((parts, n, seam)) => (parts.into(), n, Some(seam)),
@@ -750,12 +778,15 @@ impl Domain {
         refiner: &Refiner<'_>,
     ) -> Result<Option<Halves>, MeshError> {
         let (_, hi) = self.unit_bbox();
-        let cuts =
-            if budget.estimated >= opts.halves_from && opts.grading.is_none() && !opts.prefill {
-                choose_cuts(self, spacing)
-            } else {
-                Vec::new()
-            };
+        let cuts = if budget.estimated >= opts.halves_from
+            && opts.grading.is_none()
+            && !opts.prefill
+            && self.unit_constraints().is_empty()
+        {
+            choose_cuts(self, spacing)
+        } else {
+            Vec::new()
+        };
         let attempts = cuts
             .first()
             .into_iter()
@@ -826,8 +857,25 @@ impl Domain {
                 edges.push([prev, idx[(k + 1) % n]]);
             }
         }
+        let constraints = self.unit_constraints();
+        let mut vertex = |p: Point| {
+            *ids.entry((p.x.to_bits(), p.y.to_bits()))
+                .or_insert_with(|| {
+                    verts.push(Point2::new(p.x, p.y));
+                    verts.len() - 1
+                })
+        };
+        let mut interior: Vec<[usize; 2]> = Vec::with_capacity(constraints.segments.len());
+        for &(a, b) in &constraints.segments {
+            interior.push([vertex(a), vertex(b)]);
+        }
+        for &p in &constraints.points {
+            vertex(p);
+        }
+        edges.extend(interior);
         let input_vertices = verts.len();
-        if opts.prefill {
+        // The lattice keeps clear of the rings only: not with interior constraints.
+        if opts.prefill && constraints.is_empty() {
             verts.extend(
                 lattice_points(self, LATTICE_AREA_RATIO * budget.max_area, n_ring)
                     .into_iter()
@@ -871,9 +919,17 @@ impl Budget {
             .map(|g| SizeField::new(domain, max_area, g));
         let detail =
             BoundaryDetail::of(domain.unit_rings(), crate::domain::edge_for_area(max_area));
+        // With interior constraints refinement runs over the whole convex hull (see
+        // `Refiner::inside`): count what lies outside free space too, bounded by the box.
+        let (lo, hi) = domain.unit_bbox();
+        let outside = if domain.unit_constraints().is_empty() {
+            0.0
+        } else {
+            ((hi.x - lo.x) * (hi.y - lo.y) - domain.unit_free_area()).max(0.0)
+        };
         // Refinement at 30° gives about 1.6 triangles per max_area, plus what short
         // boundary edges force around them.
-        let est = 1.6 * domain.unit_free_area() / max_area
+        let est = 1.6 * (domain.unit_free_area() + outside) / max_area
             + detail.total
             + size_field.as_ref().map_or(0.0, SizeField::extra_triangles);
         let estimated = if est.is_finite() && est < 1e18 {

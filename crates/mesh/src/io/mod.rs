@@ -33,6 +33,12 @@ use std::path::Path;
 
 use crate::{BoundaryTag, Mesh, MeshError, Point};
 
+pub mod imported;
+pub mod msh;
+pub mod poly;
+
+pub use imported::ImportedMesh;
+
 const OBSTACLE_BASE: i64 = 100;
 const GOAL_BASE: i64 = 1_000_000;
 
@@ -365,4 +371,147 @@ pub fn read_files(base: &Path) -> Result<Mesh, MeshError> {
         None
     };
     from_triangle(&node, &ele, poly.as_deref())
+}
+
+/// Reads `FILE`'s `(a, b, marker)` segment lines after a `<count> <markers>` header (a
+/// `.poly`'s segment block or a `.edge` file), as 0-based vertex positions.
+fn marked_segments<'a>(
+    file: &str,
+    lines: &mut impl Iterator<Item = (usize, Vec<&'a str>)>,
+    base: usize,
+    nv: usize,
+) -> Result<Vec<(u32, u32, i64)>, MeshError> {
+    let Some((ln, head)) = lines.next() else {
+        return Ok(Vec::new());
+    };
+    let ns: usize = num(file, ln, &head, 0)?;
+    let has_marker = head.len() > 1 && num::<usize>(file, ln, &head, 1)? > 0;
+    let mut out = Vec::with_capacity(ns.min(RESERVE_CAP));
+    let mut last = ln;
+    for k in 0..ns {
+        let (ln, f) = lines
+            .next()
+            .ok_or_else(|| err(file, last, format!("expected {ns} segments, found {k}")))?;
+        last = ln;
+        let a: usize = num(file, ln, &f, 1)?;
+        let b: usize = num(file, ln, &f, 2)?;
+        if a < base || b < base || a - base >= nv || b - base >= nv {
+            return Err(err(file, ln, "segment refers to a missing vertex"));
+        }
+        let m: i64 = if has_marker { num(file, ln, &f, 3)? } else { 0 };
+        out.push(((a - base) as u32, (b - base) as u32, m));
+    }
+    Ok(out)
+}
+
+/// Reads a mesh made by Triangle (or written in its formats): `BASE.node` and `BASE.ele`,
+/// with boundary markers from `BASE.poly`'s segments if it exists, else from `BASE.edge`
+/// if it exists, else from the `.node` vertex markers (an edge whose two ends share a
+/// non-zero marker has it). Marker 0 means none. `.ele` files with six nodes per triangle
+/// (`-o2`) are read by their corners.
+pub fn read_triangle_mesh(base: &Path) -> Result<ImportedMesh, MeshError> {
+    // `A.1` names `A.1.node`: the extension is appended, not replaced.
+    let with = |ext: &str| {
+        let mut p = base.as_os_str().to_owned();
+        p.push(".");
+        p.push(ext);
+        std::path::PathBuf::from(p)
+    };
+    let node_path = with("node");
+    let ele_path = with("ele");
+    let node_name = node_path.display().to_string();
+    let ele_name = ele_path.display().to_string();
+    let node = read(&node_path)?;
+    let ele = read(&ele_path)?;
+    let (vertices, marks, vbase) = parse_nodes(&node_name, &mut data_lines(&node))?;
+    let nv = vertices.len();
+    let mut lines = data_lines(&ele);
+    let (ln, head) = lines
+        .next()
+        .ok_or_else(|| err(&ele_name, 0, "empty file"))?;
+    let nt: usize = num(&ele_name, ln, &head, 0)?;
+    let corners: usize = if head.len() > 1 {
+        num(&ele_name, ln, &head, 1)?
+    } else {
+        3
+    };
+    if corners < 3 {
+        return Err(err(&ele_name, ln, format!("{corners} nodes per triangle")));
+    }
+    let mut triangles = Vec::with_capacity(nt.min(RESERVE_CAP));
+    let mut tbase = 0;
+    let mut last = ln;
+    for k in 0..nt {
+        let (ln, f) = lines.next().ok_or_else(|| {
+            err(
+                &ele_name,
+                last,
+                format!("expected {nt} triangles, found {k}"),
+            )
+        })?;
+        last = ln;
+        if k == 0 {
+            tbase = num(&ele_name, ln, &f, 0)?;
+        }
+        let mut t = [0u32; 3];
+        for (j, slot) in t.iter_mut().enumerate() {
+            let v: usize = num(&ele_name, ln, &f, j + 1)?;
+            if v < vbase || v - vbase >= nv {
+                return Err(err(
+                    &ele_name,
+                    ln,
+                    format!("triangle refers to vertex {v}, which does not exist"),
+                ));
+            }
+            *slot = (v - vbase) as u32;
+        }
+        triangles.push(t);
+    }
+    let poly_path = with("poly");
+    let edge_path = with("edge");
+    let mut segments: HashMap<(u32, u32), i64> = HashMap::new();
+    let from_segments = if poly_path.exists() {
+        let name = poly_path.display().to_string();
+        let text = read(&poly_path)?;
+        let mut lines = data_lines(&text);
+        let (pverts, _, pbase) = parse_nodes(&name, &mut lines)?;
+        if !pverts.is_empty() && pverts.len() != nv {
+            return Err(err(
+                &name,
+                1,
+                format!("{} vertices, the .node file has {nv}", pverts.len()),
+            ));
+        }
+        let pbase = if pverts.is_empty() { vbase } else { pbase };
+        Some(marked_segments(&name, &mut lines, pbase, nv)?)
+    } else if edge_path.exists() {
+        let name = edge_path.display().to_string();
+        let text = read(&edge_path)?;
+        Some(marked_segments(&name, &mut data_lines(&text), vbase, nv)?)
+    } else {
+        None
+    };
+    for (a, b, m) in from_segments.iter().flatten() {
+        if *m != 0 {
+            segments.insert(((*a).min(*b), (*a).max(*b)), *m);
+        }
+    }
+    let use_vertices = from_segments.is_none();
+    let marker = |a: u32, b: u32| -> Option<i64> {
+        if use_vertices {
+            let (ma, mb) = (marks[a as usize], marks[b as usize]);
+            (ma != 0 && ma == mb).then_some(ma)
+        } else {
+            segments.get(&(a.min(b), a.max(b))).copied()
+        }
+    };
+    ImportedMesh::new(
+        &ele_name,
+        vertices,
+        triangles,
+        tbase,
+        &|v| v as usize + vbase,
+        &marker,
+        Vec::new(),
+    )
 }
