@@ -370,6 +370,7 @@ fn write_file(path: &Path, text: &str) -> Result<(), String> {
 fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(quiet),
+        ..PlannerOptions::default()
     };
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
 }
@@ -438,6 +439,7 @@ fn plan_goals(
 ) -> Result<(), String> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
+        ..PlannerOptions::default()
     };
     let workspace =
         Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
