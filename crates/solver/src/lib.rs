@@ -14,7 +14,12 @@
 //!   solutions past the double range (issue #19: ψ ≈ 1e-1364 in a corridor of 1000 widths).
 //! * [`gallery`]: FEM-like test matrices.
 //!
-//! Everything runs single-threaded.
+//! Threads: [`SymbolicCholesky::analyze_with`] takes a [`Parallelism`]. By default systems of
+//! [`PARALLEL_MIN_UNKNOWNS`] unknowns and more use rayon's pool — the nested-dissection
+//! ordering dissects the halves of its large pieces on two threads (the same numbering), and
+//! faer's numeric Cholesky and solves run their dense supernode kernels in parallel (the same
+//! factor to rounding); smaller systems, [`Parallelism::Sequential`] and every other solver
+//! here run on the calling thread.
 //!
 //! # Which ordering
 //!
