@@ -2,15 +2,25 @@
 //! grid (map → polygons → mesh → assemble → solve → trace), where its time goes, and a later
 //! start on the same planner (a trace only). Times are medians of 5 in-process runs.
 //!
+//! Which solve each map gets: the planner's `SolveMethod::Auto` takes the accurate LDLᵀ up to
+//! `AUTO_ACCURATE_MAX_UNKNOWNS` unknowns and Cholesky above. Beside it the example times both
+//! on the map's system (numeric factorisation + solve, the analysis done once, best of 5;
+//! Cholesky with rayon's pool as the planner runs it).
+//!
 //! ```text
 //! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--json]
 //! ```
 
 use std::time::Instant;
 
+use std::sync::Arc;
+
 use harmonic_fixtures::{NAVFN_REQUESTS, NAVFN_ROBOT_RADIUS, nav2_maps_dir};
-use harmonic_planner::Planner;
+use harmonic_planner::fem::{
+    AUTO_ACCURATE_MAX_UNKNOWNS, Assembler, AssemblyOptions, SolveMethod, Solver,
+};
 use harmonic_planner::map::{MapOptions, OccupancyMap};
+use harmonic_planner::{Planner, Scene};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -29,6 +39,46 @@ struct Row {
     status: String,
     length: f64,
     navfn_length: f64,
+    unknowns: usize,
+    method: String,
+    accurate_ms: f64,
+    cholesky_ms: f64,
+}
+
+/// The system's unknowns, the solve `SolveMethod::Auto` picks (and why), and the best of 5
+/// numeric factorisations + solves of `scene`'s system on `planner`'s mesh by the accurate
+/// LDLᵀ (NaN when the system is not an M-matrix) and by Cholesky (each solver built, i.e.
+/// analysed, once beforehand).
+fn solve_times(
+    scene: &Scene,
+    planner: &Planner,
+) -> Result<(usize, String, f64, f64), Box<dyn std::error::Error>> {
+    let bcs = scene.boundary_conditions();
+    let mesh = Arc::new(planner.mesh().clone());
+    let assembler = Assembler::new(mesh, &bcs, AssemblyOptions::default())?;
+    let system = assembler.assemble(&bcs)?;
+    let n = system.matrix().n();
+    let method = match system.not_m_matrix() {
+        Some(reason) => format!("Cholesky (not an M-matrix: {reason})"),
+        None if n <= AUTO_ACCURATE_MAX_UNKNOWNS => "accurate".to_string(),
+        None => "Cholesky".to_string(),
+    };
+    let mut best = Vec::new();
+    for method in [SolveMethod::Accurate, SolveMethod::Cholesky] {
+        if method == SolveMethod::Accurate && system.not_m_matrix().is_some() {
+            best.push(f64::NAN);
+            continue;
+        }
+        let solver = Solver::with_method(&system, assembler.nested_dissection(), method)?;
+        let mut times = Vec::new();
+        for _ in 0..5 {
+            let t = Instant::now();
+            std::hint::black_box(solver.solve(&system)?);
+            times.push(ms(t));
+        }
+        best.push(times.into_iter().fold(f64::INFINITY, f64::min));
+    }
+    Ok((n, method, best[0], best[1]))
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -74,6 +124,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect(),
         );
         let tm = planner.timings();
+        let scene = map.to_scene(r.goal, NAVFN_ROBOT_RADIUS, &MapOptions::default())?;
+        let (unknowns, method, accurate_ms, cholesky_ms) = solve_times(&scene, &planner)?;
         rows.push(Row {
             map: r.map,
             start: r.start,
@@ -89,6 +141,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             status: path.status.as_str().to_string(),
             length: path.length,
             navfn_length: r.navfn_length,
+            unknowns,
+            method,
+            accurate_ms,
+            cholesky_ms,
         });
     }
     if json {
@@ -99,6 +155,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "| map | start | triangles | first plan ms (polygons + mesh + assemble + solve + trace) | NavFn ms | ratio | later start ms | NavFn / later | status | length m (NavFn) |"
     );
     println!("|---|---|---:|---|---:|---:|---:|---:|---|---|");
+    let solve_rows: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            format!(
+                "| {} | {} | {} | {:.2} | {:.2} |",
+                r.map, r.unknowns, r.method, r.accurate_ms, r.cholesky_ms
+            )
+        })
+        .collect();
     for r in &rows {
         println!(
             "| {} | {}, {} | {} | {:.1} ({:.1} + {:.1} + {:.1} + {:.1} + {:.1}) | {} | {:.1}× | {:.2} | {:.0}× | {} | {:.2} ({:.2}) |",
@@ -120,6 +185,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.length,
             r.navfn_length
         );
+    }
+    println!();
+    println!("| map | unknowns | planner's solve | accurate ms | Cholesky ms |");
+    println!("|---|---:|---|---:|---:|");
+    let mut seen = Vec::new();
+    for (r, line) in rows.iter().zip(&solve_rows) {
+        if !seen.contains(&r.map) {
+            seen.push(r.map);
+            println!("{line}");
+        }
     }
     Ok(())
 }

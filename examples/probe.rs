@@ -4,28 +4,32 @@
 //! ```text
 //! cargo run --release --example probe -- meshes/reference.json --max-area 0.0044 --at 1,1 --at 8,3 --json
 //! ```
+//!
+//! `--sequential` factors and solves on one thread ([`Parallelism::Sequential`]); by default
+//! large systems use rayon's pool. The mesher's two halves run on two threads either way.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_planner::fem::{Assembler, AssemblyOptions, Potential};
 use harmonic_planner::mesh::Domain;
-use harmonic_planner::solver::SymbolicCholesky;
+use harmonic_planner::solver::{Parallelism, SymbolicCholesky};
 use harmonic_planner::{Point, Scene};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let path = args
-        .first()
-        .filter(|a| !a.starts_with("--"))
-        .ok_or("usage: probe SCENE.json [--max-area A] --at X,Y [--at X,Y ...] [--json]")?;
+    let path = args.first().filter(|a| !a.starts_with("--")).ok_or(
+        "usage: probe SCENE.json [--max-area A] --at X,Y [--at X,Y ...] [--json] [--sequential]",
+    )?;
     let mut scene = Scene::from_file(path)?;
     let mut points = Vec::new();
     let mut json = false;
+    let mut parallelism = Parallelism::default();
     let mut i = 1;
     while i < args.len() {
         match args[i].as_str() {
             "--json" => json = true,
+            "--sequential" => parallelism = Parallelism::Sequential,
             "--max-area" => {
                 i += 1;
                 scene.mesh.max_area = Some(args.get(i).ok_or("--max-area needs a value")?.parse()?);
@@ -56,7 +60,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let assemble_ms = t.elapsed().as_secs_f64() * 1e3;
 
     let t = Instant::now();
-    let symbolic = SymbolicCholesky::analyze(system.matrix(), assembler.nested_dissection())?;
+    let symbolic = SymbolicCholesky::analyze_with(
+        system.matrix(),
+        assembler.nested_dissection(),
+        parallelism,
+    )?;
+    let analyze_ms = t.elapsed().as_secs_f64() * 1e3;
     let factor = symbolic.factor(system.matrix())?;
     let factor_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
@@ -76,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "vertices": mesh.vertices().len(),
                 "values": values,
                 "psi": points.iter().map(|&p| potential.psi_at(p, None)).collect::<Result<Vec<f64>, _>>()?,
-                "timings_ms": {"mesh": mesh_ms, "assemble": assemble_ms, "factor": factor_ms, "solve": solve_ms},
+                "timings_ms": {"mesh": mesh_ms, "assemble": assemble_ms, "analyze": analyze_ms, "factor": factor_ms, "solve": solve_ms, "total": mesh_ms + assemble_ms + factor_ms + solve_ms},
             })
         );
     } else {
@@ -86,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             mesh.vertices().len()
         );
         println!(
-            "mesh {mesh_ms:.1} ms, assemble {assemble_ms:.1} ms, factor {factor_ms:.1} ms, solve {solve_ms:.1} ms"
+            "mesh {mesh_ms:.1} ms, assemble {assemble_ms:.1} ms, factor {factor_ms:.1} ms (of which analysis {analyze_ms:.1} ms), solve {solve_ms:.1} ms"
         );
         for (p, v) in points.iter().zip(&values) {
             println!("φ({}, {}) = {v:.12}", p.x, p.y);

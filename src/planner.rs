@@ -5,8 +5,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::{
-    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Potential, Solver,
-    interior_local_extrema_except,
+    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Parallelism, Potential,
+    SolveMethod, Solver, interior_local_extrema_except,
 };
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
@@ -60,6 +60,10 @@ pub type StageObserver = Arc<dyn Fn(Stage) + Send + Sync>;
 pub struct PlannerOptions {
     /// Called as each stage starts, and with [`Stage::Done`] at the end.
     pub on_stage: Option<StageObserver>,
+    /// Threads for the Cholesky solve of the potential (by default rayon's pool from
+    /// [`harmonic_solver::PARALLEL_MIN_UNKNOWNS`] unknowns). The same paths to rounding either
+    /// way. The mesher's two halves (large meshes) run on two threads regardless.
+    pub parallelism: Parallelism,
 }
 
 impl PlannerOptions {
@@ -158,6 +162,7 @@ impl std::fmt::Debug for PlannerOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PlannerOptions")
             .field("on_stage", &self.on_stage.as_ref().map(|_| "observer"))
+            .field("parallelism", &self.parallelism)
             .finish()
     }
 }
@@ -520,11 +525,17 @@ fn blended_potential(
     k: f64,
     dirichlet: &BoundaryConditions,
     neumann: &BoundaryConditions,
+    parallelism: Parallelism,
 ) -> Result<Potential, PlanError> {
     let solve = |bcs: &BoundaryConditions| -> Result<Potential, PlanError> {
         let assembler = Assembler::new(Arc::clone(mesh), bcs, AssemblyOptions::default())?;
         let system = assembler.assemble(bcs)?;
-        let solver = Solver::new(&system, assembler.nested_dissection())?;
+        let solver = Solver::with_parallelism(
+            &system,
+            assembler.nested_dissection(),
+            SolveMethod::Auto,
+            parallelism,
+        )?;
         Ok(solver.potential(Arc::clone(mesh), &system)?)
     };
     let d = solve(dirichlet)?;
@@ -610,7 +621,7 @@ impl Planner {
         let t = Instant::now();
         let (potential, assemble_ms, t) = if let Some((k, d, n)) = blend {
             stage(Stage::Solving);
-            let p = blended_potential(&mesh, k, &d, &n)?;
+            let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
             (p, 0.0, t)
         } else {
             let assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
@@ -620,7 +631,12 @@ impl Planner {
             stage(Stage::Solving);
             let t = Instant::now();
             // Geometric nested dissection: about half AMD's factorisation time at 1M triangles.
-            let solver = Solver::new(&system, assembler.nested_dissection())?;
+            let solver = Solver::with_parallelism(
+                &system,
+                assembler.nested_dissection(),
+                SolveMethod::Auto,
+                options.parallelism,
+            )?;
             (
                 solver.potential(Arc::clone(&mesh), &system)?,
                 assemble_ms,

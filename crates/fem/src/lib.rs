@@ -127,7 +127,7 @@ pub use solve::{
 pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
-pub use harmonic_solver::{Ordering, Wide};
+pub use harmonic_solver::{Ordering, Parallelism, Wide};
 
 /// Everything that can go wrong while assembling, solving or evaluating.
 #[derive(Debug, thiserror::Error)]

@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use harmonic_mesh::Mesh;
-use harmonic_solver::{AccurateLdlt, Ordering, SymbolicCholesky, Wide, WideLdlt};
+use harmonic_solver::{AccurateLdlt, Ordering, Parallelism, SymbolicCholesky, Wide, WideLdlt};
 
 use crate::FemError;
 use crate::assemble::{Assembler, AssemblyOptions, LinearSystem, NotMMatrix};
@@ -97,6 +97,18 @@ impl Solver {
         ordering: Ordering,
         method: SolveMethod,
     ) -> Result<Self, FemError> {
+        Self::with_parallelism(system, ordering, method, Parallelism::default())
+    }
+
+    /// [`Solver::with_method`], with the threads the Cholesky path (ordering, factorisation,
+    /// solves) may use. The accurate LDLᵀ is sequential either way. Both give the same ψ to
+    /// rounding.
+    pub fn with_parallelism(
+        system: &LinearSystem,
+        ordering: Ordering,
+        method: SolveMethod,
+        parallelism: Parallelism,
+    ) -> Result<Self, FemError> {
         let a = system.matrix();
         let needs_cholesky = match method {
             SolveMethod::Cholesky => true,
@@ -111,7 +123,11 @@ impl Solver {
             }
         };
         let symbolic = if a.n() > 0 && needs_cholesky {
-            Some(SymbolicCholesky::analyze(a, ordering.clone())?)
+            Some(SymbolicCholesky::analyze_with(
+                a,
+                ordering.clone(),
+                parallelism,
+            )?)
         } else {
             None
         };

@@ -392,6 +392,7 @@ fn write_file(path: &Path, text: &str) -> Result<(), String> {
 fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(quiet),
+        ..PlannerOptions::default()
     };
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
 }
@@ -553,6 +554,7 @@ fn plan_goals(
 ) -> Result<(), String> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
+        ..PlannerOptions::default()
     };
     let workspace =
         Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;

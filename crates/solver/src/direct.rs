@@ -9,11 +9,12 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side, Spec};
+use faer::{Conj, MatMut, Side, Spec};
 
 use crate::csc::{Pattern, SymmetricCsc};
 use crate::error::SolverError;
 use crate::ordering::{Ordering, nested_dissection};
+use crate::parallel::Parallelism;
 
 #[derive(Debug)]
 struct SymbolicInner {
@@ -22,6 +23,8 @@ struct SymbolicInner {
     perm: Vec<usize>,
     /// The analysed pattern (shared with the matrix, not copied).
     pattern: Arc<Pattern>,
+    /// Threads for the ordering, the numeric factorisations and the solves.
+    parallelism: Parallelism,
 }
 
 /// Symbolic Cholesky analysis of a sparsity pattern: the fill-reducing ordering and faer's
@@ -47,13 +50,24 @@ pub struct SymbolicCholesky {
 }
 
 impl SymbolicCholesky {
-    /// Computes the ordering and the symbolic factorisation of `a`'s pattern (values unused).
+    /// Computes the ordering and the symbolic factorisation of `a`'s pattern (values unused),
+    /// for factorisations with the default [`Parallelism`] (rayon's pool on large systems).
     pub fn analyze(a: &SymmetricCsc, ordering: Ordering) -> Result<Self, SolverError> {
+        Self::analyze_with(a, ordering, Parallelism::default())
+    }
+
+    /// [`analyze`](Self::analyze), with the threads the ordering, every
+    /// [`factor`](Self::factor) and every solve of its factors may use.
+    pub fn analyze_with(
+        a: &SymmetricCsc,
+        ordering: Ordering,
+        parallelism: Parallelism,
+    ) -> Result<Self, SolverError> {
         let n = a.n();
         let perm: Vec<usize> = match &ordering {
             Ordering::Amd => Vec::new(),
             Ordering::Natural => (0..n).collect(),
-            Ordering::NestedDissection { coords } => nested_dissection(a, coords)?,
+            Ordering::NestedDissection { coords } => nested_dissection(a, coords, parallelism)?,
         };
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, a.col_ptr(), None, a.row_idx());
         let faer = if perm.is_empty() {
@@ -86,6 +100,7 @@ impl SymbolicCholesky {
                 faer,
                 perm,
                 pattern: Arc::clone(a.pattern()),
+                parallelism,
             }),
         })
     }
@@ -93,6 +108,11 @@ impl SymbolicCholesky {
     /// Number of unknowns.
     pub fn n(&self) -> usize {
         self.inner.pattern.col_ptr.len() - 1
+    }
+
+    /// The threads its factorisations and solves may use.
+    pub fn parallelism(&self) -> Parallelism {
+        self.inner.parallelism
     }
 
     /// Number of stored values of the Cholesky factor (a measure of fill; supernodal storage
@@ -160,9 +180,10 @@ impl Cholesky {
             self.l_values = vec![0.0; inner.faer.len_val()];
         }
         self.valid = false;
+        let par = inner.parallelism.faer(n);
         let req = inner
             .faer
-            .factorize_numeric_llt_scratch::<f64>(Par::Seq, Spec::default());
+            .factorize_numeric_llt_scratch::<f64>(par, Spec::default());
         let mut mem = MemBuffer::try_new(req).map_err(|_| {
             SolverError::Backend("out of memory for factorisation workspace".into())
         })?;
@@ -171,7 +192,7 @@ impl Cholesky {
             mat,
             Side::Lower,
             LltRegularization::default(),
-            Par::Seq,
+            par,
             MemStack::new(&mut mem),
             Spec::default(),
         );
@@ -219,13 +240,14 @@ impl Cholesky {
                 index,
             });
         }
-        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(1, Par::Seq);
+        let par = inner.parallelism.faer(n);
+        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(1, par);
         let mut mem = MemBuffer::try_new(req)
             .map_err(|_| SolverError::Backend("out of memory for solve workspace".into()))?;
         LltRef::new(&inner.faer, &self.l_values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(x, n, 1),
-            Par::Seq,
+            par,
             MemStack::new(&mut mem),
         );
         Ok(())
@@ -256,13 +278,14 @@ impl Cholesky {
                 index,
             });
         }
-        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(k, Par::Seq);
+        let par = inner.parallelism.faer(n);
+        let req: StackReq = inner.faer.solve_in_place_scratch::<f64>(k, par);
         let mut mem = MemBuffer::try_new(req)
             .map_err(|_| SolverError::Backend("out of memory for solve workspace".into()))?;
         LltRef::new(&inner.faer, &self.l_values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_row_major_slice_mut(x, n, k),
-            Par::Seq,
+            par,
             MemStack::new(&mut mem),
         );
         Ok(())

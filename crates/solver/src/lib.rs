@@ -14,7 +14,12 @@
 //!   solutions past the double range (issue #19: ψ ≈ 1e-1364 in a corridor of 1000 widths).
 //! * [`gallery`]: FEM-like test matrices.
 //!
-//! Everything runs single-threaded.
+//! Threads: [`SymbolicCholesky::analyze_with`] takes a [`Parallelism`]. By default systems of
+//! [`PARALLEL_MIN_UNKNOWNS`] unknowns and more use rayon's pool — the nested-dissection
+//! ordering dissects the halves of its large pieces on two threads (the same numbering), and
+//! faer's numeric Cholesky and solves run their dense supernode kernels in parallel (the same
+//! factor to rounding); smaller systems, [`Parallelism::Sequential`] and every other solver
+//! here run on the calling thread.
 //!
 //! # Which ordering
 //!
@@ -57,6 +62,7 @@ pub mod gallery;
 mod kept_order;
 mod mmatrix;
 mod ordering;
+mod parallel;
 mod pcg;
 mod wide;
 mod wide_ldlt;
@@ -67,6 +73,7 @@ pub use error::{SolverError, StructureIssue};
 pub use kept_order::KeptOrder;
 pub use mmatrix::{AccurateLdlt, MMatrix};
 pub use ordering::Ordering;
+pub use parallel::{PARALLEL_MIN_UNKNOWNS, Parallelism};
 pub use pcg::{PcgOptions, PcgReport, Preconditioner, pcg};
 pub use wide::Wide;
 pub use wide_ldlt::WideLdlt;

@@ -1,7 +1,11 @@
 //! Fill-reducing orderings: faer's AMD, or a geometric nested dissection from coordinates.
 
+use std::sync::atomic::AtomicU32;
+use std::sync::atomic::Ordering::Relaxed;
+
 use crate::csc::SymmetricCsc;
 use crate::error::SolverError;
+use crate::parallel::Parallelism;
 
 /// Fill-reducing ordering used by the direct Cholesky factorisation.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -26,9 +30,11 @@ pub enum Ordering {
 const ND_LEAF: usize = 16;
 
 /// Nested-dissection permutation `perm[new] = old` of the unknowns of `a` from their coordinates.
+/// The permutation is the same whatever `parallelism`.
 pub(crate) fn nested_dissection(
     a: &SymmetricCsc,
     coords: &[[f64; 2]],
+    parallelism: Parallelism,
 ) -> Result<Vec<usize>, SolverError> {
     let n = a.n();
     if coords.len() != n {
@@ -47,34 +53,43 @@ pub(crate) fn nested_dissection(
             index,
         });
     }
-    let mut nd = Dissector {
+    let nd = Dissector {
         a,
         coords,
-        stamp: vec![0; n],
-        next_stamp: 0,
-        perm: vec![0; n],
+        stamp: (0..n).map(|_| AtomicU32::new(0)).collect(),
+        next_stamp: AtomicU32::new(0),
+        parallel_piece: parallelism.nd_piece(n),
     };
     let mut all: Vec<usize> = (0..n).collect();
-    nd.dissect(&mut all, 0);
-    Ok(nd.perm)
+    let mut perm = vec![0; n];
+    nd.dissect(&mut all, &mut perm);
+    Ok(perm)
 }
 
 struct Dissector<'a> {
     a: &'a SymmetricCsc,
     coords: &'a [[f64; 2]],
-    /// `stamp[v] == current stamp` marks the second half of the piece being cut.
-    stamp: Vec<u32>,
-    next_stamp: u32,
-    perm: Vec<usize>,
+    /// `stamp[v] == a piece's stamp` marks the half of that piece `v` is in. Pieces dissected
+    /// at the same time hold disjoint vertices and draw distinct stamps, so a stamp read
+    /// across a piece's border (relaxed: any value is fine there) never matches this piece's.
+    stamp: Vec<AtomicU32>,
+    next_stamp: AtomicU32,
+    /// Pieces from this many unknowns split their halves over rayon's pool.
+    parallel_piece: Option<usize>,
 }
 
 impl Dissector<'_> {
-    /// Numbers the unknowns of `piece` into `perm[start..start + piece.len()]`.
-    fn dissect(&mut self, piece: &mut [usize], start: usize) {
+    fn stamp_of(&self, v: usize) -> u32 {
+        self.stamp[v].load(Relaxed)
+    }
+
+    /// Numbers the unknowns of `piece` into `perm` (of the same length): the positions
+    /// `start..start + piece.len()` of the whole permutation.
+    fn dissect(&self, piece: &mut [usize], perm: &mut [usize]) {
         let len = piece.len();
         if len <= ND_LEAF {
             piece.sort_unstable();
-            self.perm[start..start + len].copy_from_slice(piece);
+            perm.copy_from_slice(piece);
             return;
         }
         // Median split along the longer side of the bounding box.
@@ -93,24 +108,28 @@ impl Dissector<'_> {
         });
         // Mark the halves, then take as separator the smaller of the two one-sided boundaries
         // (vertices of one half that touch the other), which is a vertex separator either way.
-        self.next_stamp += 2;
-        let (stamp_a, stamp_b) = (self.next_stamp - 1, self.next_stamp);
+        let stamp_a = self.next_stamp.fetch_add(2, Relaxed) + 1;
+        let stamp_b = stamp_a + 1;
         for &v in &piece[..half] {
-            self.stamp[v] = stamp_a;
+            self.stamp[v].store(stamp_a, Relaxed);
         }
         for &v in &piece[half..] {
-            self.stamp[v] = stamp_b;
+            self.stamp[v].store(stamp_b, Relaxed);
         }
-        let touches = |stamp: &[u32], v: usize, other: u32| {
-            self.a.column(v).0.iter().any(|&u| stamp[u] == other)
+        let touches = |v: usize, other: u32| {
+            self.a
+                .column(v)
+                .0
+                .iter()
+                .any(|&u| self.stamp_of(u) == other)
         };
         let count_a = piece[..half]
             .iter()
-            .filter(|&&v| touches(&self.stamp, v, stamp_b))
+            .filter(|&&v| touches(v, stamp_b))
             .count();
         let count_b = piece[half..]
             .iter()
-            .filter(|&&v| touches(&self.stamp, v, stamp_a))
+            .filter(|&&v| touches(v, stamp_a))
             .count();
         // Move the separator to the end of its half (stable for the rest), then, if it is in the
         // first half, rotate it past the second half to the end of the piece.
@@ -123,7 +142,7 @@ impl Dissector<'_> {
         let mut keep = lo_start;
         for k in lo_start..lo_end {
             let v = piece[k];
-            if !touches(&self.stamp, v, other) {
+            if !touches(v, other) {
                 piece.swap(keep, k);
                 keep += 1;
             }
@@ -138,14 +157,22 @@ impl Dissector<'_> {
         if a_part.is_empty() || b_part.is_empty() {
             // Degenerate cut (e.g. a dense block): stop dissecting this piece.
             piece.sort_unstable();
-            self.perm[start..start + len].copy_from_slice(piece);
+            perm.copy_from_slice(piece);
             return;
         }
         separator.sort_unstable();
-        self.perm[start + len - sep..start + len].copy_from_slice(separator);
-        let b_start = start + a_part.len();
-        self.dissect(a_part, start);
-        self.dissect(b_part, b_start);
+        let (perm_a, perm_rest) = perm.split_at_mut(a_part.len());
+        let (perm_b, perm_sep) = perm_rest.split_at_mut(b_part.len());
+        perm_sep.copy_from_slice(separator);
+        if self.parallel_piece.is_some_and(|min| len >= min) {
+            rayon::join(
+                || self.dissect(a_part, perm_a),
+                || self.dissect(b_part, perm_b),
+            );
+        } else {
+            self.dissect(a_part, perm_a);
+            self.dissect(b_part, perm_b);
+        }
     }
 }
 
@@ -181,7 +208,9 @@ pub(crate) fn permutation(
     let n = a.n();
     match ordering {
         Ordering::Natural => Ok((0..n).collect()),
-        Ordering::NestedDissection { coords } => nested_dissection(a, coords),
+        Ordering::NestedDissection { coords } => {
+            nested_dissection(a, coords, Parallelism::default())
+        }
         Ordering::Amd => {
             use faer::dyn_stack::{MemBuffer, MemStack};
             use faer::sparse::SymbolicSparseColMatRef;
