@@ -506,6 +506,7 @@ fn plan_poly(
     }
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
+        ..Default::default()
     };
     let planner = poly
         .planner(&opts)
@@ -536,6 +537,7 @@ fn plan_mesh_in(
     let mesh = read_mesh(path).map_err(|e| e.to_string())?;
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
+        ..Default::default()
     };
     let planner = mesh_planner(&mesh, &goal, &opts).map_err(|e| match e {
         // Errors about the file name it already.
