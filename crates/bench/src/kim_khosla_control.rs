@@ -301,6 +301,42 @@ pub fn bar_runs(side: Side) -> Result<(BarRuns, PanelField, Planner), Error> {
     Ok((runs, panel, planner))
 }
 
+/// The picture every run starts from: streamlines of `flow`, the obstacles, the primary
+/// control point's trace (dashed).
+fn run_picture(
+    lo: Point,
+    hi: Point,
+    width: f64,
+    flow: &dyn Flow,
+    obstacles: &Obstacles,
+    goal: Point,
+    trace: &[Point],
+) -> Picture {
+    let mut pic = Picture::new(lo, hi, width);
+    pic.streamlines(flow, 16, goal, GOAL_RADIUS);
+    pic.obstacles(obstacles);
+    pic.polyline(
+        trace,
+        r##"fill="none" stroke="#202124" stroke-width="1" stroke-dasharray="3 2""##,
+    );
+    pic
+}
+
+/// The caption of a run's picture.
+fn run_caption(
+    robot: &str,
+    field: &str,
+    reached: bool,
+    steps: usize,
+    min: f64,
+    delta: f64,
+) -> String {
+    let outcome = if reached { "reached" } else { "not reached" };
+    format!(
+        "{robot}, {field} field: {outcome} in {steps} periods, min distance {min:.3} m (δ = {delta})"
+    )
+}
+
 /// A bar run drawn: streamlines of `flow`, the obstacle, the bar every few periods, the
 /// leading point's trace, the stagnation points (red) and the goal (green).
 pub fn bar_svg(run: &BarRunReport, flow: &dyn Flow, obstacle: &[[f64; 2]]) -> String {
@@ -310,13 +346,15 @@ pub fn bar_svg(run: &BarRunReport, flow: &dyn Flow, obstacle: &[[f64; 2]]) -> St
         obstacle.iter().map(|p| Point::new(p[0], p[1])).collect(),
     ])
     .unwrap_or_default();
-    let mut pic = Picture::new(Point::new(0.0, 0.0), Point::new(10.0, 10.0), 560.0);
-    pic.streamlines(flow, 14, goal, GOAL_RADIUS);
-    pic.obstacles(&obstacles);
     let trace: Vec<Point> = run.poses.iter().map(|p| Point::new(p[0], p[1])).collect();
-    pic.polyline(
+    let mut pic = run_picture(
+        Point::new(0.0, 0.0),
+        Point::new(10.0, 10.0),
+        560.0,
+        flow,
+        &obstacles,
+        goal,
         &trace,
-        r##"fill="none" stroke="#202124" stroke-width="1" stroke-dasharray="3 2""##,
     );
     let bodies: Vec<Vec<Point>> = run
         .poses
@@ -331,17 +369,13 @@ pub fn bar_svg(run: &BarRunReport, flow: &dyn Flow, obstacle: &[[f64; 2]]) -> St
         pic.cross(Point::new(s[0], s[1]), "#d93025");
     }
     pic.dot(goal, 5.0, "#188038");
-    pic.caption(&format!(
-        "bar robot, {} field: {} in {} periods, min distance {:.3} m (δ = {})",
+    pic.caption(&run_caption(
+        "bar robot",
         run.field,
-        if run.reached {
-            "reached"
-        } else {
-            "not reached"
-        },
+        run.reached,
         run.steps,
         run.min_distance,
-        run.delta
+        run.delta,
     ));
     pic.finish()
 }
@@ -483,33 +517,31 @@ pub fn arm_svg(run: &ArmRunReport, flow: &dyn Flow, runs: &ArmRuns) -> String {
     let Ok(arm) = Arm::new(base, runs.links.clone()) else {
         return String::new();
     };
-    let mut pic = Picture::new(Point::new(-8.0, -1.0), Point::new(8.0, 13.0), 600.0);
-    pic.streamlines(flow, 16, goal, GOAL_RADIUS);
-    pic.obstacles(&obstacles);
     let trace: Vec<Point> = run
         .end_effector
         .iter()
         .map(|p| Point::new(p[0], p[1]))
         .collect();
-    pic.polyline(
+    let mut pic = run_picture(
+        Point::new(-8.0, -1.0),
+        Point::new(8.0, 13.0),
+        600.0,
+        flow,
+        &obstacles,
+        goal,
         &trace,
-        r##"fill="none" stroke="#202124" stroke-width="1" stroke-dasharray="3 2""##,
     );
     let bodies: Vec<Vec<Point>> = run.joints.iter().map(|q| arm.points(q)).collect();
     pic.robot_frames(&bodies, 12);
     pic.dot(base, 5.0, "#202124");
     pic.dot(goal, 5.0, "#188038");
-    pic.caption(&format!(
-        "3-link arm, {} field: {} in {} periods, min distance {:.3} m (δ = {})",
+    pic.caption(&run_caption(
+        "3-link arm",
         run.field,
-        if run.reached {
-            "reached"
-        } else {
-            "not reached"
-        },
+        run.reached,
         run.steps,
         run.min_distance,
-        run.delta
+        run.delta,
     ));
     pic.finish()
 }
