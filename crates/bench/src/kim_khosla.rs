@@ -146,6 +146,26 @@ pub struct PanelStrengthRow {
     pub ours: f64,
 }
 
+/// Our panel strengths (paper's sign) beside a table's, panel by panel.
+pub fn strength_rows(field: &PanelField, paper: &[f64]) -> Vec<PanelStrengthRow> {
+    field
+        .panels()
+        .iter()
+        .zip(field.paper_strengths())
+        .zip(paper)
+        .enumerate()
+        .map(|(k, ((p, ours), &paper))| {
+            let c = p.midpoint();
+            PanelStrengthRow {
+                panel: k + 1,
+                centre: [c.x, c.y],
+                paper,
+                ours,
+            }
+        })
+        .collect()
+}
+
 /// Setting (50) reproduced: the fitted reconstruction, the strengths beside Table 1, λ_o and
 /// eq. 39, the stagnation points (eq. 41) and the remedy, and the point robot's path.
 #[derive(Clone, Debug, Serialize)]
@@ -207,22 +227,7 @@ pub fn kim_khosla_table1() -> Result<KimKhoslaTable1, harmonic_baselines::Baseli
     )?;
     // The table is the first round's field (V_i = 0.5, as the paper's).
     let field = PanelField::published(std::slice::from_ref(&obstacle), start, goal, &setting)?;
-    let rows = field
-        .panels()
-        .iter()
-        .zip(field.paper_strengths())
-        .zip(KIM_KHOSLA_TABLE1)
-        .enumerate()
-        .map(|(k, ((p, ours), paper))| {
-            let c = p.midpoint();
-            PanelStrengthRow {
-                panel: k + 1,
-                centre: [c.x, c.y],
-                paper,
-                ours,
-            }
-        })
-        .collect();
+    let rows = strength_rows(&field, &KIM_KHOSLA_TABLE1);
     let strength = field.lambda_o_check()[0];
     let robot = point_robot(&obstacle, goal, &setting)?;
     let plan = robot.follow_field(&field, start);

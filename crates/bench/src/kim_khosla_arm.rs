@@ -29,7 +29,7 @@ use harmonic_baselines::{PanelField, PublishedSetting, StrengthCheck};
 use harmonic_mesh::Point;
 use serde::Serialize;
 
-use crate::kim_khosla::PanelStrengthRow;
+use crate::kim_khosla::{PanelStrengthRow, strength_rows};
 use crate::paper::{KIM_KHOSLA_SETTING_51, KIM_KHOSLA_TABLE2, KIM_KHOSLA_TABLE2_LAMBDA_O};
 
 /// Height (y) of each reconstructed rectangle (m): five 1 m panels.
@@ -220,22 +220,7 @@ pub fn kim_khosla_table2() -> Result<KimKhoslaTable2, harmonic_baselines::Baseli
     let (fit, misfit) = fit_obstacle_2();
     // The rows on the rounded reconstruction every run uses.
     let field = field_51(&OBSTACLE_2_FITTED)?;
-    let rows = field
-        .panels()
-        .iter()
-        .zip(field.paper_strengths())
-        .zip(KIM_KHOSLA_TABLE2)
-        .enumerate()
-        .map(|(k, ((p, ours), paper))| {
-            let c = p.midpoint();
-            PanelStrengthRow {
-                panel: k + 1,
-                centre: [c.x, c.y],
-                paper,
-                ours,
-            }
-        })
-        .collect();
+    let rows = strength_rows(&field, &KIM_KHOSLA_TABLE2);
     let checks = field.lambda_o_check();
     Ok(KimKhoslaTable2 {
         fit,

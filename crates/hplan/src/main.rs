@@ -659,24 +659,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             } else {
                 all_starts
             };
-            let report = planner.plan_report(&starts);
-            if let Some(svg) = &common.svg {
-                let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
-                let opts = SvgOptions {
-                    show_mesh: common.mesh,
-                    ..SvgOptions::default()
-                };
-                write_file(svg, &planner.svg(&paths, &[], &opts))?;
-            }
-            if let Some(vtk) = &common.vtk {
-                write_file(vtk, &planner.vtu())?;
-            }
-            if common.json {
-                let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
-                print_out(&format!("{json}\n"))?;
-            } else {
-                print_out(&report.summary())?;
-            }
+            report_plan(&planner, &starts, &common)?;
         }
         Command::Car {
             common,
