@@ -1,7 +1,7 @@
 //! Nav2's occupancy maps against NavFn: for each of NavFn's measured requests, the first plan
-//! from the loaded grid (trace the map, mesh, assemble, factor, solve, trace one path), and a
-//! later start on the built planner (a trace only). NavFn recomputes its navigation function
-//! on every request; its times are printed beside ours.
+//! from the loaded grid (mesh the map by its default mesher, assemble, factor, solve, trace
+//! one path), and a later start on the built planner (a trace only). NavFn recomputes its
+//! navigation function on every request; its times are printed beside ours.
 //!
 //! `HARMONIC_NAV2_MAPS=DIR cargo bench --bench maps` (skipped with a message without the maps)
 
@@ -9,7 +9,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use harmonic_fixtures::{NAVFN_REQUESTS, NAVFN_ROBOT_RADIUS, nav2_maps_dir};
-use harmonic_planner::Planner;
+use harmonic_planner::PlannerOptions;
 use harmonic_planner::map::{MapOptions, OccupancyMap};
 
 fn maps(c: &mut Criterion) {
@@ -23,10 +23,14 @@ fn maps(c: &mut Criterion) {
         let map = OccupancyMap::load(dir.join(format!("{}.yaml", r.map))).expect("map loads");
         let name = format!("{}_{}_{}", r.map, r.start[0], r.start[1]);
         let first = || {
-            let scene = map
-                .to_scene(r.goal, NAVFN_ROBOT_RADIUS, &MapOptions::default())
-                .expect("scene");
-            let planner = Planner::new(&scene).expect("planner");
+            let planner = map
+                .planner(
+                    r.goal,
+                    NAVFN_ROBOT_RADIUS,
+                    &MapOptions::default(),
+                    &PlannerOptions::default(),
+                )
+                .expect("planner");
             let path = planner.plan(r.start);
             (planner, path)
         };

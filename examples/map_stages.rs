@@ -1,6 +1,8 @@
 //! Nav2's maps beside NavFn, request by request: the first plan from the loaded occupancy
-//! grid (map → polygons → mesh → assemble → solve → trace), where its time goes, and a later
-//! start on the same planner (a trace only). Times are medians of 5 in-process runs.
+//! grid (map → mesh → assemble → solve → trace, where "mesh" is everything before assembly:
+//! the clear cells and the quadtree, or the polygons, their booleans and the refined
+//! Delaunay mesh; the map's default mesher unless `--traced` or `--quadtree` says which), where its time goes, and a later start on the same planner (a
+//! trace only). Times are medians of 5 in-process runs.
 //!
 //! Which solve each map gets: the planner's `SolveMethod::Auto` takes the accurate LDLᵀ up to
 //! `AUTO_ACCURATE_MAX_UNKNOWNS` unknowns and Cholesky above. Beside it the example times both
@@ -8,7 +10,7 @@
 //! Cholesky with rayon's pool as the planner runs it).
 //!
 //! ```text
-//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--json]
+//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--traced | --quadtree] [--block CELLS] [--json]
 //! ```
 
 use std::time::Instant;
@@ -16,11 +18,12 @@ use std::time::Instant;
 use std::sync::Arc;
 
 use harmonic_fixtures::{NAVFN_REQUESTS, NAVFN_ROBOT_RADIUS, nav2_maps_dir};
+use harmonic_planner::fem::BoundaryConditions;
 use harmonic_planner::fem::{
     AUTO_ACCURATE_MAX_UNKNOWNS, Assembler, AssemblyOptions, SolveMethod, Solver,
 };
-use harmonic_planner::map::{MapOptions, OccupancyMap};
-use harmonic_planner::{Planner, Scene};
+use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap};
+use harmonic_planner::{Planner, PlannerOptions};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -28,7 +31,6 @@ struct Row {
     map: &'static str,
     start: [f64; 2],
     triangles: usize,
-    polygons_ms: f64,
     mesh_ms: f64,
     assemble_ms: f64,
     solve_ms: f64,
@@ -46,14 +48,11 @@ struct Row {
 }
 
 /// The system's unknowns, the solve `SolveMethod::Auto` picks (and why), and the best of 5
-/// numeric factorisations + solves of `scene`'s system on `planner`'s mesh by the accurate
-/// LDLᵀ (NaN when the system is not an M-matrix) and by Cholesky (each solver built, i.e.
-/// analysed, once beforehand).
-fn solve_times(
-    scene: &Scene,
-    planner: &Planner,
-) -> Result<(usize, String, f64, f64), Box<dyn std::error::Error>> {
-    let bcs = scene.boundary_conditions();
+/// numeric factorisations + solves of the map's system (walls φ = 1, goal φ = 0) on
+/// `planner`'s mesh by the accurate LDLᵀ (NaN when the system is not an M-matrix) and by
+/// Cholesky (each solver built, i.e. analysed, once beforehand).
+fn solve_times(planner: &Planner) -> Result<(usize, String, f64, f64), Box<dyn std::error::Error>> {
+    let bcs = BoundaryConditions::default();
     let mesh = Arc::new(planner.mesh().clone());
     let assembler = Assembler::new(mesh, &bcs, AssemblyOptions::default())?;
     let system = assembler.assemble(&bcs)?;
@@ -92,6 +91,21 @@ fn ms(t: Instant) -> f64 {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let json = std::env::args().any(|a| a == "--json");
+    let opts = MapOptions {
+        mesher: if std::env::args().any(|a| a == "--traced") {
+            MapMesher::Traced
+        } else if std::env::args().any(|a| a == "--quadtree") {
+            MapMesher::Quadtree
+        } else {
+            MapMesher::Auto
+        },
+        block_cells: std::env::args()
+            .skip_while(|a| a != "--block")
+            .nth(1)
+            .map(|b| b.parse())
+            .transpose()?,
+        ..MapOptions::default()
+    };
     let Some(dir) = nav2_maps_dir() else {
         eprintln!(
             "set HARMONIC_NAV2_MAPS to a folder of Nav2's maps (depot.yaml, warehouse.yaml, ...)"
@@ -104,16 +118,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut runs = Vec::new();
         for _ in 0..5 {
             let t = Instant::now();
-            let scene = map.to_scene(r.goal, NAVFN_ROBOT_RADIUS, &MapOptions::default())?;
-            let polygons_ms = ms(t);
-            let planner = Planner::new(&scene)?;
+            let planner = map.planner(
+                r.goal,
+                NAVFN_ROBOT_RADIUS,
+                &opts,
+                &PlannerOptions::default(),
+            )?;
             let t2 = Instant::now();
             let path = planner.plan(r.start);
             let trace_ms = ms(t2);
-            runs.push((ms(t), polygons_ms, trace_ms, planner, path));
+            runs.push((ms(t), trace_ms, planner, path));
         }
         runs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let (first_plan_ms, polygons_ms, trace_ms, planner, path) = runs.swap_remove(2);
+        let (first_plan_ms, trace_ms, planner, path) = runs.swap_remove(2);
         let later = median(
             (0..5)
                 .map(|_| {
@@ -124,14 +141,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect(),
         );
         let tm = planner.timings();
-        let scene = map.to_scene(r.goal, NAVFN_ROBOT_RADIUS, &MapOptions::default())?;
-        let (unknowns, method, accurate_ms, cholesky_ms) = solve_times(&scene, &planner)?;
+        let (unknowns, method, accurate_ms, cholesky_ms) = solve_times(&planner)?;
         rows.push(Row {
             map: r.map,
             start: r.start,
             triangles: planner.mesh().triangles().len(),
-            polygons_ms,
-            mesh_ms: tm.mesh,
+            mesh_ms: first_plan_ms - tm.assemble - tm.solve - trace_ms,
             assemble_ms: tm.assemble,
             solve_ms: tm.solve,
             trace_ms,
@@ -152,7 +167,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Ok(());
     }
     println!(
-        "| map | start | triangles | first plan ms (polygons + mesh + assemble + solve + trace) | NavFn ms | ratio | later start ms | NavFn / later | status | length m (NavFn) |"
+        "| map | start | triangles | first plan ms (mesh + assemble + solve + trace) | NavFn ms | ratio | later start ms | NavFn / later | status | length m (NavFn) |"
     );
     println!("|---|---|---:|---|---:|---:|---:|---:|---|---|");
     let solve_rows: Vec<String> = rows
@@ -166,13 +181,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     for r in &rows {
         println!(
-            "| {} | {}, {} | {} | {:.1} ({:.1} + {:.1} + {:.1} + {:.1} + {:.1}) | {} | {:.1}× | {:.2} | {:.0}× | {} | {:.2} ({:.2}) |",
+            "| {} | {}, {} | {} | {:.1} ({:.1} + {:.1} + {:.1} + {:.1}) | {} | {:.1}× | {:.2} | {:.0}× | {} | {:.2} ({:.2}) |",
             r.map,
             r.start[0],
             r.start[1],
             r.triangles,
             r.first_plan_ms,
-            r.polygons_ms,
             r.mesh_ms,
             r.assemble_ms,
             r.solve_ms,

@@ -44,7 +44,14 @@ use std::path::{Path, PathBuf};
 use geo::{Coord, LineString, Simplify};
 use serde_yaml_ng::Value;
 
+use harmonic_mesh::Point;
+use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
+
+use crate::planner::{PlanError, Planner, PlannerOptions};
 use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
+use harmonic_fem::SolveMethod;
+
+mod cells;
 
 /// One cell of an occupancy grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,11 +87,43 @@ pub enum UnknownCells {
     Free,
 }
 
-/// Options of [`OccupancyMap::to_scene`].
+/// Up to this many cells [`MapMesher::Auto`] meshes a map by [`MapMesher::Quadtree`], above
+/// by [`MapMesher::Traced`]. The quadtree's triangles grow with the walls' length in cells
+/// (each staircase step is a one-cell leaf), the traced mesh's with the simplified polygons'
+/// vertices: on Nav2's maps the quadtree is the faster up to the 1006 × 1674 warehouse and
+/// the traced mesh on the 2000 × 2000 ones (see the README's map table).
+pub const AUTO_QUADTREE_MAX_CELLS: usize = 1 << 21;
+
+/// How [`OccupancyMap::planner`] meshes a map's free space.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MapMesher {
+    /// [`MapMesher::Quadtree`] for maps of up to [`AUTO_QUADTREE_MAX_CELLS`] cells,
+    /// [`MapMesher::Traced`] for larger ones.
+    #[default]
+    Auto,
+    /// The robot's free configuration space on the map's own grid: the cells whose square
+    /// keeps the robot radius from every blocked cell's square, exactly, with no margin
+    /// (optionally snapped to blocks, [`MapOptions::block_cells`]), meshed by a balanced
+    /// quadtree of right isosceles triangles ([`harmonic_mesh::quadtree`]): no tracing, no
+    /// polygon booleans, no refinement.
+    Quadtree,
+    /// The traced, simplified polygons of [`OccupancyMap::to_scene`], meshed by constrained
+    /// Delaunay refinement like any scene.
+    Traced,
+}
+
+/// Options of [`OccupancyMap::planner`] and [`OccupancyMap::to_scene`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapOptions {
     /// What unknown cells are.
     pub unknown: UnknownCells,
+    /// How [`OccupancyMap::planner`] meshes the map.
+    pub mesher: MapMesher,
+    /// For [`MapMesher::Quadtree`]: snap the clear cells to blocks of this many cells a side
+    /// (a power of two from 1 to 64), keeping only wholly clear blocks. Fewer triangles
+    /// along walls, but up to a block's width of clear space is given up there, which
+    /// narrows passages (and the potential's flow through them). `None`: every clear cell.
+    pub block_cells: Option<usize>,
     /// The finest Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every
     /// traced vertex; at most 0.5).
     pub simplify_cells: f64,
@@ -111,6 +150,8 @@ impl Default for MapOptions {
     fn default() -> Self {
         MapOptions {
             unknown: UnknownCells::Obstacle,
+            mesher: MapMesher::Auto,
+            block_cells: None,
             simplify_cells: 0.45,
             boundary_budget: 1000,
             max_simplify_cells: 1.5,
@@ -247,12 +288,62 @@ pub enum MapError {
         /// The row of the goal's cell, from the bottom.
         row: usize,
     },
+    /// The goal's cell is free but closer than the robot radius to a blocked cell.
+    #[error(
+        "goal ({x}, {y}) is closer than the robot radius {radius} to an occupied or unknown cell of {file} (or to the map's edge); move it into open space"
+    )]
+    GoalTooClose {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
+        file: String,
+        /// The goal's x, in world coordinates.
+        x: f64,
+        /// The goal's y, in world coordinates.
+        y: f64,
+        /// The robot radius.
+        radius: f64,
+    },
+    /// The map's free space could not be meshed or solved.
+    #[error("{file}: {source}")]
+    Plan {
+        /// The map's source.
+        file: String,
+        /// What went wrong.
+        #[source]
+        source: PlanError,
+    },
     /// The robot radius is negative or not a number.
     #[error("robot radius must be zero or positive, got {0}")]
     BadRadius(
         /// The radius given, in world units.
         f64,
     ),
+}
+
+/// A grid's place in the world: cells of `resolution` from `origin` `[x, y, yaw]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GridFrame {
+    resolution: f64,
+    origin: [f64; 3],
+}
+
+impl GridFrame {
+    fn grid_to_world(&self, g: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.origin[2].sin_cos();
+        let (x, y) = (g[0] * self.resolution, g[1] * self.resolution);
+        [
+            self.origin[0] + c * x - s * y,
+            self.origin[1] + s * x + c * y,
+        ]
+    }
+
+    fn world_to_grid(&self, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.origin[2].sin_cos();
+        let (dx, dy) = (p[0] - self.origin[0], p[1] - self.origin[1]);
+        [
+            (c * dx + s * dy) / self.resolution,
+            (-s * dx + c * dy) / self.resolution,
+        ]
+    }
 }
 
 /// An occupancy grid with its place in the world.
@@ -537,24 +628,21 @@ impl OccupancyMap {
         self.cells[row * self.width + column]
     }
 
+    fn frame(&self) -> GridFrame {
+        GridFrame {
+            resolution: self.resolution,
+            origin: self.origin,
+        }
+    }
+
     /// World coordinates of a point given in cells from the origin.
     pub fn grid_to_world(&self, g: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.origin[2].sin_cos();
-        let (x, y) = (g[0] * self.resolution, g[1] * self.resolution);
-        [
-            self.origin[0] + c * x - s * y,
-            self.origin[1] + s * x + c * y,
-        ]
+        self.frame().grid_to_world(g)
     }
 
     /// Cells from the origin of a world point (inverse of [`OccupancyMap::grid_to_world`]).
     pub fn world_to_grid(&self, p: [f64; 2]) -> [f64; 2] {
-        let (s, c) = self.origin[2].sin_cos();
-        let (dx, dy) = (p[0] - self.origin[0], p[1] - self.origin[1]);
-        [
-            (c * dx + s * dy) / self.resolution,
-            (-s * dx + c * dy) / self.resolution,
-        ]
+        self.frame().world_to_grid(p)
     }
 
     /// The cell `(column, row)` holding a world point, if it is on the map.
@@ -649,6 +737,179 @@ impl OccupancyMap {
             margin: self.resolution * ((1.0 - CROSSING) / std::f64::consts::SQRT_2 + eps),
             simplify_cells: eps,
         })
+    }
+
+    /// A planner towards `goal` (world coordinates) for a disc robot of `robot_radius`,
+    /// meshed as [`MapOptions::mesher`] says: the robot's free configuration space on the
+    /// grid, meshed by a quadtree ([`OccupancyMap::cell_mesh`]), or the scene of
+    /// [`OccupancyMap::to_scene`] ([`MapMesher::Traced`]); [`MapMesher::Auto`] picks by the
+    /// map's size. A start on a clear cell outside the quadtree's mesh is led in over clear
+    /// cells. Either way a path
+    /// keeps at least `robot_radius` from every occupied cell (and unknown cell, unless
+    /// [`MapOptions::unknown`] says they are free).
+    pub fn planner(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+        planner: &PlannerOptions,
+    ) -> Result<Planner, MapError> {
+        let plan_error = |source| MapError::Plan {
+            file: self.source.clone(),
+            source,
+        };
+        let mesher = match opts.mesher {
+            MapMesher::Auto if self.width * self.height <= AUTO_QUADTREE_MAX_CELLS => {
+                MapMesher::Quadtree
+            }
+            MapMesher::Auto => MapMesher::Traced,
+            other => other,
+        };
+        match mesher {
+            MapMesher::Auto | MapMesher::Traced => {
+                let scene = self.to_scene(goal, robot_radius, opts)?;
+                Planner::with_options(&scene, planner).map_err(plan_error)
+            }
+            MapMesher::Quadtree => {
+                planner.stage(crate::planner::Stage::Meshing);
+                let t = std::time::Instant::now();
+                let (mesh, entry) = self.cell_space(goal, robot_radius, opts)?;
+                let ms = t.elapsed().as_secs_f64() * 1e3;
+                // A quadtree mesh always gives an M-matrix, and on a map ψ spans many orders
+                // of magnitude (it decays exponentially into dead ends), where `Auto` would
+                // redo a large Cholesky solve accurately anyway: solve accurately at once.
+                let planner = PlannerOptions {
+                    solve: match planner.solve {
+                        SolveMethod::Auto => SolveMethod::Accurate,
+                        other => other,
+                    },
+                    ..planner.clone()
+                };
+                Planner::from_mesh(mesh, &planner)
+                    .map(|p| p.with_mesh_time(ms).with_entry(std::sync::Arc::new(entry)))
+                    .map_err(plan_error)
+            }
+        }
+    }
+
+    /// The quadtree mesh of the robot's free configuration space around `goal` (see
+    /// [`MapMesher::Quadtree`]): the cells whose square keeps `robot_radius` from every
+    /// blocked cell's square and from the map's edge (snapped to blocks of
+    /// [`MapOptions::block_cells`] if asked), those 4-connected to the goal's cell meshed by
+    /// [`harmonic_mesh::quadtree`] with leaves up to about four robot radii across (or
+    /// triangles up to [`MapOptions::max_area`]). The goal's cell is a hole whose sides are
+    /// tagged `Goal(0)`; every other boundary edge is a wall.
+    pub fn cell_mesh(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<harmonic_mesh::Mesh, MapError> {
+        Ok(self.cell_space(goal, robot_radius, opts)?.0)
+    }
+
+    /// [`OccupancyMap::cell_mesh`] and the lead-in from clear cells the blocks left out (or
+    /// that touch the mesh only at a corner).
+    fn cell_space(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<(harmonic_mesh::Mesh, cells::CellEntry), MapError> {
+        if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+            return Err(MapError::BadRadius(robot_radius));
+        }
+        if let Some(a) = opts.max_area
+            && !(a.is_finite() && a > 0.0)
+        {
+            return Err(MapError::BadOption {
+                option: "max_area",
+                message: format!("must be a positive number, got {a}"),
+            });
+        }
+        let res = self.resolution;
+        let fixed_block = match opts.block_cells {
+            Some(b) if b.is_power_of_two() && b <= 64 => Some(b),
+            Some(b) => {
+                return Err(MapError::BadOption {
+                    option: "block_cells",
+                    message: format!("must be a power of two from 1 to 64, got {b}"),
+                });
+            }
+            None => None,
+        };
+        let (w, h) = (self.width, self.height);
+        let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
+        let blocked: Vec<bool> = self
+            .cells
+            .iter()
+            .map(|&c| match c {
+                Cell::Free => false,
+                Cell::Occupied => true,
+                Cell::Unknown => opts.unknown == UnknownCells::Obstacle,
+            })
+            .collect();
+        let clear = cells::clear_cells(&blocked, w, h, robot_radius / res);
+        drop(blocked);
+        let too_close = || MapError::GoalTooClose {
+            file: self.source.clone(),
+            x: goal[0],
+            y: goal[1],
+            radius: robot_radius,
+        };
+        if !clear[gr * w + gc] {
+            return Err(too_close());
+        }
+        let free = match fixed_block {
+            Some(b) if b > 1 => cells::snapped(&clear, w, h, b),
+            _ => clear.clone(),
+        };
+        let goal_cell = gr * w + gc;
+        if !free[goal_cell] {
+            return Err(too_close());
+        }
+        let component = flood_fill(&free, w, h, goal_cell);
+        drop(free);
+        let clear_area = component.iter().filter(|&&c| c).count() as f64 * res * res;
+        let (bw, bh, goal_block) = (w, h, goal_cell);
+        let mut labels: Vec<Block> = component
+            .iter()
+            .map(|&c| if c { Block::Free } else { Block::Blocked })
+            .collect();
+        labels[goal_block] = Block::Goal;
+        let meshed: Vec<bool> = labels.iter().map(|&l| l == Block::Free).collect();
+        let entry = cells::CellEntry {
+            width: w,
+            height: h,
+            clear,
+            meshed,
+            frame: self.frame(),
+            reach: 4 * fixed_block.unwrap_or(1),
+        };
+        // The largest leaf: triangles of at most max_area (a leaf is two of them), else
+        // about four robot radii across, else (a point robot) the scene default's size.
+        let leaf = match opts.max_area {
+            Some(a) => (2.0 * a).sqrt(),
+            None if robot_radius > 0.0 => 4.0 * robot_radius,
+            None => (2.0 * clear_area / 20_000.0).sqrt(),
+        };
+        let mut max_level = 0u8;
+        while max_level < 15 && (2usize << max_level) as f64 * res <= leaf {
+            max_level += 1;
+        }
+        let grid = BlockGrid::new(bw, bh, labels).map_err(|e| MapError::Plan {
+            file: self.source.clone(),
+            source: e.into(),
+        })?;
+        let mesh = quadtree_mesh(&grid, &QuadtreeOptions { max_level }, |x, y| {
+            let p = self.grid_to_world([x, y]);
+            Point::new(p[0], p[1])
+        })
+        .map_err(|e| MapError::Plan {
+            file: self.source.clone(),
+            source: e.into(),
+        })?;
+        Ok((mesh, entry))
     }
 
     /// A scene for planning towards `goal` (world coordinates) with a disc robot of

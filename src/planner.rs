@@ -64,6 +64,10 @@ pub struct PlannerOptions {
     /// [`harmonic_solver::PARALLEL_MIN_UNKNOWNS`] unknowns). The same paths to rounding either
     /// way. The mesher's two halves (large meshes) run on two threads regardless.
     pub parallelism: Parallelism,
+    /// How the potential's system is factored ([`SolveMethod::Auto`] by default: the
+    /// accurate LDLᵀ up to [`harmonic_fem::AUTO_ACCURATE_MAX_UNKNOWNS`] unknowns, Cholesky
+    /// above, redone accurately when ψ spans too many orders of magnitude).
+    pub solve: SolveMethod,
 }
 
 impl PlannerOptions {
@@ -163,6 +167,7 @@ impl std::fmt::Debug for PlannerOptions {
         f.debug_struct("PlannerOptions")
             .field("on_stage", &self.on_stage.as_ref().map(|_| "observer"))
             .field("parallelism", &self.parallelism)
+            .field("solve", &self.solve)
             .finish()
     }
 }
@@ -208,6 +213,16 @@ pub struct Planner {
     /// Goals held as mesh vertices (a planner from a [`crate::Workspace`]); `None` when the
     /// goals are regions of the mesh's boundary.
     pub(crate) vertex_goals: Option<Arc<VertexGoals>>,
+    /// A way into the mesh for starts outside it, if the planner's source has one.
+    pub(crate) entry: Option<Arc<dyn StartEntry>>,
+}
+
+/// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
+/// (on a map: clear cells beside the meshed blocks, see [`crate::map`]).
+pub trait StartEntry: Send + Sync {
+    /// A polyline from `start` to a point inside the mesh along which the robot keeps its
+    /// radius from every obstacle, or `None` when there is none.
+    fn lead_in(&self, start: Point) -> Option<Vec<Point>>;
 }
 
 impl std::fmt::Debug for Planner {
@@ -634,7 +649,7 @@ impl Planner {
             let solver = Solver::with_parallelism(
                 &system,
                 assembler.nested_dissection(),
-                SolveMethod::Auto,
+                options.solve,
                 options.parallelism,
             )?;
             (
@@ -663,7 +678,20 @@ impl Planner {
             },
             scale: meshed.scale,
             vertex_goals: None,
+            entry: None,
         })
+    }
+
+    /// Leads starts outside the mesh in through `entry`.
+    pub(crate) fn with_entry(mut self, entry: Arc<dyn StartEntry>) -> Planner {
+        self.entry = Some(entry);
+        self
+    }
+
+    /// Counts `ms` more of meshing (a mesh made before [`Planner::from_mesh`], e.g. of a map).
+    pub(crate) fn with_mesh_time(mut self, ms: f64) -> Planner {
+        self.timings.mesh += ms;
+        self
     }
 
     /// The validated free space (merged obstacles, tagged rings, clearance queries).
@@ -708,19 +736,44 @@ impl Planner {
     /// along which φ strictly decreases.
     /// `start` is a [`Point`] or the scene format's `[x, y]`.
     pub fn plan(&self, start: impl Into<Point>) -> PlannedPath {
-        let start = start.into();
-        let field = self.smooth_field();
-        let opts = SmoothOptions::for_scale(self.scale);
-        let (path, tracer) = descend(&field, start, None, &opts, &ExactOptions::default());
-        self.planned(start, path, tracer)
+        self.entered(start.into(), |start| {
+            let field = self.smooth_field();
+            let opts = SmoothOptions::for_scale(self.scale);
+            let (path, tracer) = descend(&field, start, None, &opts, &ExactOptions::default());
+            self.planned(start, path, tracer)
+        })
     }
 
     /// The exact tracer's path from `start` (straight within each triangle, φ strictly
     /// decreasing along it).
     pub fn plan_exact(&self, start: impl Into<Point>) -> PlannedPath {
-        let start = start.into();
-        let path = trace_exact(self.smooth_field().p1(), start, &ExactOptions::default());
-        self.planned(start, path, Tracer::Exact)
+        self.entered(start.into(), |start| {
+            let path = trace_exact(self.smooth_field().p1(), start, &ExactOptions::default());
+            self.planned(start, path, Tracer::Exact)
+        })
+    }
+
+    /// `plan(start)`, or, for a start outside the mesh that the planner's [`StartEntry`]
+    /// leads in, that lead-in followed by `plan` from its last point. The lead-in keeps the
+    /// robot radius but lies outside the meshed free space, so it counts as clearance 0.
+    fn entered(&self, start: Point, plan: impl Fn(Point) -> PlannedPath) -> PlannedPath {
+        let lead = match &self.entry {
+            Some(entry) if self.mesh.locate(start, None).is_none() => entry.lead_in(start),
+            _ => None,
+        };
+        let Some(lead) = lead.filter(|l| l.len() >= 2) else {
+            return plan(start);
+        };
+        let inside = lead[lead.len() - 1];
+        let mut path = plan(inside);
+        let lead_length: f64 = lead.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        path.start = [start.x, start.y];
+        path.length += lead_length;
+        path.min_clearance = path.min_clearance.min(0.0);
+        let mut points: Vec<[f64; 2]> = lead[..lead.len() - 1].iter().map(|p| [p.x, p.y]).collect();
+        points.append(&mut path.points);
+        path.points = points;
+        path
     }
 
     /// Plans from every start (points or `[x, y]` arrays), in parallel.

@@ -431,6 +431,7 @@ impl Workspace {
             timings: Timings::default(),
             scale: self.meshed.scale,
             vertex_goals: Some(Arc::new(marks)),
+            entry: None,
         })
     }
 }

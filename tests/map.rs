@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use geo::{Contains, Coord, LineString, Polygon};
-use harmonic_planner::Planner;
-use harmonic_planner::map::{Cell, MapError, MapOptions, OccupancyMap, UnknownCells};
+use harmonic_planner::map::{Cell, MapError, MapMesher, MapOptions, OccupancyMap, UnknownCells};
+use harmonic_planner::{Planner, PlannerOptions};
 
 const W: usize = 400;
 const H: usize = 300;
@@ -651,31 +651,143 @@ fn nav2_maps_plans_reach_and_keep_the_radius_on_the_grid() {
     let radius = harmonic_fixtures::NAVFN_ROBOT_RADIUS;
     for r in harmonic_fixtures::NAVFN_REQUESTS {
         let map = OccupancyMap::load(dir.join(format!("{}.yaml", r.map))).expect("loads");
-        let scene = map
-            .to_scene(r.goal, radius, &MapOptions::default())
-            .expect("scene");
-        let planner = Planner::new(&scene).expect("planner");
-        let path = planner.plan(r.start);
-        assert_eq!(
-            path.status.as_str(),
-            "reached_goal",
-            "{} from {:?}",
-            r.map,
-            r.start
-        );
-        let clearance = path_clearance(&map, &path.points, radius);
-        assert!(
-            clearance >= radius - 0.1 * map.resolution(),
-            "{} from {:?}: {clearance} from a blocked cell",
-            r.map,
-            r.start
-        );
-        assert_eq!(
-            planner
-                .plan_report(&[r.start])
-                .potential
-                .interior_local_minima,
-            0
-        );
+        for mesher in [MapMesher::Quadtree, MapMesher::Traced] {
+            let opts = MapOptions {
+                mesher,
+                ..MapOptions::default()
+            };
+            let planner = map
+                .planner(r.goal, radius, &opts, &PlannerOptions::default())
+                .expect("planner");
+            let path = planner.plan(r.start);
+            let what = format!("{} from {:?} ({mesher:?})", r.map, r.start);
+            assert_eq!(path.status.as_str(), "reached_goal", "{what}");
+            let clearance = path_clearance(&map, &path.points, radius);
+            // The quadtree's mesh is the clear cells themselves: no margin at all.
+            let slack = match mesher {
+                MapMesher::Quadtree => 1e-9,
+                _ => 0.1 * map.resolution(),
+            };
+            assert!(
+                clearance >= radius - slack,
+                "{what}: {clearance} from a blocked cell"
+            );
+            assert_eq!(
+                planner
+                    .plan_report(&[r.start])
+                    .potential
+                    .interior_local_minima,
+                0,
+                "{what}"
+            );
+        }
     }
+}
+
+/// The quadtree planner on the bundled warehouse: the mesh is the robot's clear cells (the
+/// right isosceles triangles give an M-matrix, so no interior minimum), paths reach, and
+/// every point of them keeps the radius from every blocked cell exactly; the closet and the
+/// patch outside stay unreachable. Snapped to blocks of 2 cells, fewer triangles, and a
+/// start on a clear cell the blocks left out is led in over clear cells.
+#[test]
+fn quadtree_paths_on_the_warehouse_keep_the_radius_exactly() {
+    let radius = 0.2;
+    let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    let quadtree = |block_cells| MapOptions {
+        mesher: MapMesher::Quadtree,
+        block_cells,
+        ..MapOptions::default()
+    };
+    let plain = map
+        .planner(GOAL, radius, &quadtree(None), &PlannerOptions::default())
+        .expect("planner");
+    let starts: Vec<[f64; 2]> = REACHABLE.iter().chain(&UNREACHABLE).copied().collect();
+    let report = plain.plan_report(&starts);
+    assert_eq!(report.potential.interior_local_minima, 0);
+    let quality = plain.mesh().quality();
+    assert!(quality.max_angle_deg <= 90.0 + 1e-9, "{quality:?}");
+    for path in &report.paths {
+        if UNREACHABLE.contains(&path.start) {
+            assert_ne!(path.status.as_str(), "reached_goal", "{:?}", path.start);
+            continue;
+        }
+        assert_eq!(path.status.as_str(), "reached_goal", "{:?}", path.start);
+        let clearance = path_clearance(&map, &path.points, radius);
+        assert!(clearance >= radius - 1e-9, "{:?}: {clearance}", path.start);
+    }
+
+    let snapped = map
+        .planner(GOAL, radius, &quadtree(Some(2)), &PlannerOptions::default())
+        .expect("planner");
+    let (fine, coarse) = (
+        plain.mesh().triangles().len(),
+        snapped.mesh().triangles().len(),
+    );
+    assert!(coarse < fine, "{coarse} triangles snapped, {fine} not");
+    // A point on a clear cell (every point of it at least the radius from every blocked
+    // cell) that the snapped mesh leaves out.
+    let res = map.resolution();
+    let clear = |i: usize, j: usize| {
+        let c = map.cell_center(i, j);
+        let reach = (radius / res).ceil() as usize + 2;
+        (j.saturating_sub(reach)..(j + reach + 1).min(map.height())).all(|jj| {
+            (i.saturating_sub(reach)..(i + reach + 1).min(map.width())).all(|ii| {
+                !map.is_blocked(ii, jj, UnknownCells::Obstacle)
+                    || distance_to_cell(&map, c, ii, jj) >= radius + res / 2f64.sqrt()
+            })
+        }) && i > reach
+            && j > reach
+            && i + reach < map.width()
+            && j + reach < map.height()
+    };
+    let outside = (0..map.height())
+        .flat_map(|j| (0..map.width()).map(move |i| (i, j)))
+        .find(|&(i, j)| {
+            clear(i, j)
+                && snapped
+                    .mesh()
+                    .locate(map.cell_center(i, j).into(), None)
+                    .is_none()
+                && plain
+                    .mesh()
+                    .locate(map.cell_center(i, j).into(), None)
+                    .is_some()
+        })
+        .map(|(i, j)| map.cell_center(i, j))
+        .expect("a clear cell beside the snapped mesh");
+    let path = snapped.plan(outside);
+    assert_eq!(path.status.as_str(), "reached_goal", "{outside:?}");
+    assert_eq!(path.points[0], outside);
+    let clearance = path_clearance(&map, &path.points, radius);
+    assert!(clearance >= radius - 1e-9, "{outside:?}: {clearance}");
+}
+
+/// Bad quadtree input gets one line: a goal too near a wall for the radius, a block size
+/// that is no power of two.
+#[test]
+fn quadtree_errors_name_the_problem() {
+    let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    let opts = MapOptions {
+        mesher: MapMesher::Quadtree,
+        ..MapOptions::default()
+    };
+    let near_wall = map
+        .planner(GOAL, 2.0, &opts, &PlannerOptions::default())
+        .expect_err("too close");
+    assert!(
+        matches!(near_wall, MapError::GoalTooClose { .. }),
+        "{near_wall}"
+    );
+    assert!(
+        near_wall.to_string().contains("robot radius 2"),
+        "{near_wall}"
+    );
+    let bad = MapOptions {
+        block_cells: Some(3),
+        ..opts
+    };
+    let e = map
+        .planner(GOAL, 0.2, &bad, &PlannerOptions::default())
+        .expect_err("3 is no power of two");
+    assert!(e.to_string().contains("block_cells"), "{e}");
 }

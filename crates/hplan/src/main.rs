@@ -17,7 +17,7 @@ mod progress;
 
 use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
-use harmonic_planner::map::{MapOptions, OccupancyMap};
+use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap};
 use harmonic_planner::{
     AnyScene, CarParams, ConfigPlanner, ConfigScene, Planner, PlannerOptions, Point, Scene,
     SvgOptions, VolumePlanner, VolumeScene, Workspace,
@@ -37,6 +37,14 @@ use harmonic_planner::{
 struct Cli {
     #[command(subcommand)]
     command: Command,
+}
+
+/// `hplan plan --map --mesher`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum MesherArg {
+    Auto,
+    Quadtree,
+    Traced,
 }
 
 #[derive(Subcommand)]
@@ -67,6 +75,11 @@ enum Command {
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
+        /// On a map: how to mesh it. `quadtree`: the robot's clear cells, by a balanced
+        /// quadtree; `traced`: traced, simplified polygons by Delaunay refinement (always so
+        /// with several goals); `auto`: the quadtree up to 2^21 cells, traced above.
+        #[arg(long, value_enum, default_value_t = MesherArg::Auto, requires = "map")]
+        mesher: MesherArg,
         /// Plan in a Triangle .poly file's free space (its outer boundary the workspace, the
         /// regions around its hole points obstacles, its other segments mesh constraints);
         /// needs --goal X,Y.
@@ -385,6 +398,26 @@ fn plan_config(
     }
 }
 
+/// `hplan plan --map` with one goal: the map's own planner ([`OccupancyMap::planner`]).
+fn plan_map(
+    map: &Path,
+    goal: [f64; 2],
+    robot_radius: f64,
+    opts: &MapOptions,
+    common: &Common,
+    starts: &[Vec<f64>],
+) -> Result<(), String> {
+    let planner_opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+        ..PlannerOptions::default()
+    };
+    let planner = OccupancyMap::load(map)
+        .and_then(|m| m.planner(goal, robot_radius, opts, &planner_opts))
+        .map_err(|e| e.to_string())?;
+    let starts = starts_of::<2>(starts, "X,Y on a map")?;
+    report_plan(&planner, &starts, common)
+}
+
 fn write_file(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
@@ -596,6 +629,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             map,
             goal,
             robot_radius,
+            mesher,
             poly,
             mesh_in,
             goal_tag,
@@ -610,8 +644,16 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 (_, Some(map), Some(&first)) => {
                     let opts = MapOptions {
                         max_area: common.max_area,
+                        mesher: match mesher {
+                            MesherArg::Auto => MapMesher::Auto,
+                            MesherArg::Quadtree => MapMesher::Quadtree,
+                            MesherArg::Traced => MapMesher::Traced,
+                        },
                         ..MapOptions::default()
                     };
+                    if goal.len() == 1 {
+                        return plan_map(map, first, robot_radius, &opts, &common, &starts);
+                    }
                     let scene = OccupancyMap::load(map)
                         .and_then(|m| m.to_scene(first, robot_radius, &opts))
                         .map_err(|e| e.to_string())?;

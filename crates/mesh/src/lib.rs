@@ -44,6 +44,7 @@ mod halves;
 pub mod io;
 mod mesh;
 mod options;
+pub mod quadtree;
 mod touch;
 mod triangulate;
 

@@ -1,0 +1,552 @@
+//! A balanced quadtree mesh of the free blocks of a grid: the mesher for occupancy grids.
+//!
+//! A grid of square blocks, each [`Block::Free`], [`Block::Blocked`] or [`Block::Goal`], is
+//! covered by the leaves of a quadtree: square nodes of 2^k × 2^k blocks, as large as
+//! [`QuadtreeOptions::max_level`] allows in open space, smaller where a side would face
+//! free and non-free blocks at once, down to one block, with neighbouring leaves at most one
+//! level apart (2:1 balance). Each leaf is cut into right isosceles triangles:
+//!
+//! ```text
+//!   no finer neighbour        finer neighbours on some sides (their corners are midpoints)
+//!   +---------+               +----+----+
+//!   |       / |               | \  |  / |
+//!   |     /   |               |   \|/   |
+//!   |   /     |               +----c----+     c: the leaf's centre; a side without a
+//!   | /       |               |   / \   |        midpoint gives one triangle c-a-b
+//!   +---------+               | /     \ |
+//!                             +---------+
+//! ```
+//!
+//! No triangle has an obtuse angle, so every cotangent weight is zero or positive: the P1
+//! stiffness matrix is an M-matrix and the discrete potential has no interior local minimum,
+//! as on a constrained Delaunay mesh. Boundary edges are the sides of leaves that face
+//! blocked blocks or the grid's edge (tag [`BoundaryTag::Wall`]) or goal blocks
+//! ([`BoundaryTag::Goal`]`(0)`), so the mesh covers exactly the union of the free blocks;
+//! a leaf larger than one block is a leaf only where each of its sides faces one kind of
+//! block all along (a straight wall lets open floor's large leaves reach it).
+//!
+//! Building it is a few passes over the grid (an eligibility pyramid, the leaves, the
+//! balance, the triangles), linear in the number of blocks; there is no point location and
+//! no refinement loop.
+//!
+//! ```
+//! use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
+//! use harmonic_mesh::{BoundaryTag, Point};
+//! // A 16 × 16 room with the goal block in a corner and a wall stub.
+//! let mut blocks = vec![Block::Free; 16 * 16];
+//! blocks[1 * 16 + 1] = Block::Goal;
+//! for j in 0..8 {
+//!     blocks[j * 16 + 8] = Block::Blocked;
+//! }
+//! let grid = BlockGrid::new(16, 16, blocks)?;
+//! let mesh = quadtree_mesh(&grid, &QuadtreeOptions::default(), |x, y| Point::new(x, y))?;
+//! let q = mesh.quality();
+//! assert!(q.max_angle_deg <= 90.0 + 1e-9);
+//! // The mesh covers the free blocks exactly: 256 − 1 − 8 of area 1 each.
+//! assert!((q.area - 247.0).abs() < 1e-9);
+//! assert!(mesh.boundary_edges().iter().any(|e| e.tag == BoundaryTag::Goal(0)));
+//! # Ok::<(), harmonic_mesh::MeshError>(())
+//! ```
+
+use crate::{BoundaryTag, Mesh, MeshError, Point};
+
+/// One block of a [`BlockGrid`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Block {
+    /// Not part of the mesh; its sides facing free blocks are walls.
+    Blocked,
+    /// Covered by the mesh.
+    Free,
+    /// Not part of the mesh; its sides facing free blocks are goal boundary (`Goal(0)`).
+    Goal,
+}
+
+/// A grid of blocks, row by row from the bottom: block `(i, j)` covers `[i, i + 1] × [j, j + 1]`
+/// in block units.
+#[derive(Clone, Debug)]
+pub struct BlockGrid {
+    width: usize,
+    height: usize,
+    blocks: Vec<Block>,
+}
+
+/// The most blocks a grid may have (2^30, about a billion: the vertex numbers stay in `u32`).
+pub const MAX_BLOCKS: usize = 1 << 30;
+
+impl BlockGrid {
+    /// A grid of `width × height` blocks listed row by row from the bottom.
+    pub fn new(width: usize, height: usize, blocks: Vec<Block>) -> Result<BlockGrid, MeshError> {
+        if width == 0 || height == 0 || width.checked_mul(height) != Some(blocks.len()) {
+            return Err(MeshError::InvalidMesh(format!(
+                "a {width} × {height} block grid needs {} blocks, got {}",
+                width.saturating_mul(height),
+                blocks.len()
+            )));
+        }
+        if blocks.len() > MAX_BLOCKS {
+            return Err(MeshError::InvalidMesh(format!(
+                "a {width} × {height} block grid has more than {MAX_BLOCKS} blocks"
+            )));
+        }
+        Ok(BlockGrid {
+            width,
+            height,
+            blocks,
+        })
+    }
+
+    /// Blocks per row.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Rows.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// The block in column `i`, row `j`.
+    pub fn block(&self, i: usize, j: usize) -> Block {
+        self.blocks[j * self.width + i]
+    }
+
+    /// What lies outside a side: the block there, or `Blocked` past the grid's edge.
+    fn outside(&self, i: isize, j: isize) -> Block {
+        if i >= 0 && j >= 0 && (i as usize) < self.width && (j as usize) < self.height {
+            self.blocks[j as usize * self.width + i as usize]
+        } else {
+            Block::Blocked
+        }
+    }
+}
+
+/// Options of [`quadtree_mesh`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QuadtreeOptions {
+    /// The largest leaf is 2^`max_level` blocks on a side (at most 15).
+    pub max_level: u8,
+}
+
+impl Default for QuadtreeOptions {
+    fn default() -> Self {
+        QuadtreeOptions { max_level: 3 }
+    }
+}
+
+/// The leaf level of a block that is not free.
+const NOT_FREE: u8 = u8::MAX;
+
+/// Per level, whether each 2^k node's blocks are all free.
+struct Pyramid {
+    /// `(width, height, all free)` of each level, level 0 (the blocks) first.
+    levels: Vec<(usize, usize, Vec<bool>)>,
+}
+
+impl Pyramid {
+    fn new(grid: &BlockGrid, max_level: u8) -> Pyramid {
+        let free: Vec<bool> = grid.blocks.iter().map(|&b| b == Block::Free).collect();
+        let mut levels = vec![(grid.width, grid.height, free)];
+        for _ in 0..max_level {
+            let (pw, ph, prev) = levels.last().expect("level 0 is there");
+            let (pw, ph) = (*pw, *ph);
+            let (nw, nh) = (pw.div_ceil(2), ph.div_ceil(2));
+            let at = |i: usize, j: usize| i < pw && j < ph && prev[j * pw + i];
+            let mut next = vec![false; nw * nh];
+            for j in 0..nh {
+                for i in 0..nw {
+                    next[j * nw + i] = at(2 * i, 2 * j)
+                        && at(2 * i + 1, 2 * j)
+                        && at(2 * i, 2 * j + 1)
+                        && at(2 * i + 1, 2 * j + 1);
+                }
+            }
+            levels.push((nw, nh, next));
+        }
+        Pyramid { levels }
+    }
+
+    fn all_free(&self, k: u8, i: usize, j: usize) -> bool {
+        let (w, h, e) = &self.levels[k as usize];
+        i < *w && j < *h && e[j * w + i]
+    }
+}
+
+/// The four strips of blocks just outside a node's sides (bottom, right, top, left), each
+/// as the block coordinates of its `2^k` blocks.
+fn strips(n: Node) -> [impl Iterator<Item = (isize, isize)>; 4] {
+    let (x0, y0) = n.origin();
+    let (x0, y0, s) = (x0 as isize, y0 as isize, 1isize << n.k);
+    [
+        (x0, y0 - 1, 1, 0),
+        (x0 + s, y0, 0, 1),
+        (x0, y0 + s, 1, 0),
+        (x0 - 1, y0, 0, 1),
+    ]
+    .map(|(x, y, dx, dy)| (0..s).map(move |t| (x + t * dx, y + t * dy)))
+}
+
+/// Whether a node may be a leaf: its blocks are all free and each strip outside its sides is
+/// all free, all blocked (or past the grid's edge) or all goal, so a side facing the
+/// boundary is one boundary edge with one tag.
+fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node) -> bool {
+    pyramid.all_free(n.k, n.i as usize, n.j as usize)
+        && strips(n).into_iter().all(|mut strip| {
+            let (x, y) = strip.next().expect("a strip has at least one block");
+            let first = grid.outside(x, y);
+            strip.all(|(x, y)| grid.outside(x, y) == first)
+        })
+}
+
+/// The leaves: the level of the leaf holding each block ([`NOT_FREE`] for blocks that are
+/// not free).
+struct Leaves<'a> {
+    grid: &'a BlockGrid,
+    level: Vec<u8>,
+}
+
+impl<'a> Leaves<'a> {
+    /// The largest eligible nodes, top-down from `max_level`; every leaf is pushed on `todo`.
+    fn new(grid: &'a BlockGrid, pyramid: &Pyramid, max_level: u8, todo: &mut Vec<Node>) -> Self {
+        let mut leaves = Leaves {
+            grid,
+            level: vec![NOT_FREE; grid.width * grid.height],
+        };
+        let (tw, th, _) = pyramid.levels[max_level as usize];
+        let mut stack: Vec<Node> = Vec::new();
+        for j in 0..th {
+            for i in 0..tw {
+                stack.push(Node {
+                    k: max_level,
+                    i: i as u32,
+                    j: j as u32,
+                });
+                while let Some(n) = stack.pop() {
+                    let (bi, bj) = n.origin();
+                    if bi >= grid.width || bj >= grid.height {
+                        continue;
+                    }
+                    if n.k == 0 {
+                        if grid.blocks[bj * grid.width + bi] == Block::Free {
+                            leaves.level[bj * grid.width + bi] = 0;
+                            todo.push(n);
+                        }
+                    } else if eligible(grid, pyramid, n) {
+                        leaves.fill(n, n.k);
+                        todo.push(n);
+                    } else {
+                        stack.extend(n.children());
+                    }
+                }
+            }
+        }
+        leaves
+    }
+
+    fn fill(&mut self, n: Node, k: u8) {
+        let (bi, bj) = n.origin();
+        let s = 1usize << n.k;
+        let w = self.grid.width;
+        for y in bj..(bj + s).min(self.grid.height) {
+            self.level[y * w + bi..y * w + (bi + s).min(w)].fill(k);
+        }
+    }
+
+    fn at(&self, i: isize, j: isize) -> u8 {
+        if i >= 0 && j >= 0 && (i as usize) < self.grid.width && (j as usize) < self.grid.height {
+            self.level[j as usize * self.grid.width + i as usize]
+        } else {
+            NOT_FREE
+        }
+    }
+
+    /// Splits leaves until neighbours across a side differ by at most one level.
+    fn balance(&mut self, todo: &mut Vec<Node>) {
+        while let Some(n) = todo.pop() {
+            let (bi, bj) = n.origin();
+            if self.level[bj * self.grid.width + bi] != n.k {
+                continue; // split since it was pushed; its children are on the stack
+            }
+            let s = 1isize << n.k;
+            let (x0, y0) = (bi as isize, bj as isize);
+            for t in 0..s {
+                for (x, y) in [
+                    (x0 + t, y0 - 1),
+                    (x0 + t, y0 + s),
+                    (x0 - 1, y0 + t),
+                    (x0 + s, y0 + t),
+                ] {
+                    loop {
+                        let m = self.at(x, y);
+                        if m == NOT_FREE || m <= n.k + 1 {
+                            break;
+                        }
+                        let big = Node {
+                            k: m,
+                            i: (x as u32) >> m,
+                            j: (y as u32) >> m,
+                        };
+                        for c in big.children() {
+                            self.fill(c, m - 1);
+                            todo.push(c);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A quadtree node: level `k`, position `(i, j)` in units of 2^k blocks.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    k: u8,
+    i: u32,
+    j: u32,
+}
+
+impl Node {
+    fn origin(self) -> (usize, usize) {
+        ((self.i as usize) << self.k, (self.j as usize) << self.k)
+    }
+
+    fn children(self) -> [Node; 4] {
+        let (k, i, j) = (self.k - 1, 2 * self.i, 2 * self.j);
+        [
+            Node { k, i, j },
+            Node { k, i: i + 1, j },
+            Node { k, i, j: j + 1 },
+            Node {
+                k,
+                i: i + 1,
+                j: j + 1,
+            },
+        ]
+    }
+}
+
+/// Vertices on the block-corner lattice, numbered as first used.
+struct Lattice<F> {
+    width: usize,
+    id: Vec<u32>,
+    points: Vec<Point>,
+    to_world: F,
+}
+
+impl<F: Fn(f64, f64) -> Point> Lattice<F> {
+    fn vertex(&mut self, x: usize, y: usize) -> u32 {
+        let slot = &mut self.id[y * (self.width + 1) + x];
+        if *slot == u32::MAX {
+            *slot = self.points.len() as u32;
+            self.points.push((self.to_world)(x as f64, y as f64));
+        }
+        *slot
+    }
+}
+
+/// The balanced quadtree mesh of `grid`'s free blocks (see the module documentation);
+/// `to_world` maps block coordinates to the mesh's coordinates (it must keep orientation:
+/// a rotation, a translation and a positive scale).
+///
+/// Errors when no block is free, when `max_level` is above 15, or when `to_world` turns a
+/// triangle clockwise or gives non-finite points.
+pub fn quadtree_mesh(
+    grid: &BlockGrid,
+    opts: &QuadtreeOptions,
+    to_world: impl Fn(f64, f64) -> Point,
+) -> Result<Mesh, MeshError> {
+    if opts.max_level > 15 {
+        return Err(MeshError::InvalidOption {
+            name: "max_level",
+            value: f64::from(opts.max_level),
+            reason: "the largest leaf is 2^max_level blocks, and max_level is at most 15",
+        });
+    }
+    if !grid.blocks.contains(&Block::Free) {
+        return Err(MeshError::InvalidMesh(
+            "the block grid has no free block".to_string(),
+        ));
+    }
+    let pyramid = Pyramid::new(grid, opts.max_level);
+    let mut todo = Vec::new();
+    let mut leaves = Leaves::new(grid, &pyramid, opts.max_level, &mut todo);
+    drop(pyramid);
+    leaves.balance(&mut todo);
+
+    let (w, h) = (grid.width, grid.height);
+    let mut lattice = Lattice {
+        width: w,
+        id: vec![u32::MAX; (w + 1) * (h + 1)],
+        points: Vec::new(),
+        to_world,
+    };
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut boundary: Vec<(u32, u32, BoundaryTag)> = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let k = leaves.level[y * w + x];
+            if k == NOT_FREE || x & ((1 << k) - 1) != 0 || y & ((1 << k) - 1) != 0 {
+                continue;
+            }
+            let s = 1usize << k;
+            let corners = [(x, y), (x + s, y), (x + s, y + s), (x, y + s)];
+            let c = corners.map(|(a, b)| lattice.vertex(a, b));
+            // A side facing the boundary faces one kind of block all along (eligibility).
+            let node = Node {
+                k,
+                i: (x >> k) as u32,
+                j: (y >> k) as u32,
+            };
+            for (q, mut strip) in strips(node).into_iter().enumerate() {
+                let (ox, oy) = strip.next().expect("a strip has at least one block");
+                let tag = match grid.outside(ox, oy) {
+                    Block::Free => continue,
+                    Block::Blocked => BoundaryTag::Wall,
+                    Block::Goal => BoundaryTag::Goal(0),
+                };
+                boundary.push((c[q], c[(q + 1) % 4], tag));
+            }
+            // A side has a midpoint vertex when a leaf one level finer lies across it.
+            let finer = |ox: isize, oy: isize| k > 0 && leaves.at(ox, oy) == k - 1;
+            let (xi, yi, si, hi) = (x as isize, y as isize, s as isize, (s / 2) as isize);
+            let mid_at = [
+                finer(xi, yi - 1) || finer(xi + hi, yi - 1),
+                finer(xi + si, yi) || finer(xi + si, yi + hi),
+                finer(xi, yi + si) || finer(xi + hi, yi + si),
+                finer(xi - 1, yi) || finer(xi - 1, yi + hi),
+            ];
+            if !mid_at.contains(&true) {
+                // Alternate the diagonal so open floor is cut symmetrically.
+                if ((x >> k) + (y >> k)).is_multiple_of(2) {
+                    triangles.push([c[0], c[1], c[2]]);
+                    triangles.push([c[0], c[2], c[3]]);
+                } else {
+                    triangles.push([c[0], c[1], c[3]]);
+                    triangles.push([c[1], c[2], c[3]]);
+                }
+                continue;
+            }
+            let centre = lattice.vertex(x + s / 2, y + s / 2);
+            let mids = [
+                (x + s / 2, y),
+                (x + s, y + s / 2),
+                (x + s / 2, y + s),
+                (x, y + s / 2),
+            ];
+            for q in 0..4 {
+                let (a, b) = (c[q], c[(q + 1) % 4]);
+                if mid_at[q] {
+                    let m = lattice.vertex(mids[q].0, mids[q].1);
+                    triangles.push([centre, a, m]);
+                    triangles.push([centre, m, b]);
+                } else {
+                    triangles.push([centre, a, b]);
+                }
+            }
+        }
+    }
+    Mesh::from_parts(lattice.points, triangles, &boundary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn room(w: usize, h: usize, blocked: &[(usize, usize)], goal: (usize, usize)) -> BlockGrid {
+        let mut blocks = vec![Block::Free; w * h];
+        for &(i, j) in blocked {
+            blocks[j * w + i] = Block::Blocked;
+        }
+        blocks[goal.1 * w + goal.0] = Block::Goal;
+        BlockGrid::new(w, h, blocks).expect("sizes match")
+    }
+
+    #[test]
+    fn leaves_are_balanced_and_cover_the_free_blocks() {
+        let grid = room(77, 53, &[(10, 10), (11, 10), (30, 2)], (3, 20));
+        let opts = QuadtreeOptions { max_level: 4 };
+        let pyramid = Pyramid::new(&grid, opts.max_level);
+        let mut todo = Vec::new();
+        let mut leaves = Leaves::new(&grid, &pyramid, opts.max_level, &mut todo);
+        leaves.balance(&mut todo);
+        let (w, h) = (grid.width as isize, grid.height as isize);
+        let mut coarse = false;
+        for y in 0..h {
+            for x in 0..w {
+                let k = leaves.at(x, y);
+                assert_eq!(k == NOT_FREE, grid.outside(x, y) != Block::Free);
+                if k == NOT_FREE {
+                    continue;
+                }
+                coarse |= k >= 3;
+                for (ox, oy) in [(x + 1, y), (x, y + 1)] {
+                    let m = leaves.at(ox, oy);
+                    if m != NOT_FREE {
+                        assert!(k.abs_diff(m) <= 1, "({x}, {y}) level {k} beside {m}");
+                    }
+                }
+                // Each side of a leaf faces one kind of block all along, or free ones.
+                let s = 1isize << k;
+                let node = Node {
+                    k,
+                    i: (x >> k) as u32,
+                    j: (y >> k) as u32,
+                };
+                let (x0, y0) = ((x >> k) << k, (y >> k) << k);
+                assert!(x0 + s <= w && y0 + s <= h);
+                for strip in strips(node) {
+                    let kinds: Vec<Block> = strip.map(|(a, b)| grid.outside(a, b)).collect();
+                    let mixed = kinds.windows(2).any(|p| p[0] != p[1]);
+                    assert!(!mixed || kinds.iter().all(|&b| b == Block::Free) || k == 0);
+                    if mixed {
+                        assert_eq!(k, 0, "({x}, {y}): a mixed side on a coarse leaf");
+                    }
+                }
+            }
+        }
+        assert!(coarse, "open floor gets large leaves");
+    }
+
+    #[test]
+    fn mesh_is_conforming_non_obtuse_and_exact() {
+        let blocked: Vec<(usize, usize)> = (0..12).map(|j| (20, j)).collect();
+        let grid = room(40, 30, &blocked, (35, 5));
+        let mesh = quadtree_mesh(&grid, &QuadtreeOptions { max_level: 4 }, |x, y| {
+            // A rotated, shifted, scaled frame, as a map's origin gives.
+            let (s, c) = 0.3f64.sin_cos();
+            Point::new(-7.0 + 0.05 * (c * x - s * y), 3.0 + 0.05 * (s * x + c * y))
+        })
+        .expect("meshes");
+        let q = mesh.quality();
+        assert!(q.max_angle_deg <= 90.0 + 1e-6, "{q:?}");
+        assert!(
+            (q.area - 0.0025 * (1200.0 - 12.0 - 1.0)).abs() < 1e-9,
+            "{q:?}"
+        );
+        assert_eq!(
+            q.holes, 1,
+            "the goal block is a hole; the wall stub touches the edge"
+        );
+        assert!(
+            mesh.triangles().len() < 2 * 1187,
+            "coarse leaves in the open"
+        );
+        let goal_edges = mesh
+            .boundary_edges()
+            .iter()
+            .filter(|e| e.tag == BoundaryTag::Goal(0))
+            .count();
+        assert_eq!(goal_edges, 4);
+    }
+
+    #[test]
+    fn bad_grids_are_refused() {
+        assert!(BlockGrid::new(3, 3, vec![Block::Free; 8]).is_err());
+        let all_blocked = BlockGrid::new(2, 2, vec![Block::Blocked; 4]).expect("sizes match");
+        let e = quadtree_mesh(&all_blocked, &QuadtreeOptions::default(), Point::new)
+            .expect_err("nothing to mesh");
+        assert!(e.to_string().contains("no free block"), "{e}");
+        let grid = room(4, 4, &[], (0, 0));
+        let opts = QuadtreeOptions { max_level: 16 };
+        assert!(quadtree_mesh(&grid, &opts, Point::new).is_err());
+    }
+}
