@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use harmonic_planner::map::{MapOptions, OccupancyMap};
-use harmonic_planner::{CarParams, Planner, Point, Scene, Timings};
+use harmonic_planner::{CarParams, Planner, PlannerOptions, Point, Scene, Timings};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -146,8 +146,10 @@ impl PyPlanner {
 
     /// A planner on a ROS map_server occupancy map (`map.yaml` with its PGM/PNG image)
     /// towards `goal` (world coordinates) for a disc robot of `robot_radius`, as
-    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R`. Occupied cells (and unknown
-    /// ones) are obstacles. The GIL is released while the map is read and the planner built.
+    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (the map's default
+    /// mesher: its clear cells by a quadtree up to 2^21 cells, traced polygons above).
+    /// Occupied cells (and unknown ones) are obstacles. The GIL is released while the map is
+    /// read and the planner built.
     #[staticmethod]
     #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None))]
     fn from_map(
@@ -157,8 +159,22 @@ impl PyPlanner {
         robot_radius: f64,
         max_area: Option<f64>,
     ) -> PyResult<PyPlanner> {
-        let (scene, shown) = map_scene(py, &yaml, goal, "goal", robot_radius, max_area)?;
-        PyPlanner::build(py, scene, Some(shown))
+        let goal = finite(arrays::point::<2>(goal, "goal")?, "goal")?;
+        let opts = MapOptions {
+            max_area: positive("max_area", max_area)?,
+            ..MapOptions::default()
+        };
+        let planner = py.detach(|| {
+            guarded(|| {
+                OccupancyMap::load(&yaml)
+                    .and_then(|m| m.planner(goal, robot_radius, &opts, &PlannerOptions::default()))
+                    .map_err(|e| scene_error(e.to_string()))
+            })
+        })?;
+        Ok(PyPlanner {
+            planner: Arc::new(planner),
+            source: Some(yaml.display().to_string()),
+        })
     }
 
     /// Plans a path from `start` (x, y) down the potential to the goal: the smooth tracer,
