@@ -10,7 +10,7 @@
 //! Cholesky with rayon's pool as the planner runs it).
 //!
 //! ```text
-//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--traced | --quadtree] [--block CELLS] [--json]
+//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--traced | --quadtree] [--snap off|CELLS] [--json]
 //! ```
 
 use std::time::Instant;
@@ -22,7 +22,7 @@ use harmonic_planner::fem::BoundaryConditions;
 use harmonic_planner::fem::{
     AUTO_ACCURATE_MAX_UNKNOWNS, Assembler, AssemblyOptions, SolveMethod, Solver,
 };
-use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap};
+use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, Snap};
 use harmonic_planner::{Planner, PlannerOptions};
 use serde::Serialize;
 
@@ -99,11 +99,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         } else {
             MapMesher::Auto
         },
-        block_cells: std::env::args()
-            .skip_while(|a| a != "--block")
-            .nth(1)
-            .map(|b| b.parse())
-            .transpose()?,
+        snap: match std::env::args().skip_while(|a| a != "--snap").nth(1) {
+            None => Snap::OpenFloor,
+            Some(v) if v == "off" => Snap::Off,
+            Some(v) => Snap::Blocks(v.parse()?),
+        },
         ..MapOptions::default()
     };
     let Some(dir) = nav2_maps_dir() else {

@@ -103,13 +103,34 @@ pub enum MapMesher {
     Auto,
     /// The robot's free configuration space on the map's own grid: the cells whose square
     /// keeps the robot radius from every blocked cell's square, exactly, with no margin
-    /// (optionally snapped to blocks, [`MapOptions::block_cells`]), meshed by a balanced
+    /// (snapped to blocks on open floor, [`MapOptions::snap`]), meshed by a balanced
     /// quadtree of right isosceles triangles ([`harmonic_mesh::quadtree`]): no tracing, no
     /// polygon booleans, no refinement.
     Quadtree,
     /// The traced, simplified polygons of [`OccupancyMap::to_scene`], meshed by constrained
     /// Delaunay refinement like any scene.
     Traced,
+}
+
+/// How [`MapMesher::Quadtree`] snaps the robot's clear cells to blocks of `b × b` cells,
+/// keeping a partly clear block's cells or dropping them. Dropping gives up at most a
+/// block's width of clear space along a wall and lets the wall's staircase step by blocks,
+/// so the mesh needs fewer one-cell leaves there.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Snap {
+    /// Every clear cell is meshed.
+    Off,
+    /// Snap on open floor only: blocks of the largest power of two of cells at most half the
+    /// robot radius wide (none for a point robot); a partly clear block is dropped when the
+    /// wholly clear blocks beside it all lie in squares of wholly clear blocks about four
+    /// robot radii (at least four blocks) across, so rooms snap but passages and doors
+    /// narrower than that keep their full width. If snapping changes the free space's
+    /// topology (its Euler number: a passage closed, a region cut off) nothing is snapped.
+    #[default]
+    OpenFloor,
+    /// Snap everywhere to blocks of this many cells (a power of two from 1 to 64): the
+    /// fewest triangles, but passages narrow too (and the potential's flow through them).
+    Blocks(usize),
 }
 
 /// Options of [`OccupancyMap::planner`] and [`OccupancyMap::to_scene`].
@@ -119,11 +140,8 @@ pub struct MapOptions {
     pub unknown: UnknownCells,
     /// How [`OccupancyMap::planner`] meshes the map.
     pub mesher: MapMesher,
-    /// For [`MapMesher::Quadtree`]: snap the clear cells to blocks of this many cells a side
-    /// (a power of two from 1 to 64), keeping only wholly clear blocks. Fewer triangles
-    /// along walls, but up to a block's width of clear space is given up there, which
-    /// narrows passages (and the potential's flow through them). `None`: every clear cell.
-    pub block_cells: Option<usize>,
+    /// For [`MapMesher::Quadtree`]: how the clear cells are snapped to blocks.
+    pub snap: Snap,
     /// The finest Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every
     /// traced vertex; at most 0.5).
     pub simplify_cells: f64,
@@ -151,7 +169,7 @@ impl Default for MapOptions {
         MapOptions {
             unknown: UnknownCells::Obstacle,
             mesher: MapMesher::Auto,
-            block_cells: None,
+            snap: Snap::OpenFloor,
             simplify_cells: 0.45,
             boundary_budget: 1000,
             max_simplify_cells: 1.5,
@@ -794,8 +812,8 @@ impl OccupancyMap {
 
     /// The quadtree mesh of the robot's free configuration space around `goal` (see
     /// [`MapMesher::Quadtree`]): the cells whose square keeps `robot_radius` from every
-    /// blocked cell's square and from the map's edge (snapped to blocks of
-    /// [`MapOptions::block_cells`] if asked), those 4-connected to the goal's cell meshed by
+    /// blocked cell's square and from the map's edge (snapped to blocks as
+    /// [`MapOptions::snap`] says), those 4-connected to the goal's cell meshed by
     /// [`harmonic_mesh::quadtree`] with leaves up to about four robot radii across (or
     /// triangles up to [`MapOptions::max_area`]). The goal's cell is a hole whose sides are
     /// tagged `Goal(0)`; every other boundary edge is a wall.
@@ -828,16 +846,14 @@ impl OccupancyMap {
             });
         }
         let res = self.resolution;
-        let fixed_block = match opts.block_cells {
-            Some(b) if b.is_power_of_two() && b <= 64 => Some(b),
-            Some(b) => {
-                return Err(MapError::BadOption {
-                    option: "block_cells",
-                    message: format!("must be a power of two from 1 to 64, got {b}"),
-                });
-            }
-            None => None,
-        };
+        if let Snap::Blocks(b) = opts.snap
+            && !(b.is_power_of_two() && b <= 64)
+        {
+            return Err(MapError::BadOption {
+                option: "snap",
+                message: format!("blocks must be a power of two from 1 to 64 cells, got {b}"),
+            });
+        }
         let (w, h) = (self.width, self.height);
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
         let blocked: Vec<bool> = self
@@ -860,16 +876,39 @@ impl OccupancyMap {
         if !clear[gr * w + gc] {
             return Err(too_close());
         }
-        let free = match fixed_block {
-            Some(b) if b > 1 => cells::snapped(&clear, w, h, b),
-            _ => clear.clone(),
-        };
         let goal_cell = gr * w + gc;
-        if !free[goal_cell] {
-            return Err(too_close());
-        }
-        let component = flood_fill(&free, w, h, goal_cell);
-        drop(free);
+        let exact = || flood_fill(&clear, w, h, goal_cell);
+        let (component, block) = match opts.snap {
+            Snap::Off => (exact(), 1),
+            Snap::Blocks(b) => {
+                let free = cells::snapped(&clear, w, h, b);
+                if !free[goal_cell] {
+                    return Err(too_close());
+                }
+                (flood_fill(&free, w, h, goal_cell), b)
+            }
+            Snap::OpenFloor => {
+                let mut b = 1;
+                while b < 64 && 2.0 * (2 * b) as f64 * res <= robot_radius {
+                    b *= 2;
+                }
+                let square = ((4.0 * robot_radius / (b as f64 * res)).ceil() as usize).max(4);
+                let free = (b > 1).then(|| cells::snapped_on_open_floor(&clear, w, h, b, square));
+                match free.filter(|f| f[goal_cell]) {
+                    None => (exact(), 1),
+                    Some(free) => {
+                        let snapped = flood_fill(&free, w, h, goal_cell);
+                        let exact = exact();
+                        if cells::euler_number(&snapped, w, h) == cells::euler_number(&exact, w, h)
+                        {
+                            (snapped, b)
+                        } else {
+                            (exact, 1)
+                        }
+                    }
+                }
+            }
+        };
         let clear_area = component.iter().filter(|&&c| c).count() as f64 * res * res;
         let (bw, bh, goal_block) = (w, h, goal_cell);
         let mut labels: Vec<Block> = component
@@ -884,7 +923,7 @@ impl OccupancyMap {
             clear,
             meshed,
             frame: self.frame(),
-            reach: 4 * fixed_block.unwrap_or(1),
+            reach: 4 * block,
         };
         // The largest leaf: triangles of at most max_area (a leaf is two of them), else
         // about four robot radii across, else (a point robot) the scene default's size.

@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use geo::{Contains, Coord, LineString, Polygon};
-use harmonic_planner::map::{Cell, MapError, MapMesher, MapOptions, OccupancyMap, UnknownCells};
+use harmonic_planner::map::{
+    Cell, MapError, MapMesher, MapOptions, OccupancyMap, Snap, UnknownCells,
+};
 use harmonic_planner::{Planner, PlannerOptions};
 
 const W: usize = 400;
@@ -693,13 +695,18 @@ fn nav2_maps_plans_reach_and_keep_the_radius_on_the_grid() {
 fn quadtree_paths_on_the_warehouse_keep_the_radius_exactly() {
     let radius = 0.2;
     let map = OccupancyMap::load(warehouse_yaml()).expect("loads");
-    let quadtree = |block_cells| MapOptions {
+    let quadtree = |snap| MapOptions {
         mesher: MapMesher::Quadtree,
-        block_cells,
+        snap,
         ..MapOptions::default()
     };
     let plain = map
-        .planner(GOAL, radius, &quadtree(None), &PlannerOptions::default())
+        .planner(
+            GOAL,
+            radius,
+            &quadtree(Snap::Off),
+            &PlannerOptions::default(),
+        )
         .expect("planner");
     let starts: Vec<[f64; 2]> = REACHABLE.iter().chain(&UNREACHABLE).copied().collect();
     let report = plain.plan_report(&starts);
@@ -717,7 +724,12 @@ fn quadtree_paths_on_the_warehouse_keep_the_radius_exactly() {
     }
 
     let snapped = map
-        .planner(GOAL, radius, &quadtree(Some(2)), &PlannerOptions::default())
+        .planner(
+            GOAL,
+            radius,
+            &quadtree(Snap::Blocks(2)),
+            &PlannerOptions::default(),
+        )
         .expect("planner");
     let (fine, coarse) = (
         plain.mesh().triangles().len(),
@@ -783,11 +795,11 @@ fn quadtree_errors_name_the_problem() {
         "{near_wall}"
     );
     let bad = MapOptions {
-        block_cells: Some(3),
+        snap: Snap::Blocks(3),
         ..opts
     };
     let e = map
         .planner(GOAL, 0.2, &bad, &PlannerOptions::default())
         .expect_err("3 is no power of two");
-    assert!(e.to_string().contains("block_cells"), "{e}");
+    assert!(e.to_string().contains("snap"), "{e}");
 }

@@ -12,9 +12,10 @@
 //! centre stays on clear cells keeps the radius from every blocked cell: the guarantee is
 //! exact, with no tracing or simplification margin.
 //!
-//! On request ([`super::MapOptions::block_cells`]) the clear cells are snapped to blocks of
-//! `b × b` cells: only wholly clear blocks are kept, which loses at most a block's width of
-//! the clear space along its edge and makes the mesh's staircase walls step by blocks.
+//! The clear cells may be snapped to blocks of `b × b` cells ([`super::Snap`]): a partly
+//! clear block is dropped, which loses at most a block's width of the clear space along its
+//! edge and makes the mesh's staircase walls step by blocks — on open floor only
+//! ([`snapped_on_open_floor`]), or everywhere ([`snapped`]).
 
 /// The clear cells of a `w × h` grid whose blocked cells are `blocked` (row by row from the
 /// bottom), for a robot of `radius` cells. With a radius of zero the clear cells are the
@@ -138,6 +139,166 @@ pub(super) fn snapped(clear: &[bool], w: usize, h: usize, b: usize) -> Vec<bool>
         }
     }
     out
+}
+
+/// The clear cells snapped to blocks of `b × b` cells on open floor only: a block that is
+/// partly clear is dropped when it has wholly clear blocks beside it (8-neighbours) and each
+/// of them lies in an `s × s` square of wholly clear blocks (the blocks' morphological
+/// opening). Along a wall of a room the staircase then steps by blocks; in a passage or a
+/// door narrower than `s` blocks no block is dropped, so it keeps its full width.
+pub(super) fn snapped_on_open_floor(
+    clear: &[bool],
+    w: usize,
+    h: usize,
+    b: usize,
+    s: usize,
+) -> Vec<bool> {
+    let (full, bw, bh) = blocks(clear, w, h, b);
+    let eroded = window(
+        &window(&full, bw, bh, s, Axis::Row, Run::AllAhead),
+        bw,
+        bh,
+        s,
+        Axis::Column,
+        Run::AllAhead,
+    );
+    let open = window(
+        &window(&eroded, bw, bh, s, Axis::Row, Run::AnyBehind),
+        bw,
+        bh,
+        s,
+        Axis::Column,
+        Run::AnyBehind,
+    );
+    let mut drop = vec![false; bw * bh];
+    for j in 0..bh {
+        for i in 0..bw {
+            if full[j * bw + i] {
+                continue;
+            }
+            let (mut beside, mut all_open) = (false, true);
+            for (dx, dy) in [
+                (-1, -1),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let (x, y) = (i as isize + dx, j as isize + dy);
+                if x < 0 || y < 0 || x as usize >= bw || y as usize >= bh {
+                    continue;
+                }
+                let k = y as usize * bw + x as usize;
+                if full[k] {
+                    beside = true;
+                    all_open &= open[k];
+                }
+            }
+            drop[j * bw + i] = beside && all_open;
+        }
+    }
+    let mut out = clear.to_vec();
+    for (j, row) in out.chunks_mut(w).enumerate() {
+        let blocks_row = &drop[(j / b) * bw..(j / b + 1) * bw];
+        for (i, c) in row.iter_mut().enumerate() {
+            *c &= !blocks_row[i / b];
+        }
+    }
+    out
+}
+
+/// Along which lines [`window`] runs.
+#[derive(Clone, Copy)]
+enum Axis {
+    Row,
+    Column,
+}
+
+/// What [`window`] asks of the `s` cells of a run.
+#[derive(Clone, Copy)]
+enum Run {
+    /// All of the `s` cells from this one on are set (false when they leave the grid).
+    AllAhead,
+    /// Any of the `s` cells up to this one is set.
+    AnyBehind,
+}
+
+/// A running count over windows of `s` cells along rows or columns.
+fn window(src: &[bool], w: usize, h: usize, s: usize, axis: Axis, run: Run) -> Vec<bool> {
+    let (lines, len) = match axis {
+        Axis::Row => (h, w),
+        Axis::Column => (w, h),
+    };
+    let at = |line: usize, t: usize| match axis {
+        Axis::Row => line * w + t,
+        Axis::Column => t * w + line,
+    };
+    let mut out = vec![false; w * h];
+    for line in 0..lines {
+        let mut count = 0usize;
+        match run {
+            Run::AllAhead => {
+                // Walk backwards: the window is [t, t + s).
+                for t in (0..len).rev() {
+                    count += usize::from(src[at(line, t)]);
+                    if t + s < len {
+                        count -= usize::from(src[at(line, t + s)]);
+                    }
+                    out[at(line, t)] = t + s <= len && count == s;
+                }
+            }
+            Run::AnyBehind => {
+                // The window is (t − s, t].
+                for t in 0..len {
+                    count += usize::from(src[at(line, t)]);
+                    if t >= s {
+                        count -= usize::from(src[at(line, t - s)]);
+                    }
+                    out[at(line, t)] = count > 0;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The Euler number (components − holes) of the cells `inside`, 4-connected, by Gray's
+/// bit-quad count over every 2 × 2 window of the grid padded by one empty cell:
+/// `(n₁ − n₃ + 2 n_d) / 4`, with n₁ and n₃ the windows holding one or three inside cells and
+/// n_d those holding two diagonal ones.
+pub(super) fn euler_number(inside: &[bool], w: usize, h: usize) -> i64 {
+    let empty = vec![false; w];
+    let row = |j: isize| -> &[bool] {
+        if j < 0 || j as usize >= h {
+            &empty
+        } else {
+            &inside[j as usize * w..(j as usize + 1) * w]
+        }
+    };
+    let (mut n1, mut n3, mut nd) = (0i64, 0i64, 0i64);
+    for j in -1..h as isize {
+        let (lo, hi) = (row(j), row(j + 1));
+        let mut left = (false, false);
+        for i in 0..=w {
+            let right = if i < w {
+                (lo[i], hi[i])
+            } else {
+                (false, false)
+            };
+            let q = [left.0, right.0, left.1, right.1];
+            match q.iter().filter(|&&c| c).count() {
+                1 => n1 += 1,
+                3 => n3 += 1,
+                2 if q[0] == q[3] => nd += 1,
+                _ => {}
+            }
+            left = right;
+        }
+    }
+    (n1 - n3 + 2 * nd) / 4
 }
 
 /// Leads a start on a clear cell outside the meshed blocks into the mesh: the shortest
@@ -266,6 +427,60 @@ mod tests {
             clear_cells(&blocked, w, h, 0.0),
             blocked.iter().map(|b| !b).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn euler_numbers_count_components_less_holes() {
+        let grid = |rows: &[&str]| -> (Vec<bool>, usize, usize) {
+            let (w, h) = (rows[0].len(), rows.len());
+            let cells = rows
+                .iter()
+                .rev()
+                .flat_map(|r| r.chars().map(|c| c == '#'))
+                .collect();
+            (cells, w, h)
+        };
+        let cases: [(&[&str], i64); 5] = [
+            (&["#"], 1),
+            (&["###", "#.#", "###"], 0),
+            (&["#.", ".#"], 2), // diagonal cells are apart (4-connected)
+            (&["#####", "#.#.#", "#####"], -1),
+            (&["##.##", "#...#", "#####"], 1), // the hole opens to the outside
+        ];
+        for (rows, e) in cases {
+            let (cells, w, h) = grid(rows);
+            assert_eq!(euler_number(&cells, w, h), e, "{rows:?}");
+        }
+    }
+
+    #[test]
+    fn open_floor_snaps_but_doors_and_passages_keep_their_width() {
+        // Two 64 × 40-cell rooms split by a 2-cell wall at rows 40–41 with a 6-cell door at
+        // columns 29–34 (it straddles blocks of 2: columns 28–29 and 34–35 are partly
+        // clear). A notch on open floor at (40, 20) leaves block (20, 10) partly clear.
+        let (w, h) = (64, 82);
+        let mut clear = vec![true; w * h];
+        for j in 40..42 {
+            for i in 0..w {
+                if !(29..35).contains(&i) {
+                    clear[j * w + i] = false;
+                }
+            }
+        }
+        clear[20 * w + 40] = false;
+        let out = snapped_on_open_floor(&clear, w, h, 2, 8);
+        assert!(
+            !out[20 * w + 41] && !out[21 * w + 40],
+            "open floor snaps to the block"
+        );
+        for j in 40..42 {
+            for i in 29..35 {
+                assert!(out[j * w + i], "the door keeps cell ({i}, {j})");
+            }
+        }
+        // Snapping everywhere narrows the door to 4 cells.
+        let all = snapped(&clear, w, h, 2);
+        assert!(!all[40 * w + 29] && !all[40 * w + 34] && all[40 * w + 30]);
     }
 
     #[test]
