@@ -1116,28 +1116,44 @@ fn vertical(cells: &[bool], w: usize, h: usize, pass: Pass) -> Vec<bool> {
 
 /// The 4-connected set of `cells` holding `seed`.
 fn flood_fill(cells: &[bool], w: usize, h: usize, seed: usize) -> Vec<bool> {
+    // Scanline fill: each popped seed grows to its whole run of the row, then seeds the runs
+    // of the rows below and above that touch it (4-connected).
     let mut inside = vec![false; w * h];
+    if !cells[seed] {
+        return inside;
+    }
     let mut stack = vec![seed];
-    inside[seed] = true;
     while let Some(k) = stack.pop() {
-        let (i, j) = (k % w, k / w);
-        let mut push = |n: usize| {
-            if cells[n] && !inside[n] {
-                inside[n] = true;
-                stack.push(n);
+        if inside[k] {
+            continue;
+        }
+        let (row, i) = (k / w, k % w);
+        let line = &cells[row * w..(row + 1) * w];
+        let (mut lo, mut hi) = (i, i);
+        while lo > 0 && line[lo - 1] && !inside[row * w + lo - 1] {
+            lo -= 1;
+        }
+        while hi + 1 < w && line[hi + 1] && !inside[row * w + hi + 1] {
+            hi += 1;
+        }
+        inside[row * w + lo..=row * w + hi].fill(true);
+        for r in [row.wrapping_sub(1), row + 1] {
+            if r >= h {
+                continue;
             }
-        };
-        if i > 0 {
-            push(k - 1);
-        }
-        if i + 1 < w {
-            push(k + 1);
-        }
-        if j > 0 {
-            push(k - w);
-        }
-        if j + 1 < h {
-            push(k + w);
+            let (next, done) = (&cells[r * w..(r + 1) * w], &inside[r * w..(r + 1) * w]);
+            let mut x = lo;
+            while x <= hi {
+                if next[x] && !done[x] {
+                    stack.push(r * w + x);
+                    // One seed per run.
+                    while x <= hi && next[x] {
+                        x += 1;
+                    }
+                } else {
+                    x += 1;
+                }
+            }
         }
     }
     inside
@@ -1288,6 +1304,42 @@ mod tests {
             }
         }
         (v, w, h)
+    }
+
+    #[test]
+    fn the_scanline_fill_is_the_4_connected_component() {
+        let (w, h) = (37, 29);
+        let mut state = 99u64;
+        let cells: Vec<bool> = (0..w * h)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (state >> 33) % 10 < 6
+            })
+            .collect();
+        for seed in (0..w * h).filter(|&k| cells[k]).step_by(97) {
+            // Breadth-first, cell by cell.
+            let mut want = vec![false; w * h];
+            want[seed] = true;
+            let mut queue = std::collections::VecDeque::from([seed]);
+            while let Some(k) = queue.pop_front() {
+                let (i, j) = (k % w, k / w);
+                let around = [
+                    (i > 0).then(|| k - 1),
+                    (i + 1 < w).then(|| k + 1),
+                    (j > 0).then(|| k - w),
+                    (j + 1 < h).then(|| k + w),
+                ];
+                for n in around.into_iter().flatten() {
+                    if cells[n] && !want[n] {
+                        want[n] = true;
+                        queue.push_back(n);
+                    }
+                }
+            }
+            assert_eq!(flood_fill(&cells, w, h, seed), want, "seed {seed}");
+        }
     }
 
     #[test]
