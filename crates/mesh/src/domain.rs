@@ -17,6 +17,7 @@ use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touc
 use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
 
 mod constraints;
+mod isolated;
 mod of_mesh;
 
 pub(crate) use constraints::Constraints;
@@ -106,8 +107,9 @@ pub struct Domain {
     /// Every free-space boundary edge (for the even-odd inside test), with its position
     /// among the edges of `free`, ring after ring.
     boundary_index: SegmentIndex,
-    /// Free-space boundary edges on walls and obstacles (not goals), for clearance.
-    wall_index: SegmentIndex,
+    /// Free-space boundary edges on walls and obstacles (not goals), for clearance: built
+    /// at the first clearance query (meshing needs none; see [`Domain::wall_index`]).
+    wall_index: std::sync::OnceLock<SegmentIndex>,
     /// The map from the scene's coordinates to the unit coordinates every field above is in
     /// (see [`Frame`]).
     frame: Frame,
@@ -655,16 +657,20 @@ fn goal_shapes(
     obstacle_geo: &[MultiPolygon<f64>],
 ) -> Result<Vec<MultiPolygon<f64>>, MeshError> {
     let (h, ring) = (ws.h, &ws.ring);
-    let clearance_index = SegmentIndex::new(
+    let clearance = Clearance::new(
+        spec.goals
+            .iter()
+            .filter(|g| matches!(g, GoalShape::Point(_)))
+            .count(),
         obstacle_geo
             .iter()
             .flat_map(rings_of)
             .flatten()
             .flat_map(|pts| {
                 let n = pts.len();
-                (0..n).map(move |k| (pts[k], pts[(k + 1) % n], 0))
+                (0..n).map(move |k| (pts[k], pts[(k + 1) % n]))
             })
-            .chain((0..ring.len()).map(|k| (ring[k], ring[(k + 1) % ring.len()], 0))),
+            .chain((0..ring.len()).map(|k| (ring[k], ring[(k + 1) % ring.len()]))),
     );
     let mut goal_geo: Vec<MultiPolygon<f64>> = Vec::with_capacity(spec.goals.len());
     for (j, goal) in spec.goals.iter().enumerate() {
@@ -675,7 +681,7 @@ fn goal_shapes(
             GoalShape::Point(p) => {
                 // Twice the target edge length, but at most half the way to the nearest
                 // wall or obstacle so the disc stays in free space.
-                let d = clearance_index.distance(*p);
+                let d = clearance.distance(*p);
                 let r = if d > 0.0 {
                     (2.0 * h).min(0.5 * d)
                 } else {
@@ -691,6 +697,45 @@ fn goal_shapes(
         goal_geo.push(MultiPolygon(vec![poly]));
     }
     Ok(goal_geo)
+}
+
+/// Point goals with fewer than this many siblings measure their clearance by a scan of every
+/// wall and obstacle edge: cheaper than building an R-tree of them (O(n log n)) for a few
+/// queries.
+const SCANNED_POINT_GOALS: usize = 8;
+
+/// Distances from point goals to the walls and obstacles: a scan of the edges for a few
+/// goals, an R-tree for many, nothing without point goals.
+enum Clearance {
+    Scan(Vec<(Point, Point)>),
+    Index(SegmentIndex),
+}
+
+impl Clearance {
+    /// The clearance of `queries` point goals against `edges`.
+    fn new(queries: usize, edges: impl Iterator<Item = (Point, Point)>) -> Clearance {
+        if queries == 0 {
+            Clearance::Scan(Vec::new())
+        } else if queries < SCANNED_POINT_GOALS {
+            Clearance::Scan(edges.collect())
+        } else {
+            Clearance::Index(SegmentIndex::new(edges.map(|(a, b)| (a, b, 0))))
+        }
+    }
+
+    /// Distance from `p` to the nearest edge (infinity without edges, NaN for a non-finite
+    /// `p`).
+    fn distance(&self, p: Point) -> f64 {
+        match self {
+            Clearance::Index(index) => index.distance(p),
+            Clearance::Scan(_) if !(p.x.is_finite() && p.y.is_finite()) => f64::NAN,
+            Clearance::Scan(edges) => edges
+                .iter()
+                .map(|&(a, b)| point_segment_dist2(p, a, b))
+                .fold(f64::INFINITY, f64::min)
+                .sqrt(),
+        }
+    }
 }
 
 /// The workspace, shrunk by the robot radius; an error if nothing is left.
@@ -735,19 +780,23 @@ fn snap_touches(
     }
 }
 
-/// Every input boundary segment with the tag it gives (obstacles, goals, then walls), and
+/// Every input boundary segment of `groups` (the workspace, the obstacles numbered
+/// `obstacles`, the goals) with the tag it gives (obstacles, goals, then walls), and
 /// the points free-space vertices may snap to (the workspace ring `ws`, then the vertices of
 /// every segment).
 fn boundary_sources(
     ws: &[Point],
     groups: &[Rings],
+    obstacles: &[usize],
     spec: &DomainSpec,
 ) -> (Vec<Source>, Vec<Point>) {
     let mut sources: Vec<Source> = Vec::new();
     let mut snap_inputs: Vec<Point> = ws.to_vec();
-    // Obstacles, goals, then walls (groups hold the walls first).
-    let tags = (0..spec.obstacles.len())
-        .map(|i| BoundaryTag::Obstacle(i as u32))
+    // Obstacles (those in `groups`, by input index), goals, then walls (groups hold the
+    // walls first).
+    let tags = obstacles
+        .iter()
+        .map(|&i| BoundaryTag::Obstacle(i as u32))
         .chain((0..spec.goals.len()).map(|j| BoundaryTag::Goal(j as u32)))
         .chain(std::iter::once(BoundaryTag::Wall));
     for (group, tag) in groups[1..].iter().chain(&groups[..1]).zip(tags) {
@@ -769,24 +818,28 @@ struct FreeSpace {
     goals: MultiPolygon<f64>,
 }
 
-/// The shrunk workspace less the obstacles and goals; an error if nothing is left or a goal
-/// touches no free space (saying whether an obstacle covers it).
+/// The shrunk workspace less the obstacles `cut` (the others, of total area `isolated_area`,
+/// are isolated holes: see `isolated`) and the goals; an error if nothing is left or a goal
+/// touches no free space (saying whether an obstacle of `obstacle_geo`, all of them, covers
+/// it).
 fn free_space(
     ws: &Workspace,
     ws_mp: &MultiPolygon<f64>,
+    cut: &[MultiPolygon<f64>],
+    isolated_area: f64,
     obstacle_geo: &[MultiPolygon<f64>],
     goal_geo: &[MultiPolygon<f64>],
     raw_obstacles: &[MultiPolygon<f64>],
 ) -> Result<FreeSpace, MeshError> {
     let rr = ws.rr;
-    let obstacle_union = unary_union(obstacle_geo.iter());
+    let obstacle_union = unary_union(cut.iter());
     let goal_union = unary_union(goal_geo.iter());
-    let free0 = if obstacle_geo.is_empty() {
+    let free0 = if cut.is_empty() {
         ws_mp.clone()
     } else {
         ws_mp.difference(&obstacle_union)
     };
-    if free0.unsigned_area() <= 0.0 {
+    if free0.unsigned_area() - isolated_area <= 0.0 {
         return Err(MeshError::NoFreeSpace { robot_radius: rr });
     }
     for (j, g) in goal_geo.iter().enumerate() {
@@ -812,7 +865,7 @@ fn free_space(
     } else {
         free0.difference(&goal_union)
     };
-    if free_mp.unsigned_area() <= 0.0 {
+    if free_mp.unsigned_area() - isolated_area <= 0.0 {
         return Err(MeshError::NoFreeSpace { robot_radius: rr });
     }
     Ok(FreeSpace {
@@ -868,25 +921,27 @@ fn tagged_free_rings(
     free
 }
 
-/// The segment indices of free space's boundary: every edge (for the inside test), and the
-/// edges on walls and obstacles (for clearance).
-fn boundary_indices(free: &[TaggedRing]) -> (SegmentIndex, SegmentIndex) {
-    // Payload: the edge's position among all ring edges, ring after ring (what the mesher's
-    // boundary tagging looks segments up by).
+/// The segment index of free space's boundary: every edge (for the inside test), its payload
+/// the edge's position among all ring edges, ring after ring (what the mesher's boundary
+/// tagging looks segments up by).
+fn boundary_index(free: &[TaggedRing]) -> SegmentIndex {
     let mut next = 0u32;
-    let boundary_index = SegmentIndex::new(free.iter().flat_map(|r| {
+    SegmentIndex::new(free.iter().flat_map(|r| {
         let n = r.points.len();
         let first = next;
         next += n as u32;
         (0..n).map(move |k| (r.points[k], r.points[(k + 1) % n], first + k as u32))
-    }));
-    let wall_index = SegmentIndex::new(free.iter().flat_map(|r| {
+    }))
+}
+
+/// The segment index of the edges of `free` on walls and obstacles (for clearance).
+fn wall_index(free: &[TaggedRing]) -> SegmentIndex {
+    SegmentIndex::new(free.iter().flat_map(|r| {
         let n = r.points.len();
         (0..n)
             .filter(|&k| !matches!(r.tags[k], BoundaryTag::Goal(_)))
             .map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
-    }));
-    (boundary_index, wall_index)
+    }))
 }
 
 impl Domain {
@@ -938,17 +993,39 @@ impl Domain {
         let (obstacle_geo, raw_obstacles) = inflated_obstacles(spec, &ws)?;
         let goal_geo = goal_shapes(spec, &ws, &obstacle_geo)?;
         let ws_mp = shrunk_workspace(&ws)?;
-        let (groups, ws_mp, obstacle_geo, goal_geo) =
-            snap_touches(ws_mp, obstacle_geo, goal_geo, ws.scale);
-        let (sources, snap_inputs) = boundary_sources(&ws.ring, &groups, spec);
-        let space = free_space(&ws, &ws_mp, &obstacle_geo, &goal_geo, &raw_obstacles)?;
-        let free = tagged_free_rings(&space.free, &sources, snap_inputs, ws.scale);
-        let (boundary_index, wall_index) = boundary_indices(&free);
-        let obstacle_regions = if obstacle_geo.is_empty() {
+        // Obstacles that touch nothing are holes as they are; the booleans, the snapping and
+        // the tagging only see the others.
+        let isolated = isolated::Isolated::find(&ws_mp, &obstacle_geo, &goal_geo, ws.scale);
+        let (cut_ids, cut_geo): (Vec<usize>, PerInput) = obstacle_geo
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| !isolated.contains(i))
+            .map(|(i, mp)| (i, mp.clone()))
+            .unzip();
+        let (groups, ws_mp, cut_geo, goal_geo) = snap_touches(ws_mp, cut_geo, goal_geo, ws.scale);
+        let mut obstacle_geo = obstacle_geo;
+        for (&i, mp) in cut_ids.iter().zip(&cut_geo) {
+            obstacle_geo[i] = mp.clone();
+        }
+        let (sources, snap_inputs) = boundary_sources(&ws.ring, &groups, &cut_ids, spec);
+        let space = free_space(
+            &ws,
+            &ws_mp,
+            &cut_geo,
+            isolated.area,
+            &obstacle_geo,
+            &goal_geo,
+            &raw_obstacles,
+        )?;
+        let mut free = tagged_free_rings(&space.free, &sources, snap_inputs, ws.scale);
+        free.extend(isolated.holes());
+        let boundary_index = boundary_index(&free);
+        let mut obstacle_regions = if cut_geo.is_empty() {
             Vec::new()
         } else {
             regions_of(&space.obstacles.intersection(&ws.geo), &obstacle_geo)
         };
+        obstacle_regions.extend(isolated.regions());
         let goal_regions = if goal_geo.is_empty() {
             Vec::new()
         } else {
@@ -965,7 +1042,7 @@ impl Domain {
             target_edge: ws.h,
             robot_radius: ws.rr,
             boundary_index,
-            wall_index,
+            wall_index: std::sync::OnceLock::new(),
             frame: Frame::identity(),
             user_free: Vec::new(),
             constraints: Constraints::default(),
@@ -1026,6 +1103,10 @@ impl Domain {
     pub(crate) fn unit_boundary_index(&self) -> &SegmentIndex {
         &self.boundary_index
     }
+    /// The free-space edges on walls and obstacles in an R-tree (built at the first call).
+    fn wall_index(&self) -> &SegmentIndex {
+        self.wall_index.get_or_init(|| wall_index(&self.free))
+    }
     /// The workspace bounding box in unit coordinates.
     pub(crate) fn unit_bbox(&self) -> (Point, Point) {
         self.bbox
@@ -1053,19 +1134,19 @@ impl Domain {
     /// the boundaries are those of the inflated obstacles. Infinity if there are none.
     pub fn distance_to_obstacles(&self, p: Point) -> f64 {
         self.frame
-            .len_to_user(self.wall_index.distance(self.frame.to_unit(p)))
+            .len_to_user(self.wall_index().distance(self.frame.to_unit(p)))
     }
 
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
     /// crosses one). A segment fully inside an obstacle also has a positive value: check
     /// [`Domain::contains_free`] on an end point as well.
     pub fn segment_clearance(&self, a: Point, b: Point) -> f64 {
-        if self.wall_index.is_empty() {
+        if self.wall_index().is_empty() {
             return f64::INFINITY;
         }
         let (a, b) = (self.frame.to_unit(a), self.frame.to_unit(b));
         self.frame
-            .len_to_user(self.wall_index.segment_distance(a, b))
+            .len_to_user(self.wall_index().segment_distance(a, b))
     }
 }
 

@@ -152,7 +152,8 @@ pub(crate) fn snap_near_touches(groups: &mut [Rings], tol: f64) -> bool {
     }
 
     // Pass 2: insert each vertex into the other groups' edges it lies on (within `tol`).
-    let index = build_index(groups);
+    // The index of pass 1 still holds every edge where it is unless a vertex moved.
+    let index = if changed { build_index(groups) } else { index };
     let mut cuts: Vec<(u32, f64, Point)> = Vec::new();
     for id in 0..ring_ids.len() as u32 {
         let (g, p, r) = ring_ids[id as usize];

@@ -1165,7 +1165,8 @@ fn tagged_boundary(
         let pa = positions[a];
         let pb = positions[b];
         let m = Point::new(0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
-        let (_, s) = segments.index.nearest(m).ok_or_else(|| {
+        // The midpoint lies on its ring segment up to rounding (unit coordinates: sides of about 10).
+        let (_, s) = segments.index.nearest_near(m, 1e-9).ok_or_else(|| {
             MeshError::Triangulation("free space has no boundary segments".to_string())
         })?;
         boundary.push((new_id[a], new_id[b], segments.tags[s as usize].2));

@@ -514,3 +514,92 @@ fn obstacles_touching_at_a_corner_and_along_the_wall() {
         }
     }
 }
+
+#[test]
+fn obstacles_that_touch_nothing_are_holes_as_they_are_and_the_others_still_merge() {
+    // An L-shaped workspace: [0, 10]² less [6, 10] × [6, 10].
+    let workspace = vec![
+        p(0.0, 0.0),
+        p(10.0, 0.0),
+        p(10.0, 6.0),
+        p(6.0, 6.0),
+        p(6.0, 10.0),
+        p(0.0, 10.0),
+    ];
+    let alone = [rect(1.0, 1.0, 2.0, 2.0), rect(3.0, 1.0, 4.0, 2.0)];
+    // A rounding error apart: snapped together and merged, not taken as they are.
+    let near = [rect(1.0, 3.0, 2.0, 4.0), rect(2.0 + 1e-12, 3.0, 3.0, 4.0)];
+    let overlapping = [rect(1.0, 6.0, 3.0, 7.0), rect(2.0, 6.5, 4.0, 8.0)];
+    // Across the inner corner of the L: cut at the walls.
+    let across = rect(5.0, 5.0, 7.0, 7.0);
+    // Next to the goal, a rounding error off it.
+    let by_goal = rect(8.0, 2.0 + 1e-13, 9.0, 3.0);
+    let goal = rect(8.0, 1.0, 9.0, 2.0);
+    let obstacles: Vec<Shape> = alone
+        .iter()
+        .chain(&near)
+        .chain(&overlapping)
+        .chain([&across, &by_goal])
+        .map(|r| Shape::Polygon(r.clone()))
+        .collect();
+    let spec = DomainSpec {
+        workspace: workspace.clone(),
+        obstacles,
+        goals: vec![GoalShape::Polygon(goal.clone())],
+        robot_radius: 0.0,
+    };
+    let domain = Domain::new(&spec, &opts()).unwrap();
+    // 84 − 1 − 1 − 2 − (2 + 3 − 0.5) − 3 (the part of `across` in the L) − 1 − goal 1.
+    let exact = 84.0 - 2.0 - 2.0 - 4.5 - 3.0 - 1.0 - 1.0;
+    assert!(
+        (domain.free_area() - exact).abs() < 1e-9,
+        "{}",
+        domain.free_area()
+    );
+    let mut sources: Vec<Vec<u32>> = domain
+        .obstacle_polygons()
+        .iter()
+        .map(|r| r.sources.clone())
+        .collect();
+    sources.sort();
+    assert_eq!(
+        sources,
+        vec![vec![0], vec![1], vec![2, 3], vec![4, 5], vec![6], vec![7]]
+    );
+    for (i, ring) in alone.iter().enumerate() {
+        let region = domain
+            .obstacle_polygons()
+            .iter()
+            .find(|r| r.sources == [i as u32])
+            .unwrap();
+        assert_eq!(region.exterior.len(), 4);
+        assert!(region.exterior.iter().all(|&q| on_ring_edge(q, q, ring)));
+    }
+    let (mesh, report) = domain.mesh(&opts()).unwrap();
+    assert!(report.refinement_complete);
+    check_invariants(&mesh, exact, 1e-9).unwrap();
+    let q = mesh.quality();
+    // Holes: the two alone, the merged pair, the overlapping pair, and the goal with
+    // `by_goal` snapped onto it (`across` notches the walls).
+    assert_eq!((q.components, q.holes), (1, 5), "{q:?}");
+    let rings = [
+        &alone[..],
+        &near,
+        &overlapping,
+        &[across.clone(), by_goal.clone()],
+    ]
+    .concat();
+    for e in mesh.boundary_edges() {
+        let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
+        let ok = match e.tag {
+            BoundaryTag::Wall => on_ring_edge(a, b, &workspace),
+            BoundaryTag::Obstacle(i) => on_ring_edge(a, b, &rings[i as usize]),
+            BoundaryTag::Goal(0) => on_ring_edge(a, b, &goal),
+            t => panic!("unexpected tag {t}"),
+        };
+        assert!(ok, "{} edge {a} {b}", e.tag);
+    }
+    assert!(!domain.contains_free(p(1.5, 1.5)));
+    assert!(domain.contains_free(p(2.5, 1.5)));
+    assert!((domain.distance_to_obstacles(p(2.5, 1.5)) - 0.5).abs() < 1e-12);
+}

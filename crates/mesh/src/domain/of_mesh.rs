@@ -2,7 +2,7 @@
 //! rings, so the clearance and inside queries, the pictures and the planner work on it as on
 //! a domain of a scene.
 
-use super::{Constraints, Domain, Region, TaggedRing, bbox_of, boundary_indices, ring_area};
+use super::{Constraints, Domain, Region, TaggedRing, bbox_of, boundary_index, ring_area};
 use crate::{BoundaryTag, Frame, Mesh, MeshError, Point};
 
 /// The boundary loops of `mesh` as vertex numbers with the tag of each edge (edge `k` runs
@@ -121,7 +121,7 @@ impl Domain {
         let bbox = bbox_of(&all);
         let free_area: f64 = free.iter().map(|r| ring_area(&r.points)).sum();
         let triangles = mesh.triangles().len().max(1) as f64;
-        let (boundary_index, wall_index) = boundary_indices(&free);
+        let boundary_index = boundary_index(&free);
         Ok(Domain {
             free,
             workspace,
@@ -133,7 +133,7 @@ impl Domain {
             target_edge: super::edge_for_area(free_area / triangles),
             robot_radius: 0.0,
             boundary_index,
-            wall_index,
+            wall_index: std::sync::OnceLock::new(),
             frame,
             user_free,
             constraints: Constraints::default(),
