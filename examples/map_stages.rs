@@ -1,7 +1,7 @@
 //! Nav2's maps beside NavFn, request by request: the first plan from the loaded occupancy
 //! grid (map → mesh → assemble → solve → trace, where "mesh" is everything before assembly:
 //! the clear cells and the quadtree, or the polygons, their booleans and the refined
-//! Delaunay mesh; the map's default mesher unless `--traced` or `--quadtree` says which), where its time goes, and a later start on the same planner (a
+//! Delaunay mesh of the default mesher, or with `--quadtree` the clear cells' quadtree), where its time goes, and a later start on the same planner (a
 //! trace only). Times are medians of 5 in-process runs.
 //!
 //! Which solve each map gets: the planner's `SolveMethod::Auto` takes the accurate LDLᵀ up to
@@ -10,7 +10,7 @@
 //! Cholesky with rayon's pool as the planner runs it).
 //!
 //! ```text
-//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--traced | --quadtree] [--snap off|CELLS] [--json]
+//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--quadtree [--snap off|CELLS]] [--json]
 //! ```
 
 use std::time::Instant;
@@ -51,7 +51,10 @@ struct Row {
 /// numeric factorisations + solves of the map's system (walls φ = 1, goal φ = 0) on
 /// `planner`'s mesh by the accurate LDLᵀ (NaN when the system is not an M-matrix) and by
 /// Cholesky (each solver built, i.e. analysed, once beforehand).
-fn solve_times(planner: &Planner) -> Result<(usize, String, f64, f64), Box<dyn std::error::Error>> {
+fn solve_times(
+    planner: &Planner,
+    mesher: MapMesher,
+) -> Result<(usize, String, f64, f64), Box<dyn std::error::Error>> {
     let bcs = BoundaryConditions::default();
     let mesh = Arc::new(planner.mesh().clone());
     let assembler = Assembler::new(mesh, &bcs, AssemblyOptions::default())?;
@@ -59,8 +62,10 @@ fn solve_times(planner: &Planner) -> Result<(usize, String, f64, f64), Box<dyn s
     let n = system.matrix().n();
     let method = match system.not_m_matrix() {
         Some(reason) => format!("Cholesky (not an M-matrix: {reason})"),
+        // The map planner asks the quadtree's M-matrix for the accurate solve at any size.
+        None if mesher == MapMesher::Quadtree => "accurate".to_string(),
         None if n <= AUTO_ACCURATE_MAX_UNKNOWNS => "accurate".to_string(),
-        None => "Cholesky".to_string(),
+        None => "Cholesky, redone accurately if ψ spans over 1e12".to_string(),
     };
     let mut best = Vec::new();
     for method in [SolveMethod::Accurate, SolveMethod::Cholesky] {
@@ -92,12 +97,10 @@ fn ms(t: Instant) -> f64 {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let json = std::env::args().any(|a| a == "--json");
     let opts = MapOptions {
-        mesher: if std::env::args().any(|a| a == "--traced") {
-            MapMesher::Traced
-        } else if std::env::args().any(|a| a == "--quadtree") {
+        mesher: if std::env::args().any(|a| a == "--quadtree") {
             MapMesher::Quadtree
         } else {
-            MapMesher::Auto
+            MapMesher::Traced
         },
         snap: match std::env::args().skip_while(|a| a != "--snap").nth(1) {
             None => Snap::OpenFloor,
@@ -141,7 +144,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect(),
         );
         let tm = planner.timings();
-        let (unknowns, method, accurate_ms, cholesky_ms) = solve_times(&planner)?;
+        let (unknowns, method, accurate_ms, cholesky_ms) = solve_times(&planner, opts.mesher)?;
         rows.push(Row {
             map: r.map,
             start: r.start,

@@ -87,20 +87,9 @@ pub enum UnknownCells {
     Free,
 }
 
-/// Up to this many cells [`MapMesher::Auto`] meshes a map by [`MapMesher::Quadtree`], above
-/// by [`MapMesher::Traced`]. The quadtree's triangles grow with the walls' length in cells
-/// (each staircase step is a one-cell leaf), the traced mesh's with the simplified polygons'
-/// vertices: on Nav2's maps the quadtree is the faster up to the 1006 × 1674 warehouse and
-/// the traced mesh on the 2000 × 2000 ones (see the README's map table).
-pub const AUTO_QUADTREE_MAX_CELLS: usize = 1 << 21;
-
 /// How [`OccupancyMap::planner`] meshes a map's free space.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MapMesher {
-    /// [`MapMesher::Quadtree`] for maps of up to [`AUTO_QUADTREE_MAX_CELLS`] cells,
-    /// [`MapMesher::Traced`] for larger ones.
-    #[default]
-    Auto,
     /// The robot's free configuration space on the map's own grid: the cells whose square
     /// keeps the robot radius from every blocked cell's square, exactly, with no margin
     /// (snapped to blocks on open floor, [`MapOptions::snap`]), meshed by a balanced
@@ -108,7 +97,9 @@ pub enum MapMesher {
     /// polygon booleans, no refinement.
     Quadtree,
     /// The traced, simplified polygons of [`OccupancyMap::to_scene`], meshed by constrained
-    /// Delaunay refinement like any scene.
+    /// Delaunay refinement like any scene (the default: on Nav2's maps the faster first plan
+    /// on five of six, see the README's map table).
+    #[default]
     Traced,
 }
 
@@ -168,7 +159,7 @@ impl Default for MapOptions {
     fn default() -> Self {
         MapOptions {
             unknown: UnknownCells::Obstacle,
-            mesher: MapMesher::Auto,
+            mesher: MapMesher::Traced,
             snap: Snap::OpenFloor,
             simplify_cells: 0.45,
             boundary_budget: 1000,
@@ -760,9 +751,8 @@ impl OccupancyMap {
     /// A planner towards `goal` (world coordinates) for a disc robot of `robot_radius`,
     /// meshed as [`MapOptions::mesher`] says: the robot's free configuration space on the
     /// grid, meshed by a quadtree ([`OccupancyMap::cell_mesh`]), or the scene of
-    /// [`OccupancyMap::to_scene`] ([`MapMesher::Traced`]); [`MapMesher::Auto`] picks by the
-    /// map's size. A start on a clear cell outside the quadtree's mesh is led in over clear
-    /// cells. Either way a path
+    /// [`OccupancyMap::to_scene`] ([`MapMesher::Traced`], the default). A start on a clear
+    /// cell outside the quadtree's mesh is led in over clear cells. Either way a path
     /// keeps at least `robot_radius` from every occupied cell (and unknown cell, unless
     /// [`MapOptions::unknown`] says they are free).
     pub fn planner(
@@ -776,15 +766,8 @@ impl OccupancyMap {
             file: self.source.clone(),
             source,
         };
-        let mesher = match opts.mesher {
-            MapMesher::Auto if self.width * self.height <= AUTO_QUADTREE_MAX_CELLS => {
-                MapMesher::Quadtree
-            }
-            MapMesher::Auto => MapMesher::Traced,
-            other => other,
-        };
-        match mesher {
-            MapMesher::Auto | MapMesher::Traced => {
+        match opts.mesher {
+            MapMesher::Traced => {
                 let scene = self.to_scene(goal, robot_radius, opts)?;
                 Planner::with_options(&scene, planner).map_err(plan_error)
             }

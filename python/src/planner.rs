@@ -146,8 +146,8 @@ impl PyPlanner {
 
     /// A planner on a ROS map_server occupancy map (`map.yaml` with its PGM/PNG image)
     /// towards `goal` (world coordinates) for a disc robot of `robot_radius`, as
-    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (the map's default
-    /// mesher: its clear cells by a quadtree up to 2^21 cells, traced polygons above).
+    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (traced polygons,
+    /// the map's default mesher).
     /// Occupied cells (and unknown ones) are obstacles. The GIL is released while the map is
     /// read and the planner built.
     #[staticmethod]

@@ -42,9 +42,8 @@ struct Cli {
 /// `hplan plan --map --mesher`.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum MesherArg {
-    Auto,
-    Quadtree,
     Traced,
+    Quadtree,
 }
 
 #[derive(Subcommand)]
@@ -75,10 +74,10 @@ enum Command {
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
-        /// On a map: how to mesh it. `quadtree`: the robot's clear cells, by a balanced
-        /// quadtree; `traced`: traced, simplified polygons by Delaunay refinement (always so
-        /// with several goals); `auto`: the quadtree up to 2^21 cells, traced above.
-        #[arg(long, value_enum, default_value_t = MesherArg::Auto, requires = "map")]
+        /// On a map: how to mesh it. `traced` (default): traced, simplified polygons by
+        /// Delaunay refinement (always so with several goals); `quadtree`: the robot's clear
+        /// cells (the radius kept exactly, no margin), by a balanced quadtree.
+        #[arg(long, value_enum, default_value_t = MesherArg::Traced, requires = "map")]
         mesher: MesherArg,
         /// Plan in a Triangle .poly file's free space (its outer boundary the workspace, the
         /// regions around its hole points obstacles, its other segments mesh constraints);
@@ -645,7 +644,6 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     let opts = MapOptions {
                         max_area: common.max_area,
                         mesher: match mesher {
-                            MesherArg::Auto => MapMesher::Auto,
                             MesherArg::Quadtree => MapMesher::Quadtree,
                             MesherArg::Traced => MapMesher::Traced,
                         },
