@@ -1150,9 +1150,12 @@ fn flood_fill(cells: &[bool], w: usize, h: usize, seed: usize) -> Vec<bool> {
 fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
     // Lattice nodes (I, J) = cell centres (I - 1, J - 1), with a ring of outside nodes.
     let (nx, ny) = (w + 2, h + 2);
-    let node = |i: usize, j: usize| -> bool {
-        i >= 1 && j >= 1 && i <= w && j <= h && inside[(j - 1) * w + (i - 1)]
-    };
+    // The nodes with their outside ring, row by row, so the scan reads two rows in order.
+    let mut padded = vec![false; nx * ny];
+    for j in 0..h {
+        padded[(j + 1) * nx + 1..(j + 1) * nx + 1 + w].copy_from_slice(&inside[j * w..(j + 1) * w]);
+    }
+    let node = |i: usize, j: usize| -> bool { padded[j * nx + i] };
     // Edge ids: horizontal (I, J)–(I+1, J) is 2 (I ny + J), vertical (I, J)–(I, J+1) is +1.
     let hid = |i: usize, j: usize| 2 * (i * ny + j);
     let vid = |i: usize, j: usize| 2 * (i * ny + j) + 1;
@@ -1162,13 +1165,15 @@ fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
     let mut found: Vec<usize> = Vec::new();
     for j in 0..ny - 1 {
         // Row by row over contiguous cells; a square with four equal corners has no boundary.
+        let (below, above) = (
+            &padded[j * nx..(j + 1) * nx],
+            &padded[(j + 1) * nx..(j + 2) * nx],
+        );
+        if below == above && below.iter().all(|&b| b == below[0]) {
+            continue;
+        }
         for i in 0..nx - 1 {
-            let v = [
-                node(i, j),
-                node(i + 1, j),
-                node(i + 1, j + 1),
-                node(i, j + 1),
-            ];
+            let v = [below[i], below[i + 1], above[i + 1], above[i]];
             if v[0] == v[1] && v[1] == v[2] && v[2] == v[3] {
                 continue;
             }

@@ -222,6 +222,13 @@ fn hilbert(mut x: u32, mut y: u32) -> u32 {
 /// `items` sorted by key, items with equal keys kept in their order (least significant digit
 /// radix sort, two passes of 16 bits).
 fn radix_sort_by_key(mut items: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+    if items.len() < 1 << 14 {
+        // Below this the two passes' 2^16-bucket tables cost more than a comparison sort.
+        // The same order: ties keep their input order, which is by the second field.
+        debug_assert!(items.windows(2).all(|w| w[0].1 < w[1].1));
+        items.sort_unstable();
+        return items;
+    }
     let mut out = vec![(0u32, 0u32); items.len()];
     for shift in [0, 16] {
         let mut start = vec![0usize; (1 << 16) + 1];
@@ -1229,16 +1236,19 @@ mod tests {
     #[test]
     fn radix_sort_is_a_stable_sort_by_key() {
         let mut x: u32 = 12345;
-        let items: Vec<(u32, u32)> = (0..5000)
-            .map(|i| {
-                x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                // Few distinct low digits and high digits, so ties are common.
-                (x & 0x000f_000f, i)
-            })
-            .collect();
-        let mut expected = items.clone();
-        expected.sort_unstable();
-        assert_eq!(radix_sort_by_key(items), expected);
+        // Below and above the size where the radix passes take over.
+        for n in [5000, 40_000] {
+            let items: Vec<(u32, u32)> = (0..n)
+                .map(|i| {
+                    x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                    // Few distinct low digits and high digits, so ties are common.
+                    (x & 0x000f_000f, i)
+                })
+                .collect();
+            let mut expected = items.clone();
+            expected.sort_unstable();
+            assert_eq!(radix_sort_by_key(items), expected, "{n} items");
+        }
     }
 
     #[test]
