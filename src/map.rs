@@ -817,17 +817,7 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<(harmonic_mesh::Mesh, cells::CellEntry), MapError> {
-        if !(robot_radius.is_finite() && robot_radius >= 0.0) {
-            return Err(MapError::BadRadius(robot_radius));
-        }
-        if let Some(a) = opts.max_area
-            && !(a.is_finite() && a > 0.0)
-        {
-            return Err(MapError::BadOption {
-                option: "max_area",
-                message: format!("must be a positive number, got {a}"),
-            });
-        }
+        check_radius_and_area(robot_radius, opts)?;
         let res = self.resolution;
         if let Snap::Blocks(b) = opts.snap
             && !(b.is_power_of_two() && b <= 64)
@@ -943,17 +933,7 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<Scene, MapError> {
-        if !(robot_radius.is_finite() && robot_radius >= 0.0) {
-            return Err(MapError::BadRadius(robot_radius));
-        }
-        if let Some(a) = opts.max_area
-            && !(a.is_finite() && a > 0.0)
-        {
-            return Err(MapError::BadOption {
-                option: "max_area",
-                message: format!("must be a positive number, got {a}"),
-            });
-        }
+        check_radius_and_area(robot_radius, opts)?;
         let polys = self.polygons(goal, opts)?;
         let radius = robot_radius + polys.margin;
         let max_area = opts
@@ -1027,6 +1007,23 @@ impl OccupancyMap {
         }
         Ok((c, r))
     }
+}
+
+/// The robot radius (finite, not negative) and [`MapOptions::max_area`] (positive, if set)
+/// that both meshers take.
+fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), MapError> {
+    if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+        return Err(MapError::BadRadius(robot_radius));
+    }
+    if let Some(a) = opts.max_area
+        && !(a.is_finite() && a > 0.0)
+    {
+        return Err(MapError::BadOption {
+            option: "max_area",
+            message: format!("must be a positive number, got {a}"),
+        });
+    }
+    Ok(())
 }
 
 /// Where the traced boundary crosses a lattice edge between a blocked and a free cell centre,
@@ -1297,15 +1294,8 @@ mod tests {
     #[test]
     fn the_scanline_fill_is_the_4_connected_component() {
         let (w, h) = (37, 29);
-        let mut state = 99u64;
-        let cells: Vec<bool> = (0..w * h)
-            .map(|_| {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (state >> 33) % 10 < 6
-            })
-            .collect();
+        let mut rng = harmonic_fixtures::Rng(99);
+        let cells: Vec<bool> = (0..w * h).map(|_| rng.next_f64() < 0.6).collect();
         for seed in (0..w * h).filter(|&k| cells[k]).step_by(97) {
             // Breadth-first, cell by cell.
             let mut want = vec![false; w * h];

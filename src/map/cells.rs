@@ -154,22 +154,12 @@ pub(super) fn snapped_on_open_floor(
     s: usize,
 ) -> Vec<bool> {
     let (full, bw, bh) = blocks(clear, w, h, b);
-    let eroded = window(
-        &window(&full, bw, bh, s, Axis::Row, Run::AllAhead),
-        bw,
-        bh,
-        s,
-        Axis::Column,
-        Run::AllAhead,
-    );
-    let open = window(
-        &window(&eroded, bw, bh, s, Axis::Row, Run::AnyBehind),
-        bw,
-        bh,
-        s,
-        Axis::Column,
-        Run::AnyBehind,
-    );
+    // The opening: erode by the s × s square, then dilate by it.
+    let square = |src: &[bool], run| {
+        let rows = window(src, bw, bh, s, Axis::Row, run);
+        window(&rows, bw, bh, s, Axis::Column, run)
+    };
+    let open = square(&square(&full, Run::AllAhead), Run::AnyBehind);
     let mut drop = vec![false; bw * bh];
     for j in 0..bh {
         for i in 0..bw {
@@ -407,15 +397,8 @@ mod tests {
     #[test]
     fn clear_cells_match_the_exact_square_distance() {
         let (w, h) = (23, 17);
-        let mut state = 12345u64;
-        let blocked: Vec<bool> = (0..w * h)
-            .map(|_| {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (state >> 33).is_multiple_of(29)
-            })
-            .collect();
+        let mut rng = harmonic_fixtures::Rng(12345);
+        let blocked: Vec<bool> = (0..w * h).map(|_| rng.below(29) == 0).collect();
         for radius in [0.5, 1.0, 2.2, 3.0, 4.4, 6.01] {
             assert_eq!(
                 clear_cells(&blocked, w, h, radius),

@@ -87,47 +87,36 @@ fn usage_errors_fail_with_one_line() {
 
 #[test]
 fn the_command_line_plans_on_a_map() {
-    let out = hplan()
-        .args(["plan", "--map"])
-        .arg(warehouse_yaml())
-        .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
-        .args(["--start", "3.0,4.0", "--start", "16.4,11.8"])
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-    let paths = report["paths"].as_array().expect("paths");
-    assert_eq!(paths[0]["status"], "reached_goal");
-    assert_ne!(paths[1]["status"], "reached_goal");
-
+    // The warehouse with a start in an aisle and one in the closed closet, by a mesher.
+    let plan = |mesher: &str| -> serde_json::Value {
+        let out = hplan()
+            .args(["plan", "--map"])
+            .arg(warehouse_yaml())
+            .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
+            .args([
+                "--mesher",
+                mesher,
+                "--start",
+                "3.0,4.0",
+                "--start",
+                "16.4,11.8",
+            ])
+            .output()
+            .expect("runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+        let paths = report["paths"].as_array().expect("paths");
+        assert_eq!(paths[0]["status"], "reached_goal", "{mesher}");
+        assert_ne!(paths[1]["status"], "reached_goal", "{mesher}");
+        report
+    };
+    plan("traced");
     // The quadtree mesher: the same statuses, right isosceles triangles (45° smallest angle).
-    let out = hplan()
-        .args(["plan", "--map"])
-        .arg(warehouse_yaml())
-        .args(["--goal", "16.5,1.5", "--robot-radius", "0.2", "--json"])
-        .args([
-            "--mesher",
-            "quadtree",
-            "--start",
-            "3.0,4.0",
-            "--start",
-            "16.4,11.8",
-        ])
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
-    let paths = report["paths"].as_array().expect("paths");
-    assert_eq!(paths[0]["status"], "reached_goal");
-    assert_ne!(paths[1]["status"], "reached_goal");
+    let report = plan("quadtree");
     let min_angle = report["mesh"]["min_angle_deg"].as_f64().expect("angle");
     assert!((min_angle - 45.0).abs() < 1e-6, "{min_angle}");
 
