@@ -883,13 +883,19 @@ impl OccupancyMap {
             }
         };
         let clear_area = component.iter().filter(|&&c| c).count() as f64 * res * res;
-        let (bw, bh, goal_block) = (w, h, goal_cell);
-        let mut labels: Vec<Block> = component
+        // The goal's cell is a hole of the mesh (its sides the goal boundary); the rest of the
+        // component is meshed.
+        let labels: Vec<Block> = component
             .iter()
-            .map(|&c| if c { Block::Free } else { Block::Blocked })
+            .enumerate()
+            .map(|(k, &c)| match (k == goal_cell, c) {
+                (true, _) => Block::Goal,
+                (false, true) => Block::Free,
+                (false, false) => Block::Blocked,
+            })
             .collect();
-        labels[goal_block] = Block::Goal;
-        let meshed: Vec<bool> = labels.iter().map(|&l| l == Block::Free).collect();
+        let mut meshed = component;
+        meshed[goal_cell] = false;
         let entry = cells::CellEntry {
             width: w,
             height: h,
@@ -909,18 +915,16 @@ impl OccupancyMap {
         while max_level < 15 && (2usize << max_level) as f64 * res <= leaf {
             max_level += 1;
         }
-        let grid = BlockGrid::new(bw, bh, labels).map_err(|e| MapError::Plan {
+        let mesh_error = |e: harmonic_mesh::MeshError| MapError::Plan {
             file: self.source.clone(),
             source: e.into(),
-        })?;
+        };
+        let grid = BlockGrid::new(w, h, labels).map_err(mesh_error)?;
         let mesh = quadtree_mesh(&grid, &QuadtreeOptions { max_level }, |x, y| {
             let p = self.grid_to_world([x, y]);
             Point::new(p[0], p[1])
         })
-        .map_err(|e| MapError::Plan {
-            file: self.source.clone(),
-            source: e.into(),
-        })?;
+        .map_err(mesh_error)?;
         Ok((mesh, entry))
     }
 

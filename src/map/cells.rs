@@ -300,7 +300,7 @@ pub(super) struct CellEntry {
     pub(super) height: usize,
     /// Clear cells, row by row from the bottom.
     pub(super) clear: Vec<bool>,
-    /// Cells inside the mesh (in a free block of the goal's component).
+    /// Cells inside the mesh (the goal's component, less the goal's cell).
     pub(super) meshed: Vec<bool>,
     /// Grid coordinates (cells) to world coordinates and back.
     pub(super) frame: super::GridFrame,
