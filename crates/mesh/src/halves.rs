@@ -106,8 +106,9 @@ impl Cut {
 }
 
 /// How much more even an exact cut counts than a median cut: its halves settle by
-/// exchanging seam vertices, while a median cut's glue only when refinement leaves the seam alone (otherwise the mesh is made
-/// again in one piece, which costs more than a less even split).
+/// exchanging seam vertices, while a median cut's glue only when refinement leaves the seam
+/// alone (otherwise the mesh is made again in one piece, which costs more than a less even
+/// split).
 const EXACT_BONUS: f64 = 0.15;
 
 /// Cuts to mesh `domain` in two halves, best first: axis-parallel lines at the values `0` and
