@@ -1039,6 +1039,9 @@ impl BoundaryDetail {
 struct BoundarySegments<'a> {
     tags: Vec<(Point, Point, BoundaryTag)>,
     index: &'a SegmentIndex,
+    /// The segments by their ends (the bits of `from` and `to`, free space on the left):
+    /// a mesh boundary edge that refinement did not split is a ring segment verbatim.
+    by_ends: HashMap<[u64; 4], u32>,
 }
 
 impl<'a> BoundarySegments<'a> {
@@ -1052,11 +1055,37 @@ impl<'a> BoundarySegments<'a> {
                 (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
             })
             .collect();
+        let by_ends = tags
+            .iter()
+            .enumerate()
+            .map(|(k, (a, b, _))| (ends_key(*a, *b), k as u32))
+            .collect();
         BoundarySegments {
             tags,
             index: domain.unit_boundary_index(),
+            by_ends,
         }
     }
+
+    /// The tag of the mesh boundary edge `a -> b` (free space on its left): that of the ring
+    /// segment with these very ends, or else (`a -> b` is a piece of a split segment) of the
+    /// segment nearest to its midpoint.
+    fn tag_of(&self, a: Point, b: Point) -> Result<BoundaryTag, MeshError> {
+        if let Some(&k) = self.by_ends.get(&ends_key(a, b)) {
+            return Ok(self.tags[k as usize].2);
+        }
+        let m = Point::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
+        // The midpoint lies on its ring segment up to rounding (unit coordinates: sides of about 10).
+        let (_, k) = self.index.nearest_near(m, 1e-9).ok_or_else(|| {
+            MeshError::Triangulation("free space has no boundary segments".to_string())
+        })?;
+        Ok(self.tags[k as usize].2)
+    }
+}
+
+/// The key of the directed segment `a -> b` in [`BoundarySegments::by_ends`].
+fn ends_key(a: Point, b: Point) -> [u64; 4] {
+    [a.x, a.y, b.x, b.y].map(f64::to_bits)
 }
 
 /// The parts of a mesh under one numbering of their vertices.
@@ -1169,14 +1198,8 @@ fn tagged_boundary(
     let positions = &glued.positions;
     let mut boundary = Vec::with_capacity(glued.boundary.len());
     for &(a, b) in &glued.boundary {
-        let pa = positions[a];
-        let pb = positions[b];
-        let m = Point::new(0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
-        // The midpoint lies on its ring segment up to rounding (unit coordinates: sides of about 10).
-        let (_, s) = segments.index.nearest_near(m, 1e-9).ok_or_else(|| {
-            MeshError::Triangulation("free space has no boundary segments".to_string())
-        })?;
-        boundary.push((new_id[a], new_id[b], segments.tags[s as usize].2));
+        let tag = segments.tag_of(positions[a], positions[b])?;
+        boundary.push((new_id[a], new_id[b], tag));
     }
     Ok(boundary)
 }
