@@ -613,14 +613,10 @@ fn mesh_halves(
 ) -> Result<Option<[(Part, FreeFaces); 2]>, MeshError> {
     let cut = seam.cut;
     let [low, high] = halves;
-    // Each thread also reads its half's free faces: the half done first does so while the
-    // other is still refining.
     let first = |h: HalfInput| {
         // Each half may grow by half the budget's vertices.
         let cap = h.vertices.len().saturating_add(refiner.cap / 2);
-        let part = refiner.run(load(h.vertices, h.edges)?, cap)?;
-        let faces = free_faces(&part, Some(seam));
-        Ok::<_, MeshError>((part, faces))
+        refiner.run(load(h.vertices, h.edges)?, cap)
     };
     let (a, b) = std::thread::scope(|s| {
         let low = s.spawn(|| first(low));
@@ -633,7 +629,7 @@ fn mesh_halves(
         // Points refinement put on this cut need not be exactly on it: glue only halves
         // whose seam is still the pre-split one.
         // (Seam edges are counted from the seam's vertices, each twice.)
-        let intact = |(part, _): &(Part, FreeFaces)| {
+        let intact = |part: &Part| {
             let on_seam: Vec<_> = part
                 .cdt
                 .vertices()
@@ -652,10 +648,13 @@ fn mesh_halves(
                 .sum();
             on_seam.len() == seam.points && ends == 2 * seam.pieces
         };
-        return Ok(parts.iter().all(intact).then_some(parts));
+        return Ok(parts
+            .iter()
+            .all(intact)
+            .then(|| with_free_faces(parts, seam)));
     }
     // The positions along the cut of a part's vertices on it, sorted.
-    let on_cut = |(part, _): &(Part, FreeFaces)| {
+    let on_cut = |part: &Part| {
         let mut t: Vec<f64> = part
             .cdt
             .vertices()
@@ -677,13 +676,13 @@ fn mesh_halves(
         };
         let (for_a, for_b) = (missing(&ta, &tb), missing(&tb, &ta));
         if for_a.is_empty() && for_b.is_empty() {
-            return Ok(Some(parts));
+            return Ok(Some(with_free_faces(parts, seam)));
         }
         // Each half takes the other's cut vertices (exactly on its cut edges, so they split
         // them) and refines again.
-        let take = |(part, faces): (Part, FreeFaces), add: Vec<f64>| {
+        let take = |part: Part, add: Vec<f64>| {
             if add.is_empty() {
-                return Ok((part, faces));
+                return Ok(part);
             }
             let mut cdt = part.cdt;
             for t in add {
@@ -691,8 +690,7 @@ fn mesh_halves(
             }
             let mut again = refiner.run(cdt, part.vertex_cap)?;
             again.bridges_split += part.bridges_split;
-            let faces = free_faces(&again, Some(seam));
-            Ok::<_, MeshError>((again, faces))
+            Ok::<_, MeshError>(again)
         };
         let [pa, pb] = parts;
         let (a, b) = std::thread::scope(|s| {
@@ -704,6 +702,23 @@ fn mesh_halves(
         parts = [a?, b?];
     }
     Ok(None)
+}
+
+/// The two halves with their free faces, read on two threads once the halves are final.
+fn with_free_faces(parts: [Part; 2], seam: &Seam) -> [(Part, FreeFaces); 2] {
+    let [a, b] = parts;
+    std::thread::scope(|s| {
+        let a = s.spawn(move || {
+            let faces = free_faces(&a, Some(seam));
+            (a, faces)
+        });
+        let fb = free_faces(&b, Some(seam));
+        // `free_faces` only reads the part: a panic there is a bug, not an input's fault.
+        [
+            a.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            (b, fb),
+        ]
+    })
 }
 
 impl Domain {
