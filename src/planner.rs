@@ -149,6 +149,7 @@ impl Meshed {
             estimated_triangles: mesh.triangles().len(),
             bridges_split: 0,
             bridges_remaining: 0,
+            seam_refinements: Default::default(),
         };
         let (lo, hi) = domain.bounding_box();
         Ok(Meshed {

@@ -626,9 +626,9 @@ fn the_slow_fuzz_inputs_stay_within_the_vertex_budget() {
             };
             let domain = Domain::new(&scene.domain_spec(), &opts).expect("a valid domain");
             let (mesh, report) = domain.mesh(&opts).expect("meshes");
-            // The budget's floor is 10 000 added vertices (a piece of a mesh in halves has
-            // half of it; the cut exchange adds the other half's cut vertices).
-            let bound = report.input_vertices + 2 * 10_000;
+            // The budget's floor is `MIN_VERTEX_BUDGET` added vertices (a piece of a mesh in
+            // halves has half of it; the cut exchange adds the other half's cut vertices).
+            let bound = report.input_vertices + 2 * harmonic_planner::mesh::MIN_VERTEX_BUDGET;
             assert!(
                 mesh.vertices().len() <= bound,
                 "{}: {} vertices, more than {bound} (halves_from {halves_from})",

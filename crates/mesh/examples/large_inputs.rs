@@ -68,7 +68,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let t2 = Instant::now();
             let q = mesh.quality();
             println!(
-                "mesh {:.3} s: {} triangles (estimated {}), {} vertices, max_area {:.6}, min angle {:.2}, complete {}, seam {:?}",
+                "mesh {:.3} s: {} triangles (estimated {}), {} vertices, max_area {:.6}, min angle {:.2}, complete {}, seam {:?} (refined again: {} local, {} full)",
                 (t2 - t1).as_secs_f64(),
                 q.triangles,
                 report.estimated_triangles,
@@ -76,7 +76,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 report.max_area,
                 q.min_angle_deg,
                 report.refinement_complete,
-                report.seam
+                report.seam,
+                report.seam_refinements.local,
+                report.seam_refinements.full
             );
             println!(
                 "total (domain + mesh) {:.3} s",

@@ -45,14 +45,15 @@ pub mod io;
 mod mesh;
 mod options;
 pub mod quadtree;
+mod seam_refine;
 mod touch;
 mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use frame::Frame;
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
-pub use options::{Grading, MAX_MIN_ANGLE_DEG, MeshOptions};
-pub use triangulate::MeshReport;
+pub use options::{Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
+pub use triangulate::{MeshReport, SeamRefinements};
 
 /// A part of the input scene, used to say where an input error is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

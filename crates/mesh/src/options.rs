@@ -9,6 +9,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::MeshError;
 
+/// The fewest vertices refinement may add to a mesh, whatever its estimate (the vertex
+/// budget is twice the estimated triangle count, and at least this). A gap between two
+/// boundaries much narrower than the target edge — a box 0.6 mm off a wall of a 10 m room —
+/// needs small triangles of its own that the estimate does not see; 10 000 were too few for
+/// that one.
+pub const MIN_VERTEX_BUDGET: usize = 20_000;
+
 /// The largest minimum angle accepted: Delaunay refinement does not terminate reliably above it.
 pub const MAX_MIN_ANGLE_DEG: f64 = 33.0;
 

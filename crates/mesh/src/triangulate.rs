@@ -12,6 +12,7 @@ use crate::geom::SegmentIndex;
 use crate::grading::SizeField;
 use crate::halves::{HalfInput, Seam, choose_cuts, split_inputs};
 use crate::options::MeshOptions;
+use crate::seam_refine::{Bounds, refine_at_seam};
 use crate::{BoundaryTag, Domain, Mesh, MeshError, Point, TaggedRing};
 
 /// What happened while meshing.
@@ -39,6 +40,21 @@ pub struct MeshReport {
     /// Such edges left after the last round (0 unless features are much narrower than the
     /// target edge length).
     pub bridges_remaining: usize,
+    /// Of a mesh made in halves: how often a half took the other half's cut vertices and
+    /// was refined around them locally, and how often it took spade's full pass instead
+    /// (where local refinement met a boundary ring or an encroached boundary edge).
+    #[serde(default)]
+    pub seam_refinements: SeamRefinements,
+}
+
+/// How the halves of a mesh were refined after exchanging cut vertices (see
+/// [`MeshReport::seam_refinements`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SeamRefinements {
+    /// Refined around the new cut vertices only.
+    pub local: usize,
+    /// Refined by another pass over the whole half.
+    pub full: usize,
 }
 
 /// Area of the lattice triangles relative to `max_area` (about the mean triangle area that
@@ -284,6 +300,8 @@ struct Part {
     bridges_remaining: usize,
     /// The most vertices refinement may grow `cdt` to (see [`Refiner::run`]).
     vertex_cap: usize,
+    /// Refinements after taking the other half's cut vertices.
+    seam_refinements: SeamRefinements,
 }
 
 /// Refinement of one piece: angle and area bounds, then the grading pass, then bridge
@@ -453,6 +471,7 @@ impl Refiner<'_> {
             bridges_split,
             bridges_remaining,
             vertex_cap,
+            seam_refinements: SeamRefinements::default(),
         })
     }
 }
@@ -685,11 +704,35 @@ fn mesh_halves(
                 return Ok(part);
             }
             let mut cdt = part.cdt;
+            let mut inserted = Vec::with_capacity(add.len());
             for t in add {
-                Refiner::insert(&mut cdt, cut.point(t))?;
+                inserted.push(Refiner::insert(&mut cdt, cut.point(t))?);
+            }
+            // Around a few new seam vertices local refinement usually does; spade's full
+            // pass over the half where it does not.
+            let mut excluded = part.excluded;
+            let bounds = Bounds::new(refiner.max_area, refiner.opts.min_angle_deg);
+            if refine_at_seam(
+                &mut cdt,
+                &mut excluded,
+                &inserted,
+                seam,
+                bounds,
+                part.vertex_cap,
+            ) {
+                let mut seam_refinements = part.seam_refinements;
+                seam_refinements.local += 1;
+                return Ok(Part {
+                    cdt,
+                    excluded,
+                    seam_refinements,
+                    ..part
+                });
             }
             let mut again = refiner.run(cdt, part.vertex_cap)?;
             again.bridges_split += part.bridges_split;
+            again.seam_refinements = part.seam_refinements;
+            again.seam_refinements.full += 1;
             Ok::<_, MeshError>(again)
         };
         let [pa, pb] = parts;
@@ -755,6 +798,10 @@ impl Domain {
         let seam = seam.as_ref();
         let complete = parts.iter().all(|(p, _)| p.complete);
         let bridges_split = parts.iter().map(|(p, _)| p.bridges_split).sum();
+        let seam_refinements = SeamRefinements {
+            local: parts.iter().map(|(p, _)| p.seam_refinements.local).sum(),
+            full: parts.iter().map(|(p, _)| p.seam_refinements.full).sum(),
+        };
         let bridges_remaining = parts.iter().map(|(p, _)| p.bridges_remaining).sum();
         let glued = glue(parts, seam)?;
         let (new_id, vertices) = hilbert_numbering(&glued, self.unit_bbox());
@@ -778,6 +825,7 @@ impl Domain {
                 seam: seam.map(|s| (s.cut.axis, frame.len_to_user(s.cut.at) + offset[s.cut.axis])),
                 bridges_split,
                 bridges_remaining,
+                seam_refinements,
                 input_vertices,
                 added_vertices,
                 max_area: frame.area_to_user(budget.max_area),
@@ -981,7 +1029,11 @@ impl Budget {
                 limit: opts.max_triangles,
             });
         }
-        let cap = (opts.max_triangles / 2 + 1).min(estimated.saturating_mul(2).max(10_000));
+        let cap = (opts.max_triangles / 2 + 1).min(
+            estimated
+                .saturating_mul(2)
+                .max(crate::options::MIN_VERTEX_BUDGET),
+        );
         Ok(Budget {
             max_area,
             size_field,

@@ -181,3 +181,44 @@ fn a_horizontal_cut_along_the_top_of_an_obstacle() {
     };
     check(&spec, (1, 4.0));
 }
+
+#[test]
+fn halves_taking_each_others_cut_vertices_are_refined_locally_or_in_full() {
+    // Forests of circles: refinement splits seam edges on both sides, so the halves
+    // exchange cut vertices and are refined around them. With 500 circles the faces there
+    // are clear of the circles and the refinement is local; with 300 it meets a circle and
+    // takes spade's full pass. Either way the glued mesh meets every bound a mesh in one
+    // piece meets.
+    for (n, local) in [(500, true), (300, false)] {
+        let spec = harmonic_fixtures::forest(n);
+        let opts = MeshOptions {
+            halves_from: 0,
+            ..MeshOptions::default()
+        };
+        let domain = Domain::new(&spec, &opts).expect("domain");
+        let (mesh, report) = domain.mesh(&opts).expect("mesh");
+        assert!(report.seam.is_some(), "{n}: {report:?}");
+        assert!(report.refinement_complete);
+        let again = report.seam_refinements;
+        if local {
+            assert!(again.local > 0 && again.full == 0, "{n}: {report:?}");
+        } else {
+            assert!(again.full > 0, "{n}: {report:?}");
+        }
+        check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
+        let q = mesh.quality();
+        assert_eq!(q.components, 1, "{n}: {q:?}");
+        assert!(q.min_angle_deg >= 30.0 - 1e-9, "{n}: {q:?}");
+        assert_eq!(q.non_delaunay_edges, 0, "{n}: {q:?}");
+        assert_eq!(q.obtuse_boundary_edges, 0, "{n}: {q:?}");
+        let largest = mesh
+            .triangles()
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
+                0.5 * harmonic_mesh::orient2d(a, b, c)
+            })
+            .fold(0.0, f64::max);
+        assert!(largest <= report.max_area * (1.0 + 1e-9), "{n}: {largest}");
+    }
+}
