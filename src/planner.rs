@@ -131,20 +131,12 @@ impl Meshed {
         let t = Instant::now();
         let domain = Domain::of_mesh(&mesh)?;
         let quality = mesh.quality();
-        let largest = mesh
-            .triangles()
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
-                0.5 * harmonic_mesh::orient2d(a, b, c)
-            })
-            .fold(0.0, f64::max);
         let report = MeshReport {
             refinement_complete: true,
             seam: None,
             input_vertices: mesh.vertices().len(),
             added_vertices: 0,
-            max_area: largest,
+            max_area: quality.max_triangle_area,
             min_angle_deg: quality.min_angle_deg,
             estimated_triangles: mesh.triangles().len(),
             bridges_split: 0,

@@ -95,6 +95,9 @@ pub struct QualityReport {
     pub max_angle_deg: f64,
     /// Total area of the triangles.
     pub area: f64,
+    /// Area of the largest triangle.
+    #[serde(default)]
+    pub max_triangle_area: f64,
     /// Holes: boundary loops minus connected components. Loops are followed within the
     /// triangle fans, so two holes touching at a vertex (or a hole touching the outer
     /// boundary) form one loop, as in the free space seen as an open set.
@@ -518,13 +521,16 @@ impl Mesh {
         let mut min_angle = f64::INFINITY;
         let mut max_angle: f64 = 0.0;
         let mut area = 0.0;
+        let mut max_triangle_area: f64 = 0.0;
         let angles: Vec<[f64; 3]> = (0..self.triangles.len() as u32)
             .map(|t| self.triangle_angles(t))
             .collect();
         let mut non_delaunay = 0;
         let mut obtuse_boundary = 0;
         for (t, ang) in angles.iter().enumerate() {
-            area += self.triangle_area(t as u32);
+            let triangle_area = self.triangle_area(t as u32);
+            area += triangle_area;
+            max_triangle_area = max_triangle_area.max(triangle_area);
             for (k, &a) in ang.iter().enumerate() {
                 min_angle = min_angle.min(a);
                 max_angle = max_angle.max(a);
@@ -562,6 +568,7 @@ impl Mesh {
             },
             max_angle_deg: max_angle.to_degrees(),
             area,
+            max_triangle_area,
             holes: loops.saturating_sub(self.component_count as usize),
             components: self.component_count as usize,
             pinch_vertices,

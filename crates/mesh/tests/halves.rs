@@ -9,6 +9,22 @@ use harmonic_fixtures::{p, rect};
 use harmonic_mesh::geom::ring_distance;
 use harmonic_mesh::{BoundaryTag, Domain, DomainSpec, GoalShape, MeshOptions, Shape};
 
+/// What every glued mesh meets as a mesh in one piece does: the invariants, one component,
+/// the angle bound and the M-matrix conditions (no non-Delaunay edge, no obtuse angle
+/// opposite a boundary edge).
+fn assert_like_one_piece(
+    mesh: &harmonic_mesh::Mesh,
+    domain: &Domain,
+) -> harmonic_mesh::QualityReport {
+    check_invariants(mesh, domain.free_area(), 1e-9).expect("invariants");
+    let q = mesh.quality();
+    assert_eq!(q.components, 1, "{q:?}");
+    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
+    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
+    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
+    q
+}
+
 fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
     let opts = MeshOptions {
         max_area: Some(0.01),
@@ -19,12 +35,7 @@ fn check(spec: &DomainSpec, expected_seam: (usize, f64)) {
     let (mesh, report) = domain.mesh(&opts).expect("mesh");
     assert_eq!(report.seam, Some(expected_seam));
     assert!(report.refinement_complete);
-    check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
-    let q = mesh.quality();
-    assert_eq!(q.components, 1, "{q:?}");
-    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
-    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
-    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
+    assert_like_one_piece(&mesh, &domain);
     // No boundary edge lies on the glued stretches of the cut: every one is on an input ring.
     for e in mesh.boundary_edges() {
         let [a, b] = e.vertices.map(|v| mesh.vertices()[v as usize]);
@@ -132,11 +143,7 @@ fn a_cut_through_the_median_of_free_space() {
         (fraction - 0.5).abs() < 0.03,
         "axis {axis} at {at}: {fraction}"
     );
-    check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
-    let q = mesh.quality();
-    assert!(q.min_angle_deg >= 30.0 - 1e-9, "{q:?}");
-    assert_eq!(q.non_delaunay_edges, 0, "{q:?}");
-    assert_eq!(q.obtuse_boundary_edges, 0, "{q:?}");
+    assert_like_one_piece(&mesh, &domain);
 }
 
 #[test]
@@ -205,20 +212,10 @@ fn halves_taking_each_others_cut_vertices_are_refined_locally_or_in_full() {
         } else {
             assert!(again.full > 0, "{n}: {report:?}");
         }
-        check_invariants(&mesh, domain.free_area(), 1e-9).expect("invariants");
-        let q = mesh.quality();
-        assert_eq!(q.components, 1, "{n}: {q:?}");
-        assert!(q.min_angle_deg >= 30.0 - 1e-9, "{n}: {q:?}");
-        assert_eq!(q.non_delaunay_edges, 0, "{n}: {q:?}");
-        assert_eq!(q.obtuse_boundary_edges, 0, "{n}: {q:?}");
-        let largest = mesh
-            .triangles()
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
-                0.5 * harmonic_mesh::orient2d(a, b, c)
-            })
-            .fold(0.0, f64::max);
-        assert!(largest <= report.max_area * (1.0 + 1e-9), "{n}: {largest}");
+        let q = assert_like_one_piece(&mesh, &domain);
+        assert!(
+            q.max_triangle_area <= report.max_area * (1.0 + 1e-9),
+            "{n}: {q:?}"
+        );
     }
 }
