@@ -186,7 +186,7 @@ pub(crate) fn edge_for_area(max_area: f64) -> f64 {
     (4.0 * max_area / 3f64.sqrt()).sqrt()
 }
 
-fn ring_area(points: &[Point]) -> f64 {
+pub(crate) fn ring_area(points: &[Point]) -> f64 {
     let n = points.len();
     let mut s = 0.0;
     for i in 0..n {
@@ -197,7 +197,7 @@ fn ring_area(points: &[Point]) -> f64 {
     0.5 * s
 }
 
-fn bbox_of(points: &[Point]) -> (Point, Point) {
+pub(crate) fn bbox_of(points: &[Point]) -> (Point, Point) {
     let mut lo = Point::new(f64::INFINITY, f64::INFINITY);
     let mut hi = Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
     for p in points {

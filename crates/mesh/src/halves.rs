@@ -115,21 +115,12 @@ struct RingExtent {
 
 impl RingExtent {
     fn of(ring: &[Point]) -> RingExtent {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for p in ring {
-            lo = [lo[0].min(p.x), lo[1].min(p.y)];
-            hi = [hi[0].max(p.x), hi[1].max(p.y)];
+        let (lo, hi) = crate::domain::bbox_of(ring);
+        RingExtent {
+            lo: [lo.x, lo.y],
+            hi: [hi.x, hi.y],
+            area: crate::domain::ring_area(ring),
         }
-        let n = ring.len();
-        let area = (0..n)
-            .map(|k| {
-                let (a, b) = (ring[k], ring[(k + 1) % n]);
-                a.x * b.y - a.y * b.x
-            })
-            .sum::<f64>()
-            * 0.5;
-        RingExtent { lo, hi, area }
     }
 }
 

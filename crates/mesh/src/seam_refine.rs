@@ -62,8 +62,10 @@ enum Step {
 
 /// Refines the free faces around `new` (vertices just inserted on `seam`) of a half whose
 /// faces outside free space are `excluded` (grown as faces are added: every new face is
-/// free), adding fewer than `vertex_cap` vertices in all. `true` if every face around every vertex added meets `bounds` and no seam edge
-/// is encroached; `false` if it stopped at something it leaves to spade.
+/// free, and insertion keeps the indices of the faces it changes), while the half has fewer
+/// than `vertex_cap` vertices. `true` if every face around every vertex added meets
+/// `bounds` and no seam edge is encroached; `false` if it stopped at something it leaves to
+/// spade.
 pub(crate) fn refine_at_seam(
     cdt: &mut Cdt,
     excluded: &mut Vec<bool>,
@@ -118,8 +120,6 @@ pub(crate) fn refine_at_seam(
         // The face may still be bad (a seam split made room for its circumcentre).
         faces.push(f);
         vertices.push(added);
-        // A face index may have been reused by the insertion: check the survivors again.
-        faces.retain(|g| g.index() < cdt.num_all_faces());
     }
 }
 
