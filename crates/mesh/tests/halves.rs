@@ -193,8 +193,9 @@ fn a_horizontal_cut_along_the_top_of_an_obstacle() {
 fn halves_taking_each_others_cut_vertices_are_refined_locally_or_in_full() {
     // Forests of circles: refinement splits seam edges on both sides, so the halves
     // exchange cut vertices and are refined around them. With 500 circles the faces there
-    // are clear of the circles and the refinement is local; with 300 it meets a circle and
-    // takes spade's full pass. Either way the glued mesh meets every bound a mesh in one
+    // are clear of the circles and the refinement is local; with 300 the local steps come
+    // to something they leave to spade (a bad face at a circle, or an encroached circle
+    // edge) and spade's full pass runs. Either way the glued mesh meets every bound a mesh in one
     // piece meets.
     for (n, local) in [(500, true), (300, false)] {
         let spec = harmonic_fixtures::forest(n);
