@@ -1,38 +1,37 @@
-//! Occupancy-grid maps in the ROS `map_server` format, turned into scenes.
+//! Occupancy-grid maps in the ROS `map_server` format, turned into planners.
 //!
 //! A map is a YAML file (`image`, `resolution`, `origin: [x, y, yaw]`, `occupied_thresh`,
 //! `free_thresh`, `negate`, `mode`) naming a PGM or PNG image. Each pixel becomes a free,
-//! occupied or unknown cell by the `map_server` rules. [`OccupancyMap::to_scene`] traces the
-//! free area that holds the goal (marching squares on the cell centres), simplifies its
-//! boundary (Douglas–Peucker, about half a cell, coarser up to 1.5 cells while the boundary
-//! has more than [`MapOptions::boundary_budget`] vertices) and returns a [`Scene`] whose
-//! workspace is that area's outer boundary and whose obstacles are its holes, so the planner,
-//! the command line and the pictures work on maps unchanged. The mesh is sized for the robot:
-//! triangles with edges of about four robot radii on open floor, graded down by the
-//! refinement near walls and in narrow passages (smallest angle 25°).
+//! occupied or unknown cell by the `map_server` rules.
 //!
-//! The traced polygons never expose an occupied cell: free space is traced a quarter cell
-//! inside the free cells, free gaps narrower than three cells are closed first (no robot passes
-//! them), and the scene's robot radius is the requested one plus [`MapPolygons::margin`], the
-//! most the simplified polygons can cut into an occupied cell (a simplified ring stays within
-//! the tolerance of the traced one, so the polygons offset by it hold every occupied cell). A path that keeps the scene's
-//! radius from the polygons therefore keeps the requested radius from every occupied cell.
-//! Free islands inside occupied blobs (a closed room) and free areas not connected to the
-//! goal are outside the scene.
+//! The default mesher ([`MapMesher::Traced`]) works in the robot's free configuration space
+//! from the start, on the grid: the cells whose squares keep the robot radius (plus a small
+//! tracing margin, [`MapPolygons::margin`]) from every blocked cell are found exactly, 64
+//! cells a word; the goal's 4-connected component of them is traced by marching squares and
+//! simplified by Douglas–Peucker ([`MapOptions::simplify_cells`], about a cell) without
+//! changing its topology. The margin is what the tracing and the simplification may move the
+//! boundary by, so every point of the polygons, and of the region they bound, keeps the
+//! radius from every occupied (and unknown) cell: no polygon is offset, no booleans run.
+//! [`OccupancyMap::to_scene`] returns those polygons as a [`Scene`] of a point robot, so the
+//! planner, the command line and the pictures work on maps unchanged. The mesh is sized for
+//! the robot: triangles with edges of about four robot radii on open floor, graded down by the
+//! refinement near walls and in narrow passages (smallest angle 25°). Free areas not
+//! connected to the goal, and passages too narrow for the robot, are outside the scene.
 //!
 //! ```
 //! use harmonic_planner::map::{Cell, MapOptions, OccupancyMap};
 //! use harmonic_planner::Planner;
-//! // A 40 × 30 cell room at 10 cm with a wall in the middle that leaves a door at the top.
+//! // A 40 × 30 cell room at 10 cm with a wall in the middle that leaves a 1.4 m door at the
+//! // top; a robot of radius 0.2 m.
 //! let (w, h) = (40, 30);
 //! let mut cells = vec![Cell::Free; w * h];
-//! for j in 0..22 {
+//! for j in 0..16 {
 //!     for i in 19..21 {
 //!         cells[j * w + i] = Cell::Occupied;
 //!     }
 //! }
 //! let map = OccupancyMap::from_cells(w, h, 0.1, [0.0, 0.0, 0.0], cells)?;
-//! let scene = map.to_scene([3.5, 0.5], 0.0, &MapOptions::default())?;
+//! let scene = map.to_scene([3.5, 0.5], 0.2, &MapOptions::default())?;
 //! let planner = Planner::new(&scene)?;
 //! let path = planner.plan([0.5, 0.5]);
 //! assert!(path.status.reached_goal());
@@ -40,8 +39,8 @@
 //! ```
 
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, OnceLock};
 
-use geo::{Coord, LineString, Simplify};
 use serde_yaml_ng::Value;
 
 use harmonic_mesh::Point;
@@ -51,7 +50,11 @@ use crate::planner::{PlanError, Planner, PlannerOptions};
 use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
 use harmonic_fem::SolveMethod;
 
+mod bits;
 mod cells;
+mod trace;
+
+use bits::BitGrid;
 
 /// One cell of an occupancy grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,18 +136,11 @@ pub struct MapOptions {
     pub mesher: MapMesher,
     /// For [`MapMesher::Quadtree`]: how the clear cells are snapped to blocks.
     pub snap: Snap,
-    /// The finest Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every
-    /// traced vertex; at most 0.5).
+    /// The Douglas–Peucker tolerance of the traced polygons, in cells (0 keeps every traced
+    /// vertex; at most [`MAX_SIMPLIFY_CELLS`]). It is part of the tracing margin the cells
+    /// are cleared with ([`MapPolygons::margin`]): a coarser outline has fewer vertices (and
+    /// the mesh fewer triangles) but keeps a little more than the robot radius from walls.
     pub simplify_cells: f64,
-    /// The traced boundary's vertex budget: while the polygons have more vertices, the
-    /// tolerance grows (by half each time) up to [`MapOptions::max_simplify_cells`]. A large
-    /// map's staircase boundaries otherwise force tens of thousands of small triangles.
-    pub boundary_budget: usize,
-    /// The coarsest tolerance the budget may reach, in cells (at most 3). Whatever the
-    /// tolerance, [`MapPolygons::margin`] grows with it, so the clearance from occupied cells
-    /// is kept (the polygons are simplified, then offset by the error through the robot's
-    /// radius).
-    pub max_simplify_cells: f64,
     /// Largest triangle area of the scene's mesh (m²); `None`: from the robot's radius (edges
     /// of about four radii on open floor, [`OccupancyMap::to_scene`]), or the mesher's
     /// default for a point robot.
@@ -161,9 +157,7 @@ impl Default for MapOptions {
             unknown: UnknownCells::Obstacle,
             mesher: MapMesher::Traced,
             snap: Snap::OpenFloor,
-            simplify_cells: 0.45,
-            boundary_budget: 1000,
-            max_simplify_cells: 1.5,
+            simplify_cells: 1.0,
             max_area: None,
             min_angle_deg: 25.0,
         }
@@ -240,7 +234,7 @@ pub enum MapError {
     /// A map option is out of range.
     #[error("map option `{option}`: {message}")]
     BadOption {
-        /// The field of [`MapOptions`] (`simplify_cells`, `max_simplify_cells`, `max_area`).
+        /// The field of [`MapOptions`] (`simplify_cells`, `max_area`, `snap`).
         option: &'static str,
         /// The allowed range and the value given.
         message: String,
@@ -281,25 +275,11 @@ pub enum MapError {
         /// `an occupied` or `an unknown`.
         what: &'static str,
     },
-    /// The goal's free cell is in a gap narrower than three cells.
+    /// The goal's cell is free but closer than the robot radius (plus the tracing margin of
+    /// the traced mesher) to a blocked cell.
     #[error(
-        "goal ({x}, {y}) (column {column}, row {row} from the bottom of {file}) is in a free gap narrower than three cells next to an obstacle; move it into open space"
-    )]
-    GoalInNarrowGap {
-        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
-        file: String,
-        /// The goal's x, in world coordinates.
-        x: f64,
-        /// The goal's y, in world coordinates.
-        y: f64,
-        /// The column of the goal's cell, from the left.
-        column: usize,
-        /// The row of the goal's cell, from the bottom.
-        row: usize,
-    },
-    /// The goal's cell is free but closer than the robot radius to a blocked cell.
-    #[error(
-        "goal ({x}, {y}) is closer than the robot radius {radius} to an occupied or unknown cell of {file} (or to the map's edge); move it into open space"
+        "goal ({x}, {y}) is closer than the robot radius {radius}{} to an occupied or unknown cell of {file} (or to the map's edge); move it into open space",
+        if *margin > 0.0 { format!(" plus the tracing margin {margin}") } else { String::new() }
     )]
     GoalTooClose {
         /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
@@ -310,6 +290,9 @@ pub enum MapError {
         y: f64,
         /// The robot radius.
         radius: f64,
+        /// The clearance the traced polygons add to the radius (the simplification tolerance
+        /// and a quarter cell, see [`MapPolygons::margin`]); zero for the quadtree mesher.
+        margin: f64,
     },
     /// The map's free space could not be meshed or solved.
     #[error("{file}: {source}")]
@@ -369,19 +352,25 @@ pub struct OccupancyMap {
     source: String,
 }
 
-/// The traced geometry of a map, in world coordinates, before any inflation.
+/// The robot's free configuration space on a map, traced: the region a disc robot's centre
+/// may take, in world coordinates.
 #[derive(Clone, Debug)]
 pub struct MapPolygons {
-    /// The outer boundary of the free area holding the goal (counter-clockwise).
+    /// The outer boundary of the goal's component (counter-clockwise).
     pub workspace: Vec<[f64; 2]>,
-    /// The holes of that area: obstacles, each a simple polygon (clockwise).
+    /// Its holes (clockwise): the blocked cells grown by the robot radius and the margin.
     pub obstacles: Vec<Vec<[f64; 2]>>,
-    /// How far (in world units) the polygons may cut into an occupied cell: a quarter-cell
-    /// chamfer at cell corners plus the simplification tolerance.
+    /// What the cells were cleared with beyond the robot radius, in world units: the
+    /// simplification tolerance and the quarter cell the contour may cut across a cell's
+    /// corner. Every point of the polygons keeps the robot radius from every blocked cell;
+    /// the boundary keeps at most about the margin plus one cell more.
     pub margin: f64,
-    /// The Douglas–Peucker tolerance used, in cells (see [`MapOptions::boundary_budget`]).
+    /// The Douglas–Peucker tolerance used, in cells.
     pub simplify_cells: f64,
 }
+
+/// The coarsest [`MapOptions::simplify_cells`].
+pub const MAX_SIMPLIFY_CELLS: f64 = 4.0;
 
 fn field<'a>(doc: &'a Value, file: &str, name: &'static str) -> Result<&'a Value, MapError> {
     doc.get(name).ok_or_else(|| MapError::MissingField {
@@ -678,73 +667,77 @@ impl OccupancyMap {
         }
     }
 
-    /// Traces the free area that holds `goal` and its holes (see the module documentation).
-    pub fn polygons(&self, goal: [f64; 2], opts: &MapOptions) -> Result<MapPolygons, MapError> {
-        if !(opts.simplify_cells.is_finite() && (0.0..=0.5).contains(&opts.simplify_cells)) {
+    /// The robot's free configuration space around `goal` for a disc robot of
+    /// `robot_radius`, traced as polygons (see the module documentation): the region the
+    /// robot's centre may take, every point of it at least the radius from every blocked
+    /// cell and from the map's edge.
+    pub fn polygons(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<MapPolygons, MapError> {
+        Ok(self.traced(goal, robot_radius, opts)?.0)
+    }
+
+    /// [`OccupancyMap::polygons`] and the blocked cells they were traced from.
+    fn traced(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<(MapPolygons, BitGrid), MapError> {
+        check_radius_and_area(robot_radius, opts)?;
+        if !(opts.simplify_cells.is_finite()
+            && (0.0..=MAX_SIMPLIFY_CELLS).contains(&opts.simplify_cells))
+        {
             return Err(MapError::BadOption {
                 option: "simplify_cells",
                 message: format!(
-                    "must be between 0 and 0.5 cells, got {}",
+                    "must be between 0 and {MAX_SIMPLIFY_CELLS} cells, got {}",
                     opts.simplify_cells
                 ),
             });
         }
-        if !(opts.max_simplify_cells.is_finite()
-            && (opts.simplify_cells..=3.0).contains(&opts.max_simplify_cells))
-        {
-            return Err(MapError::BadOption {
-                option: "max_simplify_cells",
-                message: format!(
-                    "must be between simplify_cells ({}) and 3 cells, got {}",
-                    opts.simplify_cells, opts.max_simplify_cells
-                ),
-            });
-        }
-        let (w, h) = (self.width, self.height);
-        let free: Vec<bool> = (0..w * h)
-            .map(|k| !self.is_blocked(k % w, k / w, opts.unknown))
-            .collect();
-        if !free.iter().any(|&f| f) {
+        let blocked = self.blocked(opts.unknown);
+        if blocked.all() {
             return Err(MapError::EmptyMap {
                 file: self.source.clone(),
             });
         }
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
-        let open = opening(&free, w, h);
-        if !open[gr * w + gc] {
-            return Err(MapError::GoalInNarrowGap {
+        let eps = opts.simplify_cells;
+        let margin = (eps + trace::CONTOUR_CUT) * self.resolution;
+        let clear = bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution);
+        if !clear.get(gc as isize, gr as isize) {
+            return Err(MapError::GoalTooClose {
                 file: self.source.clone(),
                 x: goal[0],
                 y: goal[1],
-                column: gc,
-                row: gr,
+                radius: robot_radius,
+                margin,
             });
         }
-        let component = flood_fill(&open, w, h, gr * w + gc);
-        let rings = march(&component, w, h);
-        let (eps, rings) = simplify_to_budget(rings, opts);
-        let mut workspace: Option<(f64, Vec<[f64; 2]>)> = None;
-        let mut obstacles = Vec::new();
-        for ring in rings {
-            let area = signed_area(&ring);
-            let world: Vec<[f64; 2]> = ring.iter().map(|&g| self.grid_to_world(g)).collect();
-            if area > 0.0 {
-                // One outer ring is expected (the component is connected); keep the largest.
-                if workspace.as_ref().is_none_or(|(a, _)| area > *a) {
-                    workspace = Some((area, world));
-                }
-            } else if area < 0.0 {
-                obstacles.push(world);
-            }
-        }
-        let (_, workspace) = workspace.ok_or_else(|| MapError::EmptyMap {
-            file: self.source.clone(),
-        })?;
-        Ok(MapPolygons {
-            workspace,
-            obstacles,
-            margin: self.resolution * ((1.0 - CROSSING) / std::f64::consts::SQRT_2 + eps),
+        let traced = trace::trace(&clear, gc, gr, eps);
+        let world = |ring: Vec<[f64; 2]>| -> Vec<[f64; 2]> {
+            ring.into_iter().map(|g| self.grid_to_world(g)).collect()
+        };
+        let polygons = MapPolygons {
+            workspace: world(traced.outer),
+            obstacles: traced.holes.into_iter().map(world).collect(),
+            margin,
             simplify_cells: eps,
+        };
+        Ok((polygons, blocked))
+    }
+
+    /// The blocked cells (occupied, and unknown unless `unknown` says they are free) as bits.
+    fn blocked(&self, unknown: UnknownCells) -> BitGrid {
+        let (w, cells) = (self.width, &self.cells);
+        BitGrid::from_fn(self.width, self.height, |i, j| match cells[j * w + i] {
+            Cell::Free => false,
+            Cell::Occupied => true,
+            Cell::Unknown => unknown == UnknownCells::Obstacle,
         })
     }
 
@@ -768,8 +761,19 @@ impl OccupancyMap {
         };
         match opts.mesher {
             MapMesher::Traced => {
-                let scene = self.to_scene(goal, robot_radius, opts)?;
-                Planner::with_options(&scene, planner).map_err(plan_error)
+                let (polys, blocked) = self.traced(goal, robot_radius, opts)?;
+                // Starts the margin left out are led in over the cells clear for the radius.
+                let entry = cells::CellEntry {
+                    blocked,
+                    radius: robot_radius / self.resolution,
+                    clear: OnceLock::new(),
+                    frame: self.frame(),
+                    reach: (polys.margin / self.resolution).ceil() as usize + 4,
+                };
+                let scene = self.scene_of(polys, goal, robot_radius, opts);
+                Planner::with_options(&scene, planner)
+                    .map(|p| p.with_entry(Arc::new(entry)))
+                    .map_err(plan_error)
             }
             MapMesher::Quadtree => {
                 planner.stage(crate::planner::Stage::Meshing);
@@ -787,7 +791,7 @@ impl OccupancyMap {
                     ..planner.clone()
                 };
                 Planner::from_mesh(mesh, &planner)
-                    .map(|p| p.with_mesh_time(ms).with_entry(std::sync::Arc::new(entry)))
+                    .map(|p| p.with_mesh_time(ms).with_entry(Arc::new(entry)))
                     .map_err(plan_error)
             }
         }
@@ -829,28 +833,25 @@ impl OccupancyMap {
         }
         let (w, h) = (self.width, self.height);
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
-        let blocked: Vec<bool> = self
-            .cells
-            .iter()
-            .map(|&c| match c {
-                Cell::Free => false,
-                Cell::Occupied => true,
-                Cell::Unknown => opts.unknown == UnknownCells::Obstacle,
-            })
-            .collect();
-        let clear = cells::clear_cells(&blocked, w, h, robot_radius / res);
-        drop(blocked);
+        let blocked = self.blocked(opts.unknown);
+        let clear_bits = bits::clear_cells(&blocked, robot_radius / res);
+        let clear = clear_bits.to_bools();
         let too_close = || MapError::GoalTooClose {
             file: self.source.clone(),
             x: goal[0],
             y: goal[1],
             radius: robot_radius,
+            margin: 0.0,
+        };
+        // The 4-connected component of `cells` holding the goal's cell.
+        let fill = |cells: &[bool]| {
+            bits::component(&BitGrid::from_fn(w, h, |i, j| cells[j * w + i]), gc, gr).to_bools()
         };
         if !clear[gr * w + gc] {
             return Err(too_close());
         }
         let goal_cell = gr * w + gc;
-        let exact = || flood_fill(&clear, w, h, goal_cell);
+        let exact = || fill(&clear);
         let (component, block) = match opts.snap {
             Snap::Off => (exact(), 1),
             Snap::Blocks(b) => {
@@ -858,7 +859,7 @@ impl OccupancyMap {
                 if !free[goal_cell] {
                     return Err(too_close());
                 }
-                (flood_fill(&free, w, h, goal_cell), b)
+                (fill(&free), b)
             }
             Snap::OpenFloor => {
                 let mut b = 1;
@@ -870,7 +871,7 @@ impl OccupancyMap {
                 match free.filter(|f| f[goal_cell]) {
                     None => (exact(), 1),
                     Some(free) => {
-                        let snapped = flood_fill(&free, w, h, goal_cell);
+                        let snapped = fill(&free);
                         let exact = exact();
                         if cells::euler_number(&snapped, w, h) == cells::euler_number(&exact, w, h)
                         {
@@ -894,13 +895,10 @@ impl OccupancyMap {
                 (false, false) => Block::Blocked,
             })
             .collect();
-        let mut meshed = component;
-        meshed[goal_cell] = false;
         let entry = cells::CellEntry {
-            width: w,
-            height: h,
-            clear,
-            meshed,
+            blocked,
+            radius: robot_radius / res,
+            clear: OnceLock::from(clear_bits),
             frame: self.frame(),
             reach: 4 * block,
         };
@@ -929,21 +927,31 @@ impl OccupancyMap {
     }
 
     /// A scene for planning towards `goal` (world coordinates) with a disc robot of
-    /// `robot_radius`: the workspace and obstacles of [`OccupancyMap::polygons`], a point goal,
-    /// and a robot radius of `robot_radius` plus the tracing margin.
+    /// `robot_radius`: the robot's free configuration space of [`OccupancyMap::polygons`] as
+    /// the workspace and its obstacles, a point goal, a point robot (the radius is in the
+    /// polygons already) and a mesh sized for the robot (triangles with edges of about four
+    /// robot radii on open floor, graded down by the refinement near walls and in narrow
+    /// passages).
     pub fn to_scene(
         &self,
         goal: [f64; 2],
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<Scene, MapError> {
-        check_radius_and_area(robot_radius, opts)?;
-        let polys = self.polygons(goal, opts)?;
-        let radius = robot_radius + polys.margin;
-        let max_area = opts
-            .max_area
-            .or_else(|| robot_area(&polys, robot_radius, radius));
-        Ok(Scene {
+        let polys = self.polygons(goal, robot_radius, opts)?;
+        Ok(self.scene_of(polys, goal, robot_radius, opts))
+    }
+
+    /// The scene of [`OccupancyMap::to_scene`] on traced polygons.
+    fn scene_of(
+        &self,
+        polys: MapPolygons,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Scene {
+        let max_area = opts.max_area.or_else(|| robot_area(&polys, robot_radius));
+        Scene {
             name: Some(self.source.clone()),
             workspace: polys.workspace,
             obstacles: polys
@@ -966,8 +974,8 @@ impl OccupancyMap {
                 grading: None,
                 simplify: None,
             },
-            robot: RobotSpec { radius },
-        })
+            robot: RobotSpec { radius: 0.0 },
+        }
     }
 
     fn goal_cell(&self, goal: [f64; 2], unknown: UnknownCells) -> Result<(usize, usize), MapError> {
@@ -1030,344 +1038,16 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
     Ok(())
 }
 
-/// Where the traced boundary crosses a lattice edge between a blocked and a free cell centre,
-/// as a fraction of the way from the blocked one: a quarter cell past the cell edge, inside
-/// the free cell.
-const CROSSING: f64 = 0.75;
-
-/// Morphological opening of the free cells by a 3 × 3 square: free cells that are in no
-/// all-free 3 × 3 block (gaps narrower than three cells) become blocked. Outside the grid is
-/// blocked. Separable: a 3 × 3 erosion is a 3-wide erosion of rows then of columns, and so is
-/// the dilation, each a pass over contiguous rows.
-fn opening(free: &[bool], w: usize, h: usize) -> Vec<bool> {
-    let eroded = vertical(&horizontal(free, w, h, Pass::Erode), w, h, Pass::Erode);
-    let dilated = vertical(&horizontal(&eroded, w, h, Pass::Dilate), w, h, Pass::Dilate);
-    dilated.iter().zip(free).map(|(&d, &f)| d && f).collect()
-}
-
-/// A 3-wide erosion (all three set) or dilation (any of three set); outside the grid is unset.
-#[derive(Clone, Copy)]
-enum Pass {
-    Erode,
-    Dilate,
-}
-
-impl Pass {
-    #[inline]
-    fn apply(self, a: bool, b: bool, c: bool) -> bool {
-        match self {
-            Pass::Erode => a && b && c,
-            Pass::Dilate => a || b || c,
-        }
-    }
-}
-
-/// [`Pass`] along each row.
-fn horizontal(cells: &[bool], w: usize, h: usize, pass: Pass) -> Vec<bool> {
-    let mut out = vec![false; w * h];
-    for (row, out) in cells.chunks_exact(w).zip(out.chunks_exact_mut(w)).take(h) {
-        for i in 0..w {
-            let left = i > 0 && row[i - 1];
-            let right = i + 1 < w && row[i + 1];
-            out[i] = pass.apply(left, row[i], right);
-        }
-    }
-    out
-}
-
-/// [`Pass`] along each column, row against row.
-fn vertical(cells: &[bool], w: usize, h: usize, pass: Pass) -> Vec<bool> {
-    let mut out = vec![false; w * h];
-    let none = vec![false; w];
-    for j in 0..h {
-        let below = if j > 0 {
-            &cells[(j - 1) * w..j * w]
-        } else {
-            &none[..]
-        };
-        let above = if j + 1 < h {
-            &cells[(j + 1) * w..(j + 2) * w]
-        } else {
-            &none[..]
-        };
-        let row = &cells[j * w..(j + 1) * w];
-        for (i, o) in out[j * w..(j + 1) * w].iter_mut().enumerate() {
-            *o = pass.apply(below[i], row[i], above[i]);
-        }
-    }
-    out
-}
-
-/// The 4-connected set of `cells` holding `seed`.
-fn flood_fill(cells: &[bool], w: usize, h: usize, seed: usize) -> Vec<bool> {
-    // Scanline fill: each popped seed grows to its whole run of the row, then seeds the runs
-    // of the rows below and above that touch it (4-connected).
-    let mut inside = vec![false; w * h];
-    if !cells[seed] {
-        return inside;
-    }
-    let mut stack = vec![seed];
-    while let Some(k) = stack.pop() {
-        if inside[k] {
-            continue;
-        }
-        let (row, i) = (k / w, k % w);
-        let line = &cells[row * w..(row + 1) * w];
-        let (mut lo, mut hi) = (i, i);
-        while lo > 0 && line[lo - 1] && !inside[row * w + lo - 1] {
-            lo -= 1;
-        }
-        while hi + 1 < w && line[hi + 1] && !inside[row * w + hi + 1] {
-            hi += 1;
-        }
-        inside[row * w + lo..=row * w + hi].fill(true);
-        for r in [row.wrapping_sub(1), row + 1] {
-            if r >= h {
-                continue;
-            }
-            let (next, done) = (&cells[r * w..(r + 1) * w], &inside[r * w..(r + 1) * w]);
-            let mut x = lo;
-            while x <= hi {
-                if next[x] && !done[x] {
-                    stack.push(r * w + x);
-                    // One seed per run.
-                    while x <= hi && next[x] {
-                        x += 1;
-                    }
-                } else {
-                    x += 1;
-                }
-            }
-        }
-    }
-    inside
-}
-
-/// Marching squares on the cell centres of the `inside` indicator (outside the grid counts
-/// as not inside). Returns closed rings in grid coordinates with the inside on their left:
-/// outer rings counter-clockwise, holes clockwise. Where two inside cells touch only
-/// diagonally, the outside cells between them are taken as connected, so the inside never
-/// squeezes through a corner.
-fn march(inside: &[bool], w: usize, h: usize) -> Vec<Vec<[f64; 2]>> {
-    // Lattice nodes (I, J) = cell centres (I - 1, J - 1), with a ring of outside nodes.
-    let (nx, ny) = (w + 2, h + 2);
-    // The nodes with their outside ring, row by row, so the scan reads two rows in order.
-    let mut padded = vec![false; nx * ny];
-    for j in 0..h {
-        padded[(j + 1) * nx + 1..(j + 1) * nx + 1 + w].copy_from_slice(&inside[j * w..(j + 1) * w]);
-    }
-    let node = |i: usize, j: usize| -> bool { padded[j * nx + i] };
-    // Edge ids: horizontal (I, J)–(I+1, J) is 2 (I ny + J), vertical (I, J)–(I, J+1) is +1.
-    let hid = |i: usize, j: usize| 2 * (i * ny + j);
-    let vid = |i: usize, j: usize| 2 * (i * ny + j) + 1;
-    // Only boundary edges get a successor: a map, and the order they were found in (so the
-    // rings come out the same on every run).
-    let mut next: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
-    let mut found: Vec<usize> = Vec::new();
-    for j in 0..ny - 1 {
-        // Row by row over contiguous cells; a square with four equal corners has no boundary.
-        let (below, above) = (
-            &padded[j * nx..(j + 1) * nx],
-            &padded[(j + 1) * nx..(j + 2) * nx],
-        );
-        if below == above && below.iter().all(|&b| b == below[0]) {
-            continue;
-        }
-        for i in 0..nx - 1 {
-            let v = [below[i], below[i + 1], above[i + 1], above[i]];
-            if v[0] == v[1] && v[1] == v[2] && v[2] == v[3] {
-                continue;
-            }
-            // Counter-clockwise edges: k joins corner k to corner k + 1.
-            let e = [hid(i, j), vid(i + 1, j), hid(i, j + 1), vid(i, j)];
-            for k in 0..4 {
-                if v[k] && !v[(k + 1) % 4] {
-                    // Leaving the inside at edge k: the boundary runs to the nearest edge
-                    // before it where the inside is entered.
-                    let m = (1..4)
-                        .map(|d| (k + 4 - d) % 4)
-                        .find(|&m| !v[m] && v[(m + 1) % 4])
-                        .expect("a cell with an exit has an entry");
-                    next.insert(e[k], e[m]);
-                    found.push(e[k]);
-                }
-            }
-        }
-    }
-    let point = |id: usize| -> [f64; 2] {
-        let (i, j) = ((id / 2) / ny, (id / 2) % ny);
-        let (a, b) = if id.is_multiple_of(2) {
-            ((i, j), (i + 1, j))
-        } else {
-            ((i, j), (i, j + 1))
-        };
-        let (blocked, open) = if node(a.0, a.1) { (b, a) } else { (a, b) };
-        let p = |n: (usize, usize)| [n.0 as f64 - 0.5, n.1 as f64 - 0.5];
-        let (pb, po) = (p(blocked), p(open));
-        [
-            pb[0] + CROSSING * (po[0] - pb[0]),
-            pb[1] + CROSSING * (po[1] - pb[1]),
-        ]
-    };
-    let mut rings = Vec::new();
-    for start in found {
-        if !next.contains_key(&start) {
-            continue;
-        }
-        let mut ring = Vec::new();
-        let mut id = start;
-        while let Some(n) = next.remove(&id) {
-            ring.push(point(id));
-            id = n;
-        }
-        rings.push(ring);
-    }
-    rings
-}
-
-/// The traced rings simplified with the finest tolerance from `opts.simplify_cells` (growing
-/// by half up to `opts.max_simplify_cells`) whose rings have at most `opts.boundary_budget`
-/// vertices in all; returns the tolerance used.
-fn simplify_to_budget(rings: Vec<Vec<[f64; 2]>>, opts: &MapOptions) -> (f64, Vec<Vec<[f64; 2]>>) {
-    let mut eps = opts.simplify_cells;
-    loop {
-        let simplified: Vec<Vec<[f64; 2]>> =
-            rings.iter().map(|r| simplify(r.clone(), eps)).collect();
-        let vertices: usize = simplified.iter().map(Vec::len).sum();
-        if vertices <= opts.boundary_budget || eps >= opts.max_simplify_cells {
-            return (eps, simplified);
-        }
-        eps = (eps.max(0.1) * 1.5).min(opts.max_simplify_cells);
-    }
-}
-
-/// Douglas–Peucker on a closed ring (tolerance in cells); rings that would collapse are kept.
-fn simplify(ring: Vec<[f64; 2]>, eps: f64) -> Vec<[f64; 2]> {
-    if eps <= 0.0 {
-        return ring;
-    }
-    let mut coords: Vec<Coord<f64>> = ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
-    coords.push(coords[0]);
-    let simplified = LineString::new(coords).simplify(eps);
-    let mut out: Vec<[f64; 2]> = simplified.0.iter().map(|c| [c.x, c.y]).collect();
-    out.pop();
-    if out.len() < 3 { ring } else { out }
-}
-
-/// The mesh a disc robot needs on open floor: triangles with edges of about four radii
-/// (inflated radius `radius`), unless the mesher's default (workspace area / 20 000) is coarser;
-/// near walls and in narrow passages the refinement's angle bound grades the mesh down to
-/// the boundary's own detail. `None` (the mesher's default) for a point robot.
-fn robot_area(polys: &MapPolygons, robot_radius: f64, radius: f64) -> Option<f64> {
+/// The mesh a disc robot needs on open floor: triangles with edges of about four robot
+/// radii, unless the mesher's default (free area / 20 000) is coarser; near walls and in
+/// narrow passages the refinement's angle bound grades the mesh down to the boundary's own
+/// detail. `None` (the mesher's default) for a point robot.
+fn robot_area(polys: &MapPolygons, robot_radius: f64) -> Option<f64> {
     if robot_radius <= 0.0 {
         return None;
     }
-    let workspace = signed_area(&polys.workspace).abs();
-    let edge = 4.0 * radius;
+    let outer = trace::ring_area(&polys.workspace).abs();
+    let edge = 4.0 * robot_radius;
     let robot = 3f64.sqrt() / 4.0 * edge * edge;
-    Some(robot.max(workspace / 20_000.0))
-}
-
-fn signed_area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|k| {
-            let (p, q) = (ring[k], ring[(k + 1) % n]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum::<f64>()
-        / 2.0
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn grid(rows: &[&str]) -> (Vec<bool>, usize, usize) {
-        let h = rows.len();
-        let w = rows[0].len();
-        let mut v = vec![false; w * h];
-        for (r, line) in rows.iter().enumerate() {
-            for (i, ch) in line.chars().enumerate() {
-                v[(h - 1 - r) * w + i] = ch == '.';
-            }
-        }
-        (v, w, h)
-    }
-
-    #[test]
-    fn the_scanline_fill_is_the_4_connected_component() {
-        let (w, h) = (37, 29);
-        let mut rng = harmonic_fixtures::Rng(99);
-        let cells: Vec<bool> = (0..w * h).map(|_| rng.next_f64() < 0.6).collect();
-        for seed in (0..w * h).filter(|&k| cells[k]).step_by(97) {
-            // Breadth-first, cell by cell.
-            let mut want = vec![false; w * h];
-            want[seed] = true;
-            let mut queue = std::collections::VecDeque::from([seed]);
-            while let Some(k) = queue.pop_front() {
-                let (i, j) = (k % w, k / w);
-                let around = [
-                    (i > 0).then(|| k - 1),
-                    (i + 1 < w).then(|| k + 1),
-                    (j > 0).then(|| k - w),
-                    (j + 1 < h).then(|| k + w),
-                ];
-                for n in around.into_iter().flatten() {
-                    if cells[n] && !want[n] {
-                        want[n] = true;
-                        queue.push_back(n);
-                    }
-                }
-            }
-            assert_eq!(flood_fill(&cells, w, h, seed), want, "seed {seed}");
-        }
-    }
-
-    #[test]
-    fn a_free_square_traces_one_counter_clockwise_ring() {
-        let (v, w, h) = grid(&["...", "...", "..."]);
-        let rings = march(&v, w, h);
-        assert_eq!(rings.len(), 1);
-        let s = simplify(rings[0].clone(), 0.1);
-        // A quarter cell inside the 3 × 3 cells, corners cut by a quarter cell.
-        assert_eq!(s.len(), 8, "{s:?}");
-        assert!((signed_area(&s) - (2.5 * 2.5 - 4.0 * 0.25 * 0.25 / 2.0)).abs() < 1e-12);
-    }
-
-    #[test]
-    fn a_blocked_cell_inside_is_a_clockwise_hole_and_diagonals_stay_blocked() {
-        let (v, w, h) = grid(&[".....", ".#...", "..#..", ".....", "....."]);
-        let rings = march(&v, w, h);
-        assert_eq!(rings.len(), 2, "the two diagonal cells make one hole");
-        let holes: Vec<_> = rings.iter().filter(|r| signed_area(r) < 0.0).collect();
-        assert_eq!(holes.len(), 1);
-        // Both blocked centres are inside the hole.
-        for c in [[1.5, 3.5], [2.5, 2.5]] {
-            assert!(inside_ring(holes[0], c), "{c:?}");
-        }
-    }
-
-    #[test]
-    fn opening_closes_gaps_narrower_than_three_cells() {
-        let (v, w, h) = grid(&["...#...", "...#...", ".......", "...#...", "...#..."]);
-        let o = opening(&v, w, h);
-        // The one-cell door in the middle column closes; the open sides stay.
-        assert!(!o[2 * w + 3]);
-        assert!(o[2 * w + 1] && o[2 * w + 5]);
-    }
-
-    fn inside_ring(ring: &[[f64; 2]], p: [f64; 2]) -> bool {
-        let n = ring.len();
-        let mut c = false;
-        for k in 0..n {
-            let (a, b) = (ring[k], ring[(k + 1) % n]);
-            if (a[1] > p[1]) != (b[1] > p[1])
-                && p[0] < a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1])
-            {
-                c = !c;
-            }
-        }
-        c
-    }
+    Some(robot.max(outer / 20_000.0))
 }

@@ -213,9 +213,10 @@ pub struct Planner {
 /// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
 /// (on a map: clear cells beside the meshed blocks, see [`crate::map`]).
 pub trait StartEntry: Send + Sync {
-    /// A polyline from `start` to a point inside the mesh along which the robot keeps its
-    /// radius from every obstacle, or `None` when there is none.
-    fn lead_in(&self, start: Point) -> Option<Vec<Point>>;
+    /// A polyline from `start` to a point inside the mesh (`in_mesh` tells which points
+    /// are) along which the robot keeps its radius from every obstacle, or `None` when there
+    /// is none.
+    fn lead_in(&self, start: Point, in_mesh: &dyn Fn(Point) -> bool) -> Option<Vec<Point>>;
 }
 
 impl std::fmt::Debug for Planner {
@@ -751,7 +752,9 @@ impl Planner {
     /// robot radius but lies outside the meshed free space, so it counts as clearance 0.
     fn entered(&self, start: Point, plan: impl Fn(Point) -> PlannedPath) -> PlannedPath {
         let lead = match &self.entry {
-            Some(entry) if self.mesh.locate(start, None).is_none() => entry.lead_in(start),
+            Some(entry) if self.mesh.locate(start, None).is_none() => {
+                entry.lead_in(start, &|p| self.mesh.locate(p, None).is_some())
+            }
             _ => None,
         };
         let Some(lead) = lead.filter(|l| l.len() >= 2) else {

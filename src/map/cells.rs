@@ -3,113 +3,18 @@
 //!
 //! A cell is *clear* when every point of its square keeps at least the robot radius from
 //! every point of every blocked cell's square (and from the map's edge, past which all is
-//! unknown). Between two cell squares `(di, dj)` cells apart the distance is
-//! `√(max(|di| − 1, 0)² + max(|dj| − 1, 0)²)` cells, which is the distance between the
-//! centres of the first square and of the nearest cell of the second square grown by one
-//! cell all round: so the clear cells are those whose centre is at least the radius from
-//! the blocked cells dilated by a 3 × 3 square, an exact squared distance on the lattice
-//! computed column by column (capped at the radius) and then row by row. A robot whose
-//! centre stays on clear cells keeps the radius from every blocked cell: the guarantee is
-//! exact, with no tracing or simplification margin.
+//! unknown): [`super::bits::clear_cells`]. A robot whose centre stays on clear cells keeps
+//! the radius from every blocked cell: the guarantee is exact, with no tracing or
+//! simplification margin.
 //!
 //! The clear cells may be snapped to blocks of `b × b` cells ([`super::Snap`]): a partly
 //! clear block is dropped, which loses at most a block's width of the clear space along its
 //! edge and makes the mesh's staircase walls step by blocks — on open floor only
 //! ([`snapped_on_open_floor`]), or everywhere ([`snapped`]).
 
-/// The clear cells of a `w × h` grid whose blocked cells are `blocked` (row by row from the
-/// bottom), for a robot of `radius` cells. With a radius of zero the clear cells are the
-/// cells that are not blocked.
-pub(super) fn clear_cells(blocked: &[bool], w: usize, h: usize, radius: f64) -> Vec<bool> {
-    if radius <= 0.0 {
-        return blocked.iter().map(|&b| !b).collect();
-    }
-    let grown = dilate(blocked, w, h);
-    // Distances at or beyond the radius block nothing: cap there.
-    let cap = radius.ceil().min(f64::from(u16::MAX - 1)) as u16;
-    let vertical = column_distances(&grown, w, h, cap);
-    // A squared lattice distance v is below radius² exactly when v < ⌈radius²⌉.
-    let limit = (radius * radius).ceil().min(f64::from(u32::MAX)) as u32;
-    let reach = usize::from(cap).saturating_sub(1);
-    let mut clear = vec![true; w * h];
-    let (mut nearest, mut base) = (vec![0u32; w], vec![0u32; w]);
-    for j in 0..h {
-        let g = &vertical[j * w..(j + 1) * w];
-        for (n, &d) in nearest.iter_mut().zip(g) {
-            *n = u32::from(d) * u32::from(d);
-        }
-        base.copy_from_slice(&nearest);
-        for dx in 1..=reach.min(w.saturating_sub(1)) {
-            let dx2 = (dx * dx) as u32;
-            // Blocked cells dx to the right, then dx to the left.
-            for (n, &v) in nearest[..w - dx].iter_mut().zip(&base[dx..]) {
-                *n = (*n).min(v + dx2);
-            }
-            for (n, &v) in nearest[dx..].iter_mut().zip(&base[..w - dx]) {
-                *n = (*n).min(v + dx2);
-            }
-        }
-        for (c, &n) in clear[j * w..(j + 1) * w].iter_mut().zip(&nearest) {
-            *c = n >= limit;
-        }
-    }
-    clear
-}
+use std::sync::OnceLock;
 
-/// The blocked cells grown by one cell all round (a 3 × 3 square); the map's edge counts as
-/// blocked, so the outer ring of cells is always grown over.
-fn dilate(blocked: &[bool], w: usize, h: usize) -> Vec<bool> {
-    let mut rows = vec![true; w * h];
-    for j in 0..h {
-        let (src, dst) = (&blocked[j * w..(j + 1) * w], &mut rows[j * w..(j + 1) * w]);
-        // The first and last cells stay grown (the map's edge is beside them).
-        for (i, d) in dst.iter_mut().enumerate().take(w.saturating_sub(1)).skip(1) {
-            *d = src[i - 1] | src[i] | src[i + 1];
-        }
-    }
-    let mut out = vec![false; w * h];
-    for j in 0..h {
-        if j == 0 || j + 1 == h {
-            out[j * w..(j + 1) * w].fill(true);
-            continue;
-        }
-        let (below, here, above) = (
-            &rows[(j - 1) * w..j * w],
-            &rows[j * w..(j + 1) * w],
-            &rows[(j + 1) * w..(j + 2) * w],
-        );
-        for (o, ((&a, &b), &c)) in out[j * w..(j + 1) * w]
-            .iter_mut()
-            .zip(below.iter().zip(here).zip(above))
-        {
-            *o = a | b | c;
-        }
-    }
-    out
-}
-
-/// For each cell, the distance in cells to the nearest `grown` cell in its column, capped
-/// at `cap` (two sweeps over whole rows, so memory is read in order).
-fn column_distances(grown: &[bool], w: usize, h: usize, cap: u16) -> Vec<u16> {
-    let mut d = vec![cap; w * h];
-    for (dj, &g) in d[..w].iter_mut().zip(&grown[..w]) {
-        *dj = if g { 0 } else { cap };
-    }
-    for j in 1..h {
-        let (done, rest) = d.split_at_mut(j * w);
-        let below = &done[(j - 1) * w..];
-        for ((dj, &g), &b) in rest[..w].iter_mut().zip(&grown[j * w..]).zip(below) {
-            *dj = if g { 0 } else { (b + 1).min(cap) };
-        }
-    }
-    for j in (0..h.saturating_sub(1)).rev() {
-        let (head, tail) = d.split_at_mut((j + 1) * w);
-        for (dj, &a) in head[j * w..].iter_mut().zip(&tail[..w]) {
-            *dj = (*dj).min((a + 1).min(cap));
-        }
-    }
-    d
-}
+use super::bits::BitGrid;
 
 /// Blocks of `b × b` cells (the last row and column of blocks may stick out past the grid):
 /// free when every cell of the block is on the grid and clear. Returns the blocks and the
@@ -291,57 +196,76 @@ pub(super) fn euler_number(inside: &[bool], w: usize, h: usize) -> i64 {
     (n1 - n3 + 2 * nd) / 4
 }
 
-/// Leads a start on a clear cell outside the meshed blocks into the mesh: the shortest
-/// 4-connected walk over clear cells to a meshed cell, through the cells' centres. Each step
-/// joins the centres of two side-by-side clear squares inside their union, so the robot keeps
-/// its radius along it.
+/// Leads a start outside the mesh into it over the robot's clear cells: the shortest
+/// 4-connected walk from the start's cell over cells clear for the robot radius (exactly,
+/// with no margin) to a cell whose centre is in the mesh, through the cells' centres. Each
+/// step joins the centres of two side-by-side clear squares inside their union, so the robot
+/// keeps its radius along it. The clear cells are found at the first start that needs them.
 pub(super) struct CellEntry {
-    pub(super) width: usize,
-    pub(super) height: usize,
-    /// Clear cells, row by row from the bottom.
-    pub(super) clear: Vec<bool>,
-    /// Cells inside the mesh (the goal's component, less the goal's cell).
-    pub(super) meshed: Vec<bool>,
+    /// The blocked cells.
+    pub(super) blocked: BitGrid,
+    /// The robot radius in cells.
+    pub(super) radius: f64,
+    /// The cells clear for `radius`, made at the first lead-in.
+    pub(super) clear: OnceLock<BitGrid>,
     /// Grid coordinates (cells) to world coordinates and back.
     pub(super) frame: super::GridFrame,
-    /// The longest walk searched, in cells (a few blocks: the clear cells the blocks left out
-    /// lie within a block of the mesh).
+    /// The longest walk searched, in cells (the mesh lies within a few cells of every clear
+    /// cell it left out).
     pub(super) reach: usize,
 }
 
 impl crate::planner::StartEntry for CellEntry {
-    fn lead_in(&self, start: harmonic_mesh::Point) -> Option<Vec<harmonic_mesh::Point>> {
-        let (w, h) = (self.width, self.height);
+    fn lead_in(
+        &self,
+        start: harmonic_mesh::Point,
+        in_mesh: &dyn Fn(harmonic_mesh::Point) -> bool,
+    ) -> Option<Vec<harmonic_mesh::Point>> {
+        let clear = self
+            .clear
+            .get_or_init(|| super::bits::clear_cells(&self.blocked, self.radius));
+        let (w, h) = (clear.width(), clear.height());
         let g = self.frame.world_to_grid([start.x, start.y]);
         if !(g[0] >= 0.0 && g[1] >= 0.0 && g[0] < w as f64 && g[1] < h as f64) {
             return None;
         }
-        let seed = g[1] as usize * w + g[0] as usize;
-        if !self.clear[seed] {
-            return None;
-        }
-        // Breadth-first over clear cells within `reach` (Chebyshev) of the start's cell.
-        let (si, sj) = (seed % w, seed / w);
-        let near = |k: usize| (k % w).abs_diff(si).max((k / w).abs_diff(sj)) <= self.reach;
-        let mut from: std::collections::HashMap<usize, usize> = Default::default();
-        from.insert(seed, seed);
-        let mut queue = std::collections::VecDeque::from([seed]);
+        let (si, sj) = (g[0] as usize, g[1] as usize);
+        let centre = |(i, j): (usize, usize)| {
+            let p = self.frame.grid_to_world([i as f64 + 0.5, j as f64 + 0.5]);
+            harmonic_mesh::Point::new(p[0], p[1])
+        };
+        // The first step: to the centre of a clear cell around the start's along a segment
+        // that keeps the radius (checked against the blocked cells' squares), nearest first.
+        let mut firsts: Vec<(usize, usize)> = (sj.saturating_sub(2)..(sj + 3).min(h))
+            .flat_map(|j| (si.saturating_sub(2)..(si + 3).min(w)).map(move |i| (i, j)))
+            .filter(|&(i, j)| clear.get(i as isize, j as isize))
+            .collect();
+        firsts.sort_by_key(|&(i, j)| i.abs_diff(si).max(j.abs_diff(sj)));
+        let first = firsts
+            .into_iter()
+            .find(|&(i, j)| self.segment_keeps_radius(g, [i as f64 + 0.5, j as f64 + 0.5]))?;
+        // Breadth-first over clear cells within `reach` (Chebyshev) of the first cell.
+        let (si, sj) = first;
+        let near = |i: usize, j: usize| i.abs_diff(si).max(j.abs_diff(sj)) <= self.reach;
+        let mut from: std::collections::HashMap<(usize, usize), (usize, usize)> =
+            Default::default();
+        from.insert(first, first);
+        let mut queue = std::collections::VecDeque::from([first]);
         let found = loop {
-            let k = queue.pop_front()?;
-            if self.meshed[k] {
-                break k;
+            let (i, j) = queue.pop_front()?;
+            if in_mesh(centre((i, j))) {
+                break (i, j);
             }
-            let (i, j) = (k % w, k / w);
             let steps = [
-                (i > 0).then(|| k - 1),
-                (i + 1 < w).then(|| k + 1),
-                (j > 0).then(|| k - w),
-                (j + 1 < h).then(|| k + w),
+                (i > 0).then(|| (i - 1, j)),
+                (i + 1 < w).then(|| (i + 1, j)),
+                (j > 0).then(|| (i, j - 1)),
+                (j + 1 < h).then(|| (i, j + 1)),
             ];
-            for n in steps.into_iter().flatten() {
-                if self.clear[n] && near(n) && !from.contains_key(&n) {
-                    from.insert(n, k);
-                    queue.push_back(n);
+            for (a, b) in steps.into_iter().flatten() {
+                if clear.get(a as isize, b as isize) && near(a, b) && !from.contains_key(&(a, b)) {
+                    from.insert((a, b), (i, j));
+                    queue.push_back((a, b));
                 }
             }
         };
@@ -353,64 +277,62 @@ impl crate::planner::StartEntry for CellEntry {
             cells.push(k);
         }
         cells.reverse();
-        let centre = |k: usize| {
-            let p = self
-                .frame
-                .grid_to_world([(k % w) as f64 + 0.5, (k / w) as f64 + 0.5]);
-            harmonic_mesh::Point::new(p[0], p[1])
-        };
-        // From the start within its own cell to the next cell's centre, and on.
+        // From the start to the first cell's centre, and on from centre to centre.
         let mut lead = vec![start];
-        lead.extend(cells.iter().skip(1).map(|&k| centre(k)));
-        if lead.len() == 1 {
-            lead.push(centre(found));
-        }
+        lead.extend(cells.iter().map(|&k| centre(k)));
         Some(lead)
+    }
+}
+
+impl CellEntry {
+    /// Whether every point of the segment from `a` to `b` (grid coordinates) keeps the radius
+    /// from every blocked cell's square and from the grid's edge.
+    fn segment_keeps_radius(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let (w, h) = (self.blocked.width() as f64, self.blocked.height() as f64);
+        let r = self.radius;
+        let edge = |p: [f64; 2]| p[0].min(p[1]).min(w - p[0]).min(h - p[1]);
+        if edge(a) < r || edge(b) < r {
+            return false;
+        }
+        let reach = r.ceil() as isize + 1;
+        let (i0, j0) = (
+            a[0].min(b[0]).floor() as isize - reach,
+            a[1].min(b[1]).floor() as isize - reach,
+        );
+        let (i1, j1) = (
+            a[0].max(b[0]).floor() as isize + reach,
+            a[1].max(b[1]).floor() as isize + reach,
+        );
+        let point = |x: f64, y: f64| harmonic_mesh::Point::new(x, y);
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if !self.blocked.get(i, j) {
+                    continue;
+                }
+                let (x, y) = (i as f64, j as f64);
+                let square = [
+                    point(x, y),
+                    point(x + 1.0, y),
+                    point(x + 1.0, y + 1.0),
+                    point(x, y + 1.0),
+                ];
+                let d = harmonic_mesh::geom::segment_polygon_distance(
+                    point(a[0], a[1]),
+                    point(b[0], b[1]),
+                    &square,
+                );
+                if d < r {
+                    return false;
+                }
+            }
+        }
+        true
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The exact rule, by brute force: the smallest square-to-square distance to a blocked
-    /// cell or to the outside of the grid, in cells.
-    fn brute_clear(blocked: &[bool], w: usize, h: usize, radius: f64) -> Vec<bool> {
-        let sq = |d: isize| (d.abs() - 1).max(0) as f64;
-        (0..w * h)
-            .map(|k| {
-                let (i, j) = ((k % w) as isize, (k / w) as isize);
-                let mut best = f64::INFINITY;
-                for jj in -1..=h as isize {
-                    for ii in -1..=w as isize {
-                        let outside = ii < 0 || jj < 0 || ii >= w as isize || jj >= h as isize;
-                        if outside || blocked[jj as usize * w + ii as usize] {
-                            best = best.min(sq(ii - i).hypot(sq(jj - j)));
-                        }
-                    }
-                }
-                best >= radius
-            })
-            .collect()
-    }
-
-    #[test]
-    fn clear_cells_match_the_exact_square_distance() {
-        let (w, h) = (23, 17);
-        let mut rng = harmonic_fixtures::Rng(12345);
-        let blocked: Vec<bool> = (0..w * h).map(|_| rng.below(29) == 0).collect();
-        for radius in [0.5, 1.0, 2.2, 3.0, 4.4, 6.01] {
-            assert_eq!(
-                clear_cells(&blocked, w, h, radius),
-                brute_clear(&blocked, w, h, radius),
-                "radius {radius}"
-            );
-        }
-        assert_eq!(
-            clear_cells(&blocked, w, h, 0.0),
-            blocked.iter().map(|b| !b).collect::<Vec<_>>()
-        );
-    }
 
     #[test]
     fn euler_numbers_count_components_less_holes() {
