@@ -39,15 +39,16 @@
 //! ```
 
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use serde_yaml_ng::Value;
 
-use harmonic_mesh::Point;
 use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
+use harmonic_mesh::{MeshOptions, Point};
 
 use crate::planner::{PlanError, Planner, PlannerOptions};
 use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
+use crate::workspace::Workspace;
 use harmonic_fem::SolveMethod;
 
 mod bits;
@@ -349,6 +350,10 @@ pub struct OccupancyMap {
     resolution: f64,
     origin: [f64; 3],
     cells: Vec<Cell>,
+    /// The occupied cells, as bits (what the planners read).
+    occupied: BitGrid,
+    /// The unknown cells, as bits.
+    unknown: BitGrid,
     source: String,
 }
 
@@ -595,11 +600,15 @@ impl OccupancyMap {
                 "origin must be finite, got {origin:?}"
             )));
         }
+        let bits =
+            |kind: Cell| BitGrid::from_fn(width, height, |i, j| cells[j * width + i] == kind);
         Ok(OccupancyMap {
             width,
             height,
             resolution,
             origin,
+            occupied: bits(Cell::Occupied),
+            unknown: bits(Cell::Unknown),
             cells,
             source: "map".into(),
         })
@@ -733,12 +742,10 @@ impl OccupancyMap {
 
     /// The blocked cells (occupied, and unknown unless `unknown` says they are free) as bits.
     fn blocked(&self, unknown: UnknownCells) -> BitGrid {
-        let (w, cells) = (self.width, &self.cells);
-        BitGrid::from_fn(self.width, self.height, |i, j| match cells[j * w + i] {
-            Cell::Free => false,
-            Cell::Occupied => true,
-            Cell::Unknown => unknown == UnknownCells::Obstacle,
-        })
+        match unknown {
+            UnknownCells::Obstacle => self.occupied.or(&self.unknown),
+            UnknownCells::Free => self.occupied.clone(),
+        }
     }
 
     /// A planner towards `goal` (world coordinates) for a disc robot of `robot_radius`,
@@ -761,18 +768,14 @@ impl OccupancyMap {
         };
         match opts.mesher {
             MapMesher::Traced => {
-                let (polys, blocked) = self.traced(goal, robot_radius, opts)?;
-                // Starts the margin left out are led in over the cells clear for the radius.
-                let entry = cells::CellEntry {
-                    blocked,
-                    radius: robot_radius / self.resolution,
-                    clear: OnceLock::new(),
-                    frame: self.frame(),
-                    reach: (polys.margin / self.resolution).ceil() as usize + 4,
-                };
-                let scene = self.scene_of(polys, goal, robot_radius, opts);
-                Planner::with_options(&scene, planner)
-                    .map(|p| p.with_entry(Arc::new(entry)))
+                planner.stage(crate::planner::Stage::Meshing);
+                let t = std::time::Instant::now();
+                let goal_shape = harmonic_mesh::GoalShape::Point(Point::new(goal[0], goal[1]));
+                let (domain, mesh_options, entry) =
+                    self.traced_domain(goal, robot_radius, opts, &[goal_shape])?;
+                let ms = t.elapsed().as_secs_f64() * 1e3;
+                Planner::from_domain(domain, &mesh_options, planner)
+                    .map(|p| p.with_mesh_time(ms).with_entry(Arc::new(entry)))
                     .map_err(plan_error)
             }
             MapMesher::Quadtree => {
@@ -795,6 +798,65 @@ impl OccupancyMap {
                     .map_err(plan_error)
             }
         }
+    }
+
+    /// A workspace (factored once, goals later: [`Workspace::planner`]) on the robot's free
+    /// configuration space around `around`, traced as [`OccupancyMap::polygons`] traces it;
+    /// its planners lead starts the tracing margin left out in over the clear cells, as
+    /// [`OccupancyMap::planner`]'s do. Goals must lie in the component of `around`.
+    pub fn workspace(
+        &self,
+        around: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+        planner: &PlannerOptions,
+    ) -> Result<Workspace, MapError> {
+        let plan_error = |source| MapError::Plan {
+            file: self.source.clone(),
+            source,
+        };
+        planner.stage(crate::planner::Stage::Meshing);
+        let t = std::time::Instant::now();
+        let (domain, mesh_options, entry) = self.traced_domain(around, robot_radius, opts, &[])?;
+        let meshed =
+            crate::planner::Meshed::of_domain(domain, &mesh_options, t).map_err(plan_error)?;
+        Workspace::factored(meshed, &Default::default(), planner)
+            .map(|w| w.with_entry(Arc::new(entry)))
+            .map_err(plan_error)
+    }
+
+    /// The traced configuration space around `goal` as a domain with `goals` in it (no
+    /// booleans: the rings are simple and disjoint), its mesh options, and the lead-in for
+    /// starts the margin leaves out.
+    fn traced_domain(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+        goals: &[harmonic_mesh::GoalShape],
+    ) -> Result<(harmonic_mesh::Domain, MeshOptions, cells::CellEntry), MapError> {
+        let (polys, blocked) = self.traced(goal, robot_radius, opts)?;
+        let entry = cells::CellEntry {
+            blocked,
+            radius: robot_radius / self.resolution,
+            clear: None,
+            frame: self.frame(),
+            reach: (polys.margin / self.resolution).ceil() as usize + 4,
+        };
+        let point = |p: &[f64; 2]| Point::new(p[0], p[1]);
+        let holes: Vec<Vec<Point>> = polys
+            .obstacles
+            .iter()
+            .map(|r| r.iter().map(point).collect())
+            .collect();
+        let outer: Vec<Point> = polys.workspace.iter().map(point).collect();
+        let mesh_options = mesh_options(&polys, robot_radius, opts);
+        let domain = harmonic_mesh::Domain::of_rings(&outer, &holes, goals, &mesh_options)
+            .map_err(|e| MapError::Plan {
+                file: self.source.clone(),
+                source: e.into(),
+            })?;
+        Ok((domain, mesh_options, entry))
     }
 
     /// The quadtree mesh of the robot's free configuration space around `goal` (see
@@ -898,7 +960,7 @@ impl OccupancyMap {
         let entry = cells::CellEntry {
             blocked,
             radius: robot_radius / res,
-            clear: OnceLock::from(clear_bits),
+            clear: Some(clear_bits),
             frame: self.frame(),
             reach: 4 * block,
         };
@@ -950,7 +1012,7 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Scene {
-        let max_area = opts.max_area.or_else(|| robot_area(&polys, robot_radius));
+        let mesh = mesh_options(&polys, robot_radius, opts);
         Scene {
             name: Some(self.source.clone()),
             workspace: polys.workspace,
@@ -969,8 +1031,8 @@ impl OccupancyMap {
             starts: Vec::new(),
             boundary: Default::default(),
             mesh: MeshSpec {
-                max_area,
-                min_angle_deg: Some(opts.min_angle_deg),
+                max_area: mesh.max_area,
+                min_angle_deg: Some(mesh.min_angle_deg),
                 grading: None,
                 simplify: None,
             },
@@ -1041,13 +1103,16 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
 /// The mesh a disc robot needs on open floor: triangles with edges of about four robot
 /// radii, unless the mesher's default (free area / 20 000) is coarser; near walls and in
 /// narrow passages the refinement's angle bound grades the mesh down to the boundary's own
-/// detail. `None` (the mesher's default) for a point robot.
-fn robot_area(polys: &MapPolygons, robot_radius: f64) -> Option<f64> {
-    if robot_radius <= 0.0 {
-        return None;
+/// detail. The mesher's default for a point robot. [`MapOptions::max_area`] overrides.
+fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> MeshOptions {
+    let robot = (robot_radius > 0.0).then(|| {
+        let outer = trace::ring_area(&polys.workspace).abs();
+        let edge = 4.0 * robot_radius;
+        (3f64.sqrt() / 4.0 * edge * edge).max(outer / 20_000.0)
+    });
+    MeshOptions {
+        max_area: opts.max_area.or(robot),
+        min_angle_deg: opts.min_angle_deg,
+        ..MeshOptions::default()
     }
-    let outer = trace::ring_area(&polys.workspace).abs();
-    let edge = 4.0 * robot_radius;
-    let robot = 3f64.sqrt() / 4.0 * edge * edge;
-    Some(robot.max(outer / 20_000.0))
 }

@@ -111,7 +111,16 @@ impl Meshed {
         if !segments.is_empty() || !points.is_empty() {
             domain = domain.with_constraints(segments, points)?;
         }
-        let (mesh, report) = domain.mesh(&mesh_options)?;
+        Meshed::of_domain(domain, &mesh_options, t)
+    }
+
+    /// Meshes a validated domain; `t` is when its validation began (counted as meshing).
+    pub(crate) fn of_domain(
+        domain: Domain,
+        mesh_options: &MeshOptions,
+        t: Instant,
+    ) -> Result<Meshed, PlanError> {
+        let (mesh, report) = domain.mesh(mesh_options)?;
         let ms = millis(t);
         let quality = mesh.quality();
         let (lo, hi) = domain.bounding_box();
@@ -605,6 +614,19 @@ impl Planner {
             scene.blend_conditions(),
             options,
         )
+    }
+
+    /// A planner on a validated free space ([`Domain::of_rings`], say: a map's configuration
+    /// space traced as rings), meshed with `mesh_options` and solved with the default
+    /// conditions (walls and obstacles φ = 1, goals φ = 0).
+    pub fn from_domain(
+        domain: Domain,
+        mesh_options: &MeshOptions,
+        options: &PlannerOptions,
+    ) -> Result<Planner, PlanError> {
+        options.stage(Stage::Meshing);
+        let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
+        Planner::solved(meshed, &BoundaryConditions::default(), None, options)
     }
 
     /// A planner on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]), solved as

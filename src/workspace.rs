@@ -139,6 +139,9 @@ pub struct Workspace {
     meshed: Meshed,
     goals: GoalSolver,
     timings: WorkspaceTimings,
+    /// A way into the mesh for starts outside it, given to every planner (a map's clear
+    /// cells).
+    entry: Option<Arc<dyn crate::planner::StartEntry>>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -188,8 +191,14 @@ impl Workspace {
         )
     }
 
+    /// Leads starts outside the mesh in through `entry`, in every planner made from here on.
+    pub(crate) fn with_entry(mut self, entry: Arc<dyn crate::planner::StartEntry>) -> Workspace {
+        self.entry = Some(entry);
+        self
+    }
+
     /// Assembles the walls' system of `meshed` under `bcs` and factors it.
-    fn factored(
+    pub(crate) fn factored(
         meshed: Meshed,
         bcs: &harmonic_fem::BoundaryConditions,
         options: &PlannerOptions,
@@ -214,6 +223,7 @@ impl Workspace {
             },
             meshed,
             goals,
+            entry: None,
         })
     }
 
@@ -431,7 +441,7 @@ impl Workspace {
             timings: Timings::default(),
             scale: self.meshed.scale,
             vertex_goals: Some(Arc::new(marks)),
-            entry: None,
+            entry: self.entry.clone(),
         })
     }
 }

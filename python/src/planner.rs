@@ -48,31 +48,6 @@ pub(crate) fn timings_dict<'py>(py: Python<'py>, t: Timings) -> PyResult<Bound<'
     Ok(d)
 }
 
-/// The scene of a ROS map around `point` (argument `what`), as `hplan plan --map` makes it,
-/// with the GIL released while the map is read and traced; also the file's name for messages.
-pub(crate) fn map_scene(
-    py: Python<'_>,
-    yaml: &std::path::Path,
-    point: &Bound<'_, PyAny>,
-    what: &str,
-    robot_radius: f64,
-    max_area: Option<f64>,
-) -> PyResult<(Scene, String)> {
-    let point = finite(arrays::point::<2>(point, what)?, what)?;
-    let opts = MapOptions {
-        max_area: positive("max_area", max_area)?,
-        ..MapOptions::default()
-    };
-    let scene = py.detach(|| {
-        guarded(|| {
-            OccupancyMap::load(yaml)
-                .and_then(|m| m.to_scene(point, robot_radius, &opts))
-                .map_err(|e| scene_error(e.to_string()))
-        })
-    })?;
-    Ok((scene, yaml.display().to_string()))
-}
-
 fn finite<const D: usize>(p: [f64; D], what: &str) -> PyResult<[f64; D]> {
     if p.iter().all(|v| v.is_finite()) {
         Ok(p)

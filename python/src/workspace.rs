@@ -4,13 +4,14 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use harmonic_planner::{Goal, Point, Scene, Workspace};
+use harmonic_planner::map::{MapOptions, OccupancyMap};
+use harmonic_planner::{Goal, PlannerOptions, Point, Scene, Workspace};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
-use crate::planner::{PyPlanner, map_scene, positive};
+use crate::planner::{PyPlanner, positive};
 use crate::scene::PyScene;
 
 /// A plane scene's free space meshed without its goals and its walls' system factored once.
@@ -86,8 +87,29 @@ impl PyWorkspace {
         robot_radius: f64,
         max_area: Option<f64>,
     ) -> PyResult<PyWorkspace> {
-        let (scene, shown) = map_scene(py, &yaml, around, "around", robot_radius, max_area)?;
-        PyWorkspace::build(py, scene, Some(shown))
+        let around = arrays::point::<2>(around, "around")?;
+        if !around.iter().all(|v| v.is_finite()) {
+            return Err(scene_error(format!(
+                "around: coordinates must be finite numbers, got {around:?}"
+            )));
+        }
+        let opts = MapOptions {
+            max_area: positive("max_area", max_area)?,
+            ..MapOptions::default()
+        };
+        let workspace = py.detach(|| {
+            guarded(|| {
+                OccupancyMap::load(&yaml)
+                    .and_then(|m| {
+                        m.workspace(around, robot_radius, &opts, &PlannerOptions::default())
+                    })
+                    .map_err(|e| scene_error(e.to_string()))
+            })
+        })?;
+        Ok(PyWorkspace {
+            workspace: Arc::new(workspace),
+            source: Some(yaml.display().to_string()),
+        })
     }
 
     /// A planner towards `goal` (x, y): the free vertices of its triangle held, and those

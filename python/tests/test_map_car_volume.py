@@ -54,10 +54,12 @@ def test_from_map(warehouse):
         assert path.status == "reached_goal", path
         end = path.points[-1]
         assert math.hypot(end[0] - GOAL[0], end[1] - GOAL[1]) < 0.5
-        assert path.min_clearance > 0
+        # A start the tracing margin leaves out is led in over clear cells (clearance 0 on
+        # that stretch, which lies outside the meshed configuration space).
+        assert path.min_clearance >= 0
         # Checked against the map's own cells: the disc of radius 0.2 stays off every occupied
-        # or unknown cell (up to a tenth of a cell, as the Rust map tests allow).
-        assert distance_to_cells(path.points, cells, res).min() >= 0.2 - 0.005
+        # or unknown cell (exactly: the cells were cleared on the grid; to rounding here).
+        assert distance_to_cells(path.points, cells, res).min() >= 0.2 - 1e-9
     # The closed closet and the patch seen through a window: no way to the goal.
     for start in ([16.4, 11.8], [0.25, -1.3]):
         assert warehouse.plan(start).status in ("unreachable", "outside_workspace")

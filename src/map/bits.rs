@@ -86,6 +86,58 @@ impl BitGrid {
         self.words.iter().map(|w| w.count_ones() as usize).sum()
     }
 
+    /// The union of two grids of one size.
+    pub(crate) fn or(&self, other: &BitGrid) -> BitGrid {
+        BitGrid {
+            words: self
+                .words
+                .iter()
+                .zip(&other.words)
+                .map(|(a, b)| a | b)
+                .collect(),
+            ..self.clone_shape()
+        }
+    }
+
+    /// An empty grid of this one's size.
+    fn clone_shape(&self) -> BitGrid {
+        BitGrid {
+            width: self.width,
+            height: self.height,
+            stride: self.stride,
+            words: Vec::new(),
+        }
+    }
+
+    /// The cells `[i0, i0 + w) × [j0, j0 + h)` as a grid of their own; cells of the window
+    /// off this grid are set to `off`.
+    pub(crate) fn window(&self, i0: isize, j0: isize, w: usize, h: usize, off: bool) -> BitGrid {
+        BitGrid::from_fn(w, h, |i, j| {
+            let (x, y) = (i0 + i as isize, j0 + j as isize);
+            let on = x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height;
+            if on { self.get(x, y) } else { off }
+        })
+    }
+
+    /// The rows and the words of each row holding an unset cell: `(first row, last row + 1,
+    /// first word, last word + 1)`, or `None` when every cell is set.
+    fn unset_span(&self) -> Option<(usize, usize, usize, usize)> {
+        let mask = self.last_mask();
+        let (mut j0, mut j1, mut w0, mut w1) = (usize::MAX, 0, usize::MAX, 0);
+        for j in 0..self.height {
+            for (k, &word) in self.row(j).iter().enumerate() {
+                let full = if k + 1 == self.stride { mask } else { u64::MAX };
+                if word & full != full {
+                    j0 = j0.min(j);
+                    j1 = j + 1;
+                    w0 = w0.min(k);
+                    w1 = w1.max(k + 1);
+                }
+            }
+        }
+        (j1 > 0).then_some((j0, j1, w0, w1))
+    }
+
     /// Whether every cell is set.
     pub(crate) fn all(&self) -> bool {
         let mask = self.last_mask();
@@ -245,14 +297,22 @@ pub(crate) fn clear_cells(blocked: &BitGrid, radius: f64) -> BitGrid {
     let reach: Vec<usize> = (0..k as u64)
         .map(|e| 1 + isqrt(limit - 1 - e * e) as usize)
         .collect();
-    let mut acc = vec![0u64; blocked.stride];
-    let mut tmp = vec![0u64; blocked.stride];
+    // Only cells that are not blocked can be clear: the rows holding some, and the words
+    // holding some together with the words the growth reaches from beside them.
+    let Some((j0, j1, w0, w1)) = blocked.unset_span() else {
+        return clear;
+    };
+    let spread = k.div_ceil(64) + 1;
+    let (w0, w1) = (w0.saturating_sub(spread), (w1 + spread).min(blocked.stride));
+    let mask = if w1 == blocked.stride { mask } else { u64::MAX };
+    let mut acc = vec![0u64; w1 - w0];
+    let mut tmp = vec![0u64; w1 - w0];
     let or_row = |acc: &mut [u64], j: usize| {
         acc.iter_mut()
-            .zip(blocked.row(j))
+            .zip(&blocked.row(j)[w0..w1])
             .for_each(|(a, &b)| *a |= b);
     };
-    for j in k..h - k {
+    for j in j0.max(k)..j1.min(h - k) {
         // Horner: the widest row offset's rows first, each step grown by the difference of
         // its reach and the next one's, so the rows at offset e are grown by reach[e] in all.
         acc.fill(0);
@@ -267,7 +327,7 @@ pub(crate) fn clear_cells(blocked: &BitGrid, radius: f64) -> BitGrid {
             grow_row(&mut acc, &mut tmp, reach[e] - next, mask);
         }
         let out = clear.row_mut(j);
-        for (o, &a) in out.iter_mut().zip(&acc) {
+        for (o, &a) in out[w0..w1].iter_mut().zip(&acc) {
             *o = !a;
         }
         // The columns within k of either edge see the world past it.

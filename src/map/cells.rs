@@ -12,8 +12,6 @@
 //! edge and makes the mesh's staircase walls step by blocks — on open floor only
 //! ([`snapped_on_open_floor`]), or everywhere ([`snapped`]).
 
-use std::sync::OnceLock;
-
 use super::bits::BitGrid;
 
 /// Blocks of `b × b` cells (the last row and column of blocks may stick out past the grid):
@@ -206,8 +204,9 @@ pub(super) struct CellEntry {
     pub(super) blocked: BitGrid,
     /// The robot radius in cells.
     pub(super) radius: f64,
-    /// The cells clear for `radius`, made at the first lead-in.
-    pub(super) clear: OnceLock<BitGrid>,
+    /// The cells clear for `radius`, when the mesher has them; otherwise each lead-in finds
+    /// them in a window around its start.
+    pub(super) clear: Option<BitGrid>,
     /// Grid coordinates (cells) to world coordinates and back.
     pub(super) frame: super::GridFrame,
     /// The longest walk searched, in cells (the mesh lies within a few cells of every clear
@@ -221,15 +220,31 @@ impl crate::planner::StartEntry for CellEntry {
         start: harmonic_mesh::Point,
         in_mesh: &dyn Fn(harmonic_mesh::Point) -> bool,
     ) -> Option<Vec<harmonic_mesh::Point>> {
-        let clear = self
-            .clear
-            .get_or_init(|| super::bits::clear_cells(&self.blocked, self.radius));
-        let (w, h) = (clear.width(), clear.height());
+        let (w, h) = (self.blocked.width(), self.blocked.height());
         let g = self.frame.world_to_grid([start.x, start.y]);
         if !(g[0] >= 0.0 && g[1] >= 0.0 && g[0] < w as f64 && g[1] < h as f64) {
             return None;
         }
         let (si, sj) = (g[0] as usize, g[1] as usize);
+        // The clear cells: the mesher's, or those of a window around the start that holds
+        // every walk searched and the blocked cells within the radius of it (the window's
+        // edge counts as blocked, which only takes clear cells away near it).
+        let (window, i0, j0) = match &self.clear {
+            Some(c) => (std::borrow::Cow::Borrowed(c), 0, 0),
+            None => {
+                let half = (self.reach + 4 + self.radius.ceil() as usize + 2) as isize;
+                let (i0, j0) = (si as isize - half, sj as isize - half);
+                let size = 2 * half as usize + 1;
+                let blocked = self.blocked.window(i0, j0, size, size, true);
+                let clear = super::bits::clear_cells(&blocked, self.radius);
+                (std::borrow::Cow::Owned(clear), i0, j0)
+            }
+        };
+        let clear = ClearWindow {
+            cells: &window,
+            i0,
+            j0,
+        };
         let centre = |(i, j): (usize, usize)| {
             let p = self.frame.grid_to_world([i as f64 + 0.5, j as f64 + 0.5]);
             harmonic_mesh::Point::new(p[0], p[1])
@@ -281,6 +296,19 @@ impl crate::planner::StartEntry for CellEntry {
         let mut lead = vec![start];
         lead.extend(cells.iter().map(|&k| centre(k)));
         Some(lead)
+    }
+}
+
+/// Clear cells of a window of the map, addressed by the map's columns and rows.
+struct ClearWindow<'a> {
+    cells: &'a BitGrid,
+    i0: isize,
+    j0: isize,
+}
+
+impl ClearWindow<'_> {
+    fn get(&self, i: isize, j: isize) -> bool {
+        self.cells.get(i - self.i0, j - self.j0)
     }
 }
 

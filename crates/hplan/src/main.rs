@@ -74,9 +74,10 @@ enum Command {
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
-        /// On a map: how to mesh it. `traced` (default): traced, simplified polygons by
-        /// Delaunay refinement (always so with several goals); `quadtree`: the robot's clear
-        /// cells (the radius kept exactly, no margin), by a balanced quadtree.
+        /// On a map: how to mesh it. `traced` (default): the robot's clear cells, with a
+        /// tracing margin of about a cell, traced to polygons and meshed by Delaunay
+        /// refinement (always so with several goals); `quadtree`: the clear cells themselves
+        /// (no margin), by a balanced quadtree. Either way the radius is kept exactly.
         #[arg(long, value_enum, default_value_t = MesherArg::Traced, requires = "map")]
         mesher: MesherArg,
         /// Plan in a Triangle .poly file's free space (its outer boundary the workspace, the
@@ -580,8 +581,15 @@ fn plan_mesh_in(
 }
 
 /// `hplan plan` with several goals: one workspace, one factorisation, one result per goal.
+/// How a multi-goal workspace is made: from a scene file, or from a map (traced around its
+/// first goal, with the map's lead-in for starts the tracing margin leaves out).
+enum WorkspaceSource<'a> {
+    Scene(&'a Scene),
+    Map(&'a OccupancyMap, Point, f64, &'a MapOptions),
+}
+
 fn plan_goals(
-    scene: &Scene,
+    source: WorkspaceSource<'_>,
     path: &Path,
     common: &Common,
     goals: &[(Point, Vec<[f64; 2]>)],
@@ -590,8 +598,14 @@ fn plan_goals(
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
-    let workspace =
-        Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
+    let workspace = match source {
+        WorkspaceSource::Scene(scene) => {
+            Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        WorkspaceSource::Map(map, around, radius, map_opts) => map
+            .workspace([around.x, around.y], radius, map_opts, &opts)
+            .map_err(|e| e.to_string())?,
+    };
     let (report, planners) = workspace.report(goals).map_err(|e| e.to_string())?;
     if let (Some(svg), Some(first)) = (&common.svg, planners.first()) {
         let paths: Vec<_> = report
@@ -652,10 +666,12 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     if goal.len() == 1 {
                         return plan_map(map, first, robot_radius, &opts, &common, &starts);
                     }
-                    let scene = OccupancyMap::load(map)
-                        .and_then(|m| m.to_scene(first, robot_radius, &opts))
-                        .map_err(|e| e.to_string())?;
-                    (scene, map.clone())
+                    let grid = OccupancyMap::load(map).map_err(|e| e.to_string())?;
+                    let all_starts = starts_of::<2>(&starts, "X,Y on a map")?;
+                    let goals = order.starts_per_goal(&goal, &all_starts, &[]);
+                    let around = Point::new(first[0], first[1]);
+                    let source = WorkspaceSource::Map(&grid, around, robot_radius, &opts);
+                    return plan_goals(source, map, &common, &goals);
                 }
                 (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),
@@ -683,7 +699,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             let all_starts = starts_of::<2>(&starts, "X,Y on a plane scene")?;
             if goal.len() > 1 {
                 let goals = order.starts_per_goal(&goal, &all_starts, &scene.starts);
-                return plan_goals(&scene, &path, &common, &goals);
+                return plan_goals(WorkspaceSource::Scene(&scene), &path, &common, &goals);
             }
             if let (Some(&g), None) = (goal.first(), &map) {
                 // One goal for a scene file: it replaces the scene's goal(s).

@@ -19,6 +19,7 @@ use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
 mod constraints;
 mod isolated;
 mod of_mesh;
+mod of_rings;
 
 pub(crate) use constraints::Constraints;
 

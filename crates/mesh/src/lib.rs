@@ -106,6 +106,22 @@ pub enum MeshError {
         /// The two edges (by input index of their first vertex) that touch or cross.
         edges: (usize, usize),
     },
+    /// Two rings of free space given as rings ([`Domain::of_rings`]) touch or cross.
+    #[error("{part} and {other} touch or cross: free space given as rings needs disjoint rings")]
+    RingsMeet {
+        /// One ring.
+        part: Part,
+        /// The other (the same part when a ring meets itself).
+        other: Part,
+    },
+    /// A hole of free space given as rings ([`Domain::of_rings`]) lies inside another hole.
+    #[error("{part}: lies inside {other}")]
+    HoleInHole {
+        /// The inner hole.
+        part: Part,
+        /// The hole around it.
+        other: Part,
+    },
     /// The polygon encloses no area (all its vertices are collinear).
     #[error("{part}: polygon has zero area (all vertices collinear)")]
     ZeroArea {
