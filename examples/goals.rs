@@ -159,8 +159,12 @@ fn map_row(
         .ok_or("--map needs at least one --start X,Y")?;
     let grid = OccupancyMap::load(map)?;
     let t = Instant::now();
-    let scene = grid.to_scene(first, robot_radius, &MapOptions::default())?;
-    let ws = Workspace::new(&scene)?;
+    let ws = grid.workspace(
+        first,
+        robot_radius,
+        &MapOptions::default(),
+        &harmonic_planner::PlannerOptions::default(),
+    )?;
     let workspace_ms = ms(t);
     let goals = random_free_points(&ws, n_goals, &mut Rng(2026));
     let t = Instant::now();
