@@ -718,16 +718,18 @@ impl OccupancyMap {
         let eps = opts.simplify_cells;
         let margin = (eps + trace::CONTOUR_CUT) * self.resolution;
         let clear = bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution);
+        let too_close = || MapError::GoalTooClose {
+            file: self.source.clone(),
+            x: goal[0],
+            y: goal[1],
+            radius: robot_radius,
+            margin,
+        };
         if !clear.get(gc as isize, gr as isize) {
-            return Err(MapError::GoalTooClose {
-                file: self.source.clone(),
-                x: goal[0],
-                y: goal[1],
-                radius: robot_radius,
-                margin,
-            });
+            return Err(too_close());
         }
-        let traced = trace::trace(&clear, gc, gr, eps);
+        let traced =
+            trace::trace(&clear, gc, gr, eps, self.world_to_grid(goal)).ok_or_else(too_close)?;
         let world = |ring: Vec<[f64; 2]>| -> Vec<[f64; 2]> {
             ring.into_iter().map(|g| self.grid_to_world(g)).collect()
         };

@@ -799,3 +799,118 @@ fn quadtree_errors_name_the_problem() {
         .expect_err("3 is no power of two");
     assert!(e.to_string().contains("snap"), "{e}");
 }
+
+/// A random occupancy grid of `w × h` cells: rectangles and discs of occupied and unknown
+/// cells, and speckles.
+fn random_cells(seed: u64, w: usize, h: usize) -> Vec<Cell> {
+    let mut rng = Lcg(seed);
+    let mut cells = vec![Cell::Free; w * h];
+    let kind = |rng: &mut Lcg| {
+        if rng.next(4) == 0 {
+            Cell::Unknown
+        } else {
+            Cell::Occupied
+        }
+    };
+    for _ in 0..rng.next(12) {
+        let (i0, j0) = (rng.next(w), rng.next(h));
+        let (dw, dh) = (1 + rng.next(w / 4), 1 + rng.next(h / 4));
+        let c = kind(&mut rng);
+        for j in j0..(j0 + dh).min(h) {
+            for i in i0..(i0 + dw).min(w) {
+                cells[j * w + i] = c;
+            }
+        }
+    }
+    for _ in 0..rng.next(6) {
+        let (ci, cj, r) = (
+            rng.next(w) as f64,
+            rng.next(h) as f64,
+            1.0 + rng.next(6) as f64,
+        );
+        let c = kind(&mut rng);
+        for j in 0..h {
+            for i in 0..w {
+                if (i as f64 - ci).hypot(j as f64 - cj) <= r {
+                    cells[j * w + i] = c;
+                }
+            }
+        }
+    }
+    for _ in 0..rng.next(20) {
+        cells[rng.next(w * h)] = kind(&mut rng);
+    }
+    cells
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// Random maps, radii and tolerances: the traced planner is built or refused with one of
+    /// the goal's errors (never a failure of the rings it traced), its polygons keep the
+    /// radius from every blocked cell, the potential has no interior minimum, and every path
+    /// that reaches the goal keeps the radius, exactly, checked on the grid.
+    #[test]
+    fn random_maps_plan_within_the_radius(
+        seed in proptest::prelude::any::<u64>(),
+        radius_cells in 0.0f64..5.0,
+        simplify_cells in 0.0f64..2.5,
+    ) {
+        let (w, h, res) = (60, 45, 0.1);
+        let map = OccupancyMap::from_cells(w, h, res, [-1.0, 2.0, 0.3], random_cells(seed, w, h))
+            .expect("map");
+        let radius = radius_cells * res;
+        let opts = MapOptions { simplify_cells, ..MapOptions::default() };
+        let mut rng = Lcg(seed ^ 0x9e37_79b9);
+        let free: Vec<(usize, usize)> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .filter(|&(i, j)| map.cell(i, j) == Cell::Free)
+            .collect();
+        proptest::prop_assume!(!free.is_empty());
+        // A goal with some room around it, mostly (a few tries, then any free cell).
+        let room = radius_cells.ceil() as usize + 3;
+        let mut pick = free[rng.next(free.len())];
+        for _ in 0..8 {
+            if deep(&map, pick.0, pick.1, room, UnknownCells::Obstacle) {
+                break;
+            }
+            pick = free[rng.next(free.len())];
+        }
+        let (gi, gj) = pick;
+        let goal = map.cell_center(gi, gj);
+        match map.planner(goal, radius, &opts, &PlannerOptions::default()) {
+            Err(e) => proptest::prop_assert!(
+                matches!(e, MapError::GoalTooClose { .. }),
+                "unexpected refusal: {e}"
+            ),
+            Ok(planner) => {
+                let polys = map.polygons(goal, radius, &opts).expect("traced");
+                for ring in std::iter::once(&polys.workspace).chain(&polys.obstacles) {
+                    let mut closed = ring.clone();
+                    closed.push(ring[0]);
+                    let c = clearance(&map, &closed, radius, UnknownCells::Obstacle);
+                    proptest::prop_assert!(c >= radius - 1e-9, "a ring comes {c} from a blocked cell");
+                }
+                let starts: Vec<[f64; 2]> = (0..4)
+                    .map(|_| {
+                        let (i, j) = free[rng.next(free.len())];
+                        map.cell_center(i, j)
+                    })
+                    .collect();
+                let report = planner.plan_report(&starts);
+                proptest::prop_assert_eq!(report.potential.interior_local_minima, 0);
+                for path in &report.paths {
+                    if path.status.as_str() == "reached_goal" {
+                        let c = path_clearance(&map, &path.points, radius);
+                        proptest::prop_assert!(
+                            c >= radius - 1e-9,
+                            "path from {:?} comes {} from a blocked cell",
+                            path.start,
+                            c
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

@@ -13,7 +13,7 @@
 
 use geo::{Coord, LineString, Simplify};
 use harmonic_mesh::Point;
-use harmonic_mesh::geom::segments_intersect;
+use harmonic_mesh::geom::{ring_edges, segments_intersect};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree, RTreeObject};
 
@@ -32,11 +32,20 @@ pub(super) struct Traced {
 }
 
 /// Traces the 4-connected component of `clear` holding cell `(i, j)` (which must be set) and
-/// simplifies its rings to `eps` cells, keeping their topology.
-pub(super) fn trace(clear: &BitGrid, i: usize, j: usize, eps: f64) -> Traced {
+/// simplifies its rings to `eps` cells, keeping their topology and keeping `goal` (grid
+/// coordinates, in cell `(i, j)`) inside, at least [`GOAL_ROOM`] cells from every ring: rings
+/// whose simplification would take that room are kept as traced. `None` when even the traced
+/// rings leave the goal less room (it lies in a corner of its cell at the component's edge).
+pub(super) fn trace(
+    clear: &BitGrid,
+    i: usize,
+    j: usize,
+    eps: f64,
+    goal: [f64; 2],
+) -> Option<Traced> {
     let component = bits::component(clear, i, j);
     let traced = bits::contours(&component);
-    let rings = simplified(traced, eps);
+    let rings = simplified(traced, eps, goal)?;
     let mut outer: Option<Vec<[f64; 2]>> = None;
     let mut holes = Vec::new();
     for ring in rings {
@@ -47,15 +56,19 @@ pub(super) fn trace(clear: &BitGrid, i: usize, j: usize, eps: f64) -> Traced {
             holes.push(ring);
         }
     }
-    Traced {
+    Some(Traced {
         outer: outer.unwrap_or_default(),
         holes,
-    }
+    })
 }
 
+/// How far inside the traced rings the goal must stay, in cells.
+pub(super) const GOAL_ROOM: f64 = 0.05;
+
 /// Each ring simplified by Douglas–Peucker to `eps`, except the rings whose simplified forms
-/// would change the topology (see the module documentation), which stay as they are.
-fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64) -> Vec<Vec<[f64; 2]>> {
+/// would change the topology (see the module documentation) or come within [`GOAL_ROOM`] of
+/// `goal` or put it outside, which stay as they are; `None` if the traced rings themselves do.
+fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64, goal: [f64; 2]) -> Option<Vec<Vec<[f64; 2]>>> {
     let mut out: Vec<Vec<[f64; 2]>> = rings
         .iter()
         .map(|r| {
@@ -71,7 +84,12 @@ fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64) -> Vec<Vec<[f64; 2]>> {
         .collect();
     let mut exact: Vec<bool> = out.iter().zip(&rings).map(|(o, r)| o == r).collect();
     loop {
-        let bad = conflicts(&out);
+        let mut bad = conflicts(&out);
+        if !room_for(&out, goal) {
+            // The rings that come near the goal: within the tolerance and the room of it.
+            let reach = eps + 1.0;
+            bad.extend((0..out.len()).filter(|&k| near(&out[k], goal, reach)));
+        }
         let mut changed = false;
         for k in bad {
             if !exact[k] {
@@ -81,9 +99,32 @@ fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64) -> Vec<Vec<[f64; 2]>> {
             }
         }
         if !changed {
-            return out;
+            return room_for(&out, goal).then_some(out);
         }
     }
+}
+
+/// Whether `p` lies inside the region `rings` bound (even-odd) and at least [`GOAL_ROOM`] from
+/// every ring.
+fn room_for(rings: &[Vec<[f64; 2]>], p: [f64; 2]) -> bool {
+    let edges = || rings.iter().flat_map(|r| ring_edges(r));
+    let inside = harmonic_mesh::geom::even_odd(edges(), Point::new(p[0], p[1]));
+    inside
+        && edges().all(|(a, b)| {
+            harmonic_mesh::geom::point_segment_distance(Point::new(p[0], p[1]), a, b) >= GOAL_ROOM
+        })
+}
+
+/// Whether the bounding box of `ring` comes within `reach` of `p`.
+fn near(ring: &[[f64; 2]], p: [f64; 2], reach: f64) -> bool {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for q in ring {
+        for d in 0..2 {
+            lo[d] = lo[d].min(q[d]);
+            hi[d] = hi[d].max(q[d]);
+        }
+    }
+    (0..2).all(|d| p[d] >= lo[d] - reach && p[d] <= hi[d] + reach)
 }
 
 /// Douglas–Peucker on a closed ring (geo's `Simplify` on the ring closed at its first vertex).
@@ -223,9 +264,31 @@ mod tests {
             vec![0, 1],
             "the simplified hole crosses the bump"
         );
-        let out = simplified(rings, 1.2);
+        let out = simplified(rings, 1.2, [30.0, 8.0]).expect("room for the goal");
         assert_eq!(out, vec![outer, hole]);
         assert!(conflicts(&out).is_empty());
+    }
+
+    #[test]
+    fn a_goal_near_the_boundary_keeps_its_rings_as_traced() {
+        // A square with a one-cell tab out at the goal: simplified at 2 cells the tab would
+        // go and take the goal (in it) outside.
+        let outer = vec![
+            [0.0, 0.0],
+            [20.0, 0.0],
+            [20.0, 20.0],
+            [10.5, 20.0],
+            [10.5, 21.0],
+            [9.5, 21.0],
+            [9.5, 20.0],
+            [0.0, 20.0],
+        ];
+        assert_eq!(simplify(&outer, 2.0).len(), 4);
+        let goal = [10.0, 20.5];
+        let out = simplified(vec![outer.clone()], 2.0, goal).expect("room");
+        assert_eq!(out[0], outer);
+        // A goal outside the traced ring has no room at all.
+        assert!(simplified(vec![outer], 2.0, [10.0, 21.2]).is_none());
     }
 
     #[test]
