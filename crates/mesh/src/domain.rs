@@ -108,9 +108,9 @@ pub struct Domain {
     /// Every free-space boundary edge (for the even-odd inside test), with its position
     /// among the edges of `free`, ring after ring.
     boundary_index: SegmentIndex,
-    /// Free-space boundary edges on walls and obstacles (not goals), for clearance: built
-    /// at the first clearance query (meshing needs none; see [`Domain::wall_index`]).
-    wall_index: std::sync::OnceLock<SegmentIndex>,
+    /// Which free-space boundary edges (numbered as in `boundary_index`) are goal edges,
+    /// which clearance leaves out: found at the first clearance query (meshing needs none).
+    goal_edges: std::sync::OnceLock<Vec<bool>>,
     /// The map from the scene's coordinates to the unit coordinates every field above is in
     /// (see [`Frame`]).
     frame: Frame,
@@ -935,14 +935,12 @@ fn boundary_index(free: &[TaggedRing]) -> SegmentIndex {
     }))
 }
 
-/// The segment index of the edges of `free` on walls and obstacles (for clearance).
-fn wall_index(free: &[TaggedRing]) -> SegmentIndex {
-    SegmentIndex::new(free.iter().flat_map(|r| {
-        let n = r.points.len();
-        (0..n)
-            .filter(|&k| !matches!(r.tags[k], BoundaryTag::Goal(_)))
-            .map(move |k| (r.points[k], r.points[(k + 1) % n], 0))
-    }))
+/// Per boundary edge, ring after ring (the numbering of [`boundary_index`]): whether it is a
+/// goal edge.
+fn goal_edges(free: &[TaggedRing]) -> Vec<bool> {
+    free.iter()
+        .flat_map(|r| r.tags.iter().map(|t| matches!(t, BoundaryTag::Goal(_))))
+        .collect()
 }
 
 impl Domain {
@@ -1043,7 +1041,7 @@ impl Domain {
             target_edge: ws.h,
             robot_radius: ws.rr,
             boundary_index,
-            wall_index: std::sync::OnceLock::new(),
+            goal_edges: std::sync::OnceLock::new(),
             frame: Frame::identity(),
             user_free: Vec::new(),
             constraints: Constraints::default(),
@@ -1104,9 +1102,9 @@ impl Domain {
     pub(crate) fn unit_boundary_index(&self) -> &SegmentIndex {
         &self.boundary_index
     }
-    /// The free-space edges on walls and obstacles in an R-tree (built at the first call).
-    fn wall_index(&self) -> &SegmentIndex {
-        self.wall_index.get_or_init(|| wall_index(&self.free))
+    /// Whether each boundary edge is a goal edge (found at the first call).
+    fn goal_edges(&self) -> &[bool] {
+        self.goal_edges.get_or_init(|| goal_edges(&self.free))
     }
     /// The workspace bounding box in unit coordinates.
     pub(crate) fn unit_bbox(&self) -> (Point, Point) {
@@ -1134,20 +1132,26 @@ impl Domain {
     /// (goal boundaries excluded), whether `p` is inside free space or not. For a disc robot
     /// the boundaries are those of the inflated obstacles. Infinity if there are none.
     pub fn distance_to_obstacles(&self, p: Point) -> f64 {
-        self.frame
-            .len_to_user(self.wall_index().distance(self.frame.to_unit(p)))
+        let goal = self.goal_edges();
+        self.frame.len_to_user(
+            self.boundary_index
+                .distance_where(self.frame.to_unit(p), |k| !goal[k as usize]),
+        )
     }
 
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
     /// crosses one). A segment fully inside an obstacle also has a positive value: check
     /// [`Domain::contains_free`] on an end point as well.
     pub fn segment_clearance(&self, a: Point, b: Point) -> f64 {
-        if self.wall_index().is_empty() {
+        let goal = self.goal_edges();
+        if goal.iter().all(|&g| g) {
             return f64::INFINITY;
         }
         let (a, b) = (self.frame.to_unit(a), self.frame.to_unit(b));
-        self.frame
-            .len_to_user(self.wall_index().segment_distance(a, b))
+        self.frame.len_to_user(
+            self.boundary_index
+                .segment_distance_where(a, b, |k| !goal[k as usize]),
+        )
     }
 }
 

@@ -133,7 +133,7 @@ impl Domain {
             target_edge: super::edge_for_area(free_area / triangles),
             robot_radius: 0.0,
             boundary_index,
-            wall_index: std::sync::OnceLock::new(),
+            goal_edges: std::sync::OnceLock::new(),
             frame,
             user_free,
             constraints: Constraints::default(),

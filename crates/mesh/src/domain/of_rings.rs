@@ -288,7 +288,7 @@ impl Domain {
             target_edge: h,
             robot_radius: 0.0,
             boundary_index,
-            wall_index: std::sync::OnceLock::new(),
+            goal_edges: std::sync::OnceLock::new(),
             frame,
             user_free,
             constraints: Constraints::default(),

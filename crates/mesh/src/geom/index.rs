@@ -60,10 +60,6 @@ impl SegmentIndex {
         }
     }
 
-    pub(crate) fn is_empty(&self) -> bool {
-        self.tree.size() == 0
-    }
-
     /// Segments whose bounding box meets the box `[lo, hi]`, as `(a, b, payload)`.
     pub(crate) fn in_box(&self, lo: Point, hi: Point) -> impl Iterator<Item = (Point, Point, u32)> {
         self.tree
@@ -107,29 +103,44 @@ impl SegmentIndex {
     /// Distance from `p` to the nearest segment (infinity if there is none, NaN for a
     /// non-finite `p`).
     pub(crate) fn distance(&self, p: Point) -> f64 {
+        self.distance_where(p, |_| true)
+    }
+
+    /// Distance from `p` to the nearest segment whose payload `keep` accepts (infinity if
+    /// there is none, NaN for a non-finite `p`): the segments in order of distance until one
+    /// is kept.
+    pub(crate) fn distance_where(&self, p: Point, keep: impl Fn(u32) -> bool) -> f64 {
         if !finite(p) {
             return f64::NAN;
         }
         self.tree
-            .nearest_neighbor(&[p.x, p.y])
+            .nearest_neighbor_iter(&[p.x, p.y])
+            .find(|s| keep(s.data))
             .map_or(f64::INFINITY, |s| {
                 point_segment_dist2(p, pt(s.from), pt(s.to)).sqrt()
             })
     }
 
-    /// Distance from the segment `ab` to the nearest segment (0 if they meet; NaN if an end
-    /// is not finite).
-    pub(crate) fn segment_distance(&self, a: Point, b: Point) -> f64 {
+    /// Distance from the segment `ab` to the nearest segment whose payload `keep` accepts (0
+    /// if they meet; NaN if an end is not finite).
+    pub(crate) fn segment_distance_where(
+        &self,
+        a: Point,
+        b: Point,
+        keep: impl Fn(u32) -> bool + Copy,
+    ) -> f64 {
         if !(finite(a) && finite(b)) {
             return f64::NAN;
         }
-        let mut best = self.distance(a).min(self.distance(b));
+        let mut best = self
+            .distance_where(a, keep)
+            .min(self.distance_where(b, keep));
         if !best.is_finite() || best == 0.0 {
             return best;
         }
         let lo = Point::new(a.x.min(b.x) - best, a.y.min(b.y) - best);
         let hi = Point::new(a.x.max(b.x) + best, a.y.max(b.y) + best);
-        for (c, d, _) in self.in_box(lo, hi) {
+        for (c, d, _) in self.in_box(lo, hi).filter(|&(_, _, k)| keep(k)) {
             best = best.min(segment_segment_distance(a, b, c, d));
             if best == 0.0 {
                 break;
@@ -157,7 +168,11 @@ mod tests {
         let nan = Point::new(f64::NAN, 0.5);
         assert!(index.distance(nan).is_nan());
         assert!(index.nearest(nan).is_none());
-        assert!(index.segment_distance(nan, Point::new(0.5, 0.5)).is_nan());
+        assert!(
+            index
+                .segment_distance_where(nan, Point::new(0.5, 0.5), |_| true)
+                .is_nan()
+        );
         assert_eq!(index.distance(Point::new(0.5, 2.0)), 2.0);
         assert!(index.nearest_near(nan, 1e-9).is_none());
     }
