@@ -374,6 +374,10 @@ pub struct MapPolygons {
     pub simplify_cells: f64,
 }
 
+/// The most cells a map may have (2^28, a 16 384-cell square: 800 m at 5 cm). Its cells, the
+/// bits of its occupancy and a clearance pass then take about 0.4 GB.
+pub const MAX_MAP_CELLS: usize = 1 << 28;
+
 /// The coarsest [`MapOptions::simplify_cells`].
 pub const MAX_SIMPLIFY_CELLS: f64 = 4.0;
 
@@ -583,6 +587,11 @@ impl OccupancyMap {
         origin: [f64; 3],
         cells: Vec<Cell>,
     ) -> Result<OccupancyMap, MapError> {
+        if width.saturating_mul(height) > MAX_MAP_CELLS {
+            return Err(MapError::BadGrid(format!(
+                "a {width} × {height} grid has more than {MAX_MAP_CELLS} cells, the most a map may have"
+            )));
+        }
         if width == 0 || height == 0 || cells.len() != width * height {
             return Err(MapError::BadGrid(format!(
                 "a {width} × {height} grid needs {} cells, got {}",

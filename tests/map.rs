@@ -503,6 +503,14 @@ fn bad_maps_are_named() {
         Err(MapError::BadRadius(_))
     ));
 
+    // A grid past the size limit is refused before anything is allocated for it.
+    let huge = OccupancyMap::from_cells(1 << 15, 1 << 14, 0.05, [0.0, 0.0, 0.0], Vec::new())
+        .expect_err("too large");
+    assert!(
+        huge.to_string().contains("the most a map may have"),
+        "{huge}"
+    );
+
     // An all-occupied map is empty.
     write_pgm(&dir.join("full.pgm"), 2, 2, &[0, 0, 0, 0]);
     std::fs::write(
