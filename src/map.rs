@@ -14,7 +14,7 @@
 //! radius from every occupied (and unknown) cell: no polygon is offset, no booleans run.
 //! [`OccupancyMap::to_scene`] returns those polygons as a [`Scene`] of a point robot, so the
 //! planner, the command line and the pictures work on maps unchanged. The mesh is sized for
-//! the robot: triangles with edges of about four robot radii on open floor, graded down by the
+//! the robot: triangles with edges of about six robot radii on open floor, graded down by the
 //! refinement near walls and in narrow passages (smallest angle 25°). Free areas not
 //! connected to the goal, and passages too narrow for the robot, are outside the scene.
 //!
@@ -142,9 +142,9 @@ pub struct MapOptions {
     /// are cleared with ([`MapPolygons::margin`]): a coarser outline has fewer vertices (and
     /// the mesh fewer triangles) but keeps a little more than the robot radius from walls.
     pub simplify_cells: f64,
-    /// Largest triangle area of the scene's mesh (m²); `None`: from the robot's radius (edges
-    /// of about four radii on open floor, [`OccupancyMap::to_scene`]), or the mesher's
-    /// default for a point robot.
+    /// Largest triangle area of the traced mesher's mesh (m²); `None`: from the robot's
+    /// radius (edges of about six radii on open floor, [`OccupancyMap::to_scene`]), or the
+    /// mesher's default for a point robot.
     pub max_area: Option<f64>,
     /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 25 rather
     /// than the 30 of scene files, which halves the triangles a map's many short boundary
@@ -1002,7 +1002,7 @@ impl OccupancyMap {
     /// A scene for planning towards `goal` (world coordinates) with a disc robot of
     /// `robot_radius`: the robot's free configuration space of [`OccupancyMap::polygons`] as
     /// the workspace and its obstacles, a point goal, a point robot (the radius is in the
-    /// polygons already) and a mesh sized for the robot (triangles with edges of about four
+    /// polygons already) and a mesh sized for the robot (triangles with edges of about six
     /// robot radii on open floor, graded down by the refinement near walls and in narrow
     /// passages).
     pub fn to_scene(
@@ -1111,14 +1111,17 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
     Ok(())
 }
 
-/// The mesh a disc robot needs on open floor: triangles with edges of about four robot
-/// radii, unless the mesher's default (free area / 20 000) is coarser; near walls and in
-/// narrow passages the refinement's angle bound grades the mesh down to the boundary's own
-/// detail. The mesher's default for a point robot. [`MapOptions::max_area`] overrides.
+/// The mesh a disc robot needs on open floor: triangles with edges of about six robot radii
+/// (three diameters; the potential is smooth there, and the smooth tracer follows its
+/// recovered gradient), unless the mesher's default (free area / 20 000) is coarser; near
+/// walls and in narrow passages the refinement's angle bound grades the mesh down to the
+/// boundary's own detail. The mesher's default for a point robot. [`MapOptions::max_area`]
+/// overrides. (Against edges of four radii: a fifth fewer triangles on depot, 30 % on the
+/// 2000² maps, and their first plans 20–35 % faster, at path lengths within 1 %.)
 fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> MeshOptions {
     let robot = (robot_radius > 0.0).then(|| {
         let outer = trace::ring_area(&polys.workspace).abs();
-        let edge = 4.0 * robot_radius;
+        let edge = 6.0 * robot_radius;
         (3f64.sqrt() / 4.0 * edge * edge).max(outer / 20_000.0)
     });
     MeshOptions {
