@@ -551,6 +551,29 @@ impl OccupancyMap {
             file: format!("{image_file} (field `image` of {file})"),
             source,
         })?;
+        let mut map = OccupancyMap::decoded(&header, &bytes, image_file)?;
+        map.source = file;
+        Ok(map)
+    }
+
+    /// A map from the text of a `map_server` YAML document and the bytes of its image (its
+    /// `image` field must name a file, which is not read: the image is `image`); `name`
+    /// stands for the files in messages. What [`OccupancyMap::load`] does once the files are
+    /// read, for maps that come from elsewhere than files (and for fuzzing).
+    pub fn from_bytes(yaml: &str, image: &[u8], name: &str) -> Result<OccupancyMap, MapError> {
+        let header = parse_header(yaml, name, Path::new(""))?;
+        let mut map = OccupancyMap::decoded(&header, image, name.to_string())?;
+        map.source = name.to_string();
+        Ok(map)
+    }
+
+    /// Decodes the image `bytes` (PGM or PNG, named `image_file` in messages) and classifies
+    /// its pixels by `header`.
+    fn decoded(
+        header: &Header,
+        bytes: &[u8],
+        image_file: String,
+    ) -> Result<OccupancyMap, MapError> {
         let img = image::ImageReader::new(std::io::Cursor::new(bytes))
             .with_guessed_format()
             .map_err(|e| MapError::Image {
@@ -571,12 +594,9 @@ impl OccupancyMap {
         for (x, y, p) in rgb.enumerate_pixels() {
             let avg = (f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])) / 3.0;
             let row = height - 1 - y as usize;
-            cells[row * width + x as usize] = classify(avg, &header);
+            cells[row * width + x as usize] = classify(avg, header);
         }
-        let mut map =
-            OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)?;
-        map.source = file;
-        Ok(map)
+        OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)
     }
 
     /// A map from cells listed row by row, row 0 at the bottom.
