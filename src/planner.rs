@@ -1,7 +1,7 @@
 //! The planner: build the mesh, the system and its factorisation once, then answer many
 //! queries (point robots, car-like robots) from the same harmonic potential.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use harmonic_fem::{
@@ -84,7 +84,8 @@ pub(crate) struct Meshed {
     pub(crate) domain: Arc<Domain>,
     pub(crate) mesh: Arc<Mesh>,
     pub(crate) report: MeshReport,
-    pub(crate) quality: QualityReport,
+    /// The mesh's quality report, made when first asked for (a first plan needs none).
+    pub(crate) quality: Arc<OnceLock<QualityReport>>,
     /// The larger side of the domain's bounding box.
     pub(crate) scale: f64,
     /// Validating and meshing, in milliseconds.
@@ -122,13 +123,12 @@ impl Meshed {
     ) -> Result<Meshed, PlanError> {
         let (mesh, report) = domain.mesh(mesh_options)?;
         let ms = millis(t);
-        let quality = mesh.quality();
         let (lo, hi) = domain.bounding_box();
         Ok(Meshed {
             domain: Arc::new(domain),
             mesh: Arc::new(mesh),
             report,
-            quality,
+            quality: Arc::new(OnceLock::new()),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms,
         })
@@ -157,7 +157,7 @@ impl Meshed {
             domain: Arc::new(domain),
             mesh: Arc::new(mesh),
             report,
-            quality,
+            quality: Arc::new(OnceLock::from(quality)),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms: millis(t),
         })
@@ -207,7 +207,7 @@ pub struct Planner {
     pub(crate) domain: Arc<Domain>,
     pub(crate) mesh: Arc<Mesh>,
     pub(crate) mesh_report: MeshReport,
-    pub(crate) quality: QualityReport,
+    pub(crate) quality: Arc<OnceLock<QualityReport>>,
     pub(crate) potential: Potential,
     pub(crate) nodal_gradients: Vec<harmonic_mesh::Vector>,
     pub(crate) timings: Timings,
@@ -718,6 +718,11 @@ impl Planner {
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
     }
+
+    /// The mesh's quality report (angles, areas, Delaunay checks), made at the first call.
+    pub(crate) fn quality(&self) -> &QualityReport {
+        self.quality.get_or_init(|| self.mesh.quality())
+    }
     /// The harmonic potential (ψ = φ_wall − φ at every vertex).
     pub fn potential(&self) -> &Potential {
         &self.potential
@@ -919,9 +924,9 @@ impl Planner {
         }
         (
             MeshSummary {
-                vertices: self.quality.vertices,
-                triangles: self.quality.triangles,
-                min_angle_deg: self.quality.min_angle_deg,
+                vertices: self.quality().vertices,
+                triangles: self.quality().triangles,
+                min_angle_deg: self.quality().min_angle_deg,
                 refinement_complete: self.mesh_report.refinement_complete,
             },
             PotentialSummary {

@@ -435,7 +435,7 @@ impl Workspace {
             domain: Arc::clone(&self.meshed.domain),
             mesh: Arc::clone(&self.meshed.mesh),
             mesh_report: self.meshed.report.clone(),
-            quality: self.meshed.quality.clone(),
+            quality: Arc::clone(&self.meshed.quality),
             potential,
             nodal_gradients,
             timings: Timings::default(),
