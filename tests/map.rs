@@ -931,31 +931,16 @@ mod fuzz_map;
 /// no input may panic, and the seed maps plan.
 #[test]
 fn the_map_fuzz_corpus_replays_without_a_panic() {
-    let dir = root().join("fuzz/corpus/map");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("fuzz/corpus/map exists")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_file())
-        .collect();
-    files.sort();
+    let files = harmonic_fixtures::fuzz_corpus("map");
     assert!(files.len() >= 7, "seed corpus present: {}", files.len());
-    let mut panicked = Vec::new();
-    let mut reached = 0;
-    for file in &files {
-        let data = std::fs::read(file).expect("corpus file readable");
-        match std::panic::catch_unwind(|| fuzz_map::run_map(&data)) {
-            Ok(fuzz_map::MapOutcome::Planned(_, r)) => reached += r,
-            Ok(_) => {}
-            Err(e) => {
-                let msg = e
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_default();
-                panicked.push(format!("{}: {msg}", file.display()));
-            }
-        }
-    }
+    let (outcomes, panicked) = harmonic_fixtures::replay(&files, fuzz_map::run_map);
     assert!(panicked.is_empty(), "panicked:\n{}", panicked.join("\n"));
+    let reached: usize = outcomes
+        .iter()
+        .map(|o| match o {
+            fuzz_map::MapOutcome::Planned(_, r) => *r,
+            _ => 0,
+        })
+        .sum();
     assert!(reached >= 10, "the seed maps plan: {reached} paths reached");
 }

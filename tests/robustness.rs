@@ -8,7 +8,7 @@
 //! - the fuzz corpus (`fuzz/corpus/scene/`) replays without a panic, with the fuzz target's
 //!   own code and mesh cap (`fuzz/src/lib.rs`).
 
-use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::panic::catch_unwind;
 use std::path::Path;
 
 use harmonic_planner::fem::FemError;
@@ -563,32 +563,14 @@ fn huge_counts_in_headers_are_refused() {
 /// through the fuzz target's own code: no input may panic.
 #[test]
 fn the_fuzz_corpus_replays_without_a_panic() {
-    let dir = root().join("fuzz/corpus/scene");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("fuzz/corpus/scene exists")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.is_file())
-        .collect();
-    files.sort();
+    let files = harmonic_fixtures::fuzz_corpus("scene");
     assert!(files.len() >= 30, "seed corpus present: {}", files.len());
-    let mut panicked = Vec::new();
-    let mut planned = 0;
-    for file in &files {
-        let data = std::fs::read(file).expect("corpus file readable");
-        match catch_unwind(AssertUnwindSafe(|| fuzz_case::run(&data))) {
-            Ok(fuzz_case::Outcome::Planned(_)) => planned += 1,
-            Ok(_) => {}
-            Err(e) => {
-                let msg = e
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| e.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_default();
-                panicked.push(format!("{}: {msg}", file.display()));
-            }
-        }
-    }
+    let (outcomes, panicked) = harmonic_fixtures::replay(&files, fuzz_case::run);
     assert!(panicked.is_empty(), "panicked:\n{}", panicked.join("\n"));
+    let planned = outcomes
+        .iter()
+        .filter(|o| matches!(o, fuzz_case::Outcome::Planned(_)))
+        .count();
     assert!(planned >= 7, "the bundled scenes plan: {planned}");
 }
 

@@ -524,6 +524,7 @@ fn collinear(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::map::trace::ring_area as area;
 
     fn bits(cells: &[bool], w: usize, h: usize) -> BitGrid {
         BitGrid::from_fn(w, h, |i, j| cells[j * w + i])
@@ -600,17 +601,6 @@ mod tests {
         // Long runs across words.
         let wide = BitGrid::from_fn(200, 3, |i, j| j != 1 || i == 150);
         assert_eq!(component(&wide, 0, 0).count(), 401);
-    }
-
-    fn area(ring: &[[f64; 2]]) -> f64 {
-        let n = ring.len();
-        (0..n)
-            .map(|k| {
-                let (p, q) = (ring[k], ring[(k + 1) % n]);
-                p[0] * q[1] - q[0] * p[1]
-            })
-            .sum::<f64>()
-            / 2.0
     }
 
     #[test]
