@@ -6,7 +6,7 @@ use harmonic_fixtures::rect;
 use harmonic_mesh::{BoundaryTag, Domain, GoalShape, MeshError, MeshOptions, Part, Point};
 use proptest::prelude::*;
 
-/// The area of the room less the holes, when no two of them (or a hole and the wall) meet.
+/// Whether the holes lie inside the room and no two of them meet (by their boxes).
 fn disjoint(room: &[Point], holes: &[Vec<Point>]) -> bool {
     let bbox = |r: &[Point]| {
         let (mut lo, mut hi) = (r[0], r[0]);
