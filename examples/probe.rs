@@ -5,8 +5,9 @@
 //! cargo run --release --example probe -- meshes/reference.json --max-area 0.0044 --at 1,1 --at 8,3 --json
 //! ```
 //!
-//! `--sequential` factors and solves on one thread ([`Parallelism::Sequential`]); by default
-//! large systems use rayon's pool. The mesher's two halves run on two threads either way.
+//! `--sequential` orders, factors and solves on one thread ([`Parallelism::Sequential`]); by
+//! default the ordering of large systems uses rayon's pool (the factorisation and solves stay
+//! on one thread, see `Parallelism`). The mesher's two halves run on two threads either way.
 
 use std::sync::Arc;
 use std::time::Instant;

@@ -21,7 +21,12 @@ fn one_thread_and_two_give_the_same_paths() {
         .num_threads(2)
         .build()
         .unwrap();
-    let parallel = pool.install(|| build(Parallelism::Rayon { from_unknowns: 0 }));
+    let parallel = pool.install(|| {
+        build(Parallelism::Rayon {
+            from_unknowns: 0,
+            dense_kernels: true,
+        })
+    });
     assert!(sequential.mesh().vertices().len() > 50_000);
     let starts = scene.starts.clone();
     assert!(!starts.is_empty());

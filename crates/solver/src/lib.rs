@@ -15,11 +15,12 @@
 //! * [`gallery`]: FEM-like test matrices.
 //!
 //! Threads: [`SymbolicCholesky::analyze_with`] takes a [`Parallelism`]. By default systems of
-//! [`PARALLEL_MIN_UNKNOWNS`] unknowns and more use rayon's pool — the nested-dissection
-//! ordering dissects the halves of its large pieces on two threads (the same numbering), and
-//! faer's numeric Cholesky and solves run their dense supernode kernels in parallel (the same
-//! factor to rounding); smaller systems, [`Parallelism::Sequential`] and every other solver
-//! here run on the calling thread.
+//! [`PARALLEL_MIN_UNKNOWNS`] unknowns and more use rayon's pool for the nested-dissection
+//! ordering, which dissects the halves of its large pieces on two threads (the same
+//! numbering); faer's numeric Cholesky and solves stay on the calling thread, which measured
+//! faster on two cores (see [`Parallelism`]; `dense_kernels: true` puts them on the pool, the
+//! same factor to rounding). Smaller systems, [`Parallelism::Sequential`] and every other
+//! solver here run on the calling thread.
 //!
 //! # Which ordering
 //!

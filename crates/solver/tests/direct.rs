@@ -247,7 +247,12 @@ fn parallel_and_sequential_factorisations_agree() {
         .num_threads(2)
         .build()
         .unwrap();
-    let (perm_par, x_par) = pool.install(|| run(Parallelism::Rayon { from_unknowns: 0 }));
+    let (perm_par, x_par) = pool.install(|| {
+        run(Parallelism::Rayon {
+            from_unknowns: 0,
+            dense_kernels: true,
+        })
+    });
     assert_eq!(perm_seq, perm_par);
     assert!(max_rel_err(&x_par, &x_seq) < 1e-12);
     let mut ax = vec![0.0; a.n()];
