@@ -225,6 +225,22 @@ pub enum MapError {
         /// What is wrong: the cell count against the size, the resolution or the origin.
         String,
     ),
+    /// A region to change is not a range of the map's cells.
+    #[error(
+        "{file}: cannot change columns {columns:?}, rows {rows:?}: the map has columns 0..{width}, rows 0..{height}"
+    )]
+    RegionOffMap {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
+        file: String,
+        /// The columns asked for.
+        columns: std::ops::Range<usize>,
+        /// The rows asked for.
+        rows: std::ops::Range<usize>,
+        /// The map's columns.
+        width: usize,
+        /// The map's rows.
+        height: usize,
+    },
     /// No cell is free.
     #[error("{file}: the map has no free cell")]
     EmptyMap {
@@ -662,6 +678,55 @@ impl OccupancyMap {
     /// The cell in `column`, `row` (row 0 at the bottom).
     pub fn cell(&self, column: usize, row: usize) -> Cell {
         self.cells[row * self.width + column]
+    }
+
+    /// Sets the cells of `columns` × `rows` (row 0 at the bottom) to `cell`: a change sensed
+    /// or told, such as a door closed, a pallet put down or an aisle cleared. Planners read the
+    /// map when they are built, so a changed region is a new first plan
+    /// ([`OccupancyMap::planner`] or [`OccupancyMap::workspace`] again), at the cost of a first
+    /// plan; the map itself is not read again. An empty range changes nothing; a range past the
+    /// map's edge is refused and changes nothing.
+    ///
+    /// ```
+    /// use harmonic_planner::map::{Cell, MapOptions, OccupancyMap};
+    /// use harmonic_planner::PlannerOptions;
+    /// // A 40 × 10 cell corridor at 10 cm; a robot of radius 0.2 m.
+    /// let mut map = OccupancyMap::from_cells(40, 10, 0.1, [0.0; 3], vec![Cell::Free; 400])?;
+    /// let (goal, start) = ([3.5, 0.5], [0.5, 0.5]);
+    /// let opts = (MapOptions::default(), PlannerOptions::default());
+    /// assert!(map.planner(goal, 0.2, &opts.0, &opts.1)?.plan(start).status.reached_goal());
+    /// // Something is put across the corridor: the goal can no longer be reached.
+    /// map.set_region(20..22, 0..10, Cell::Occupied)?;
+    /// assert!(!map.planner(goal, 0.2, &opts.0, &opts.1)?.plan(start).status.reached_goal());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn set_region(
+        &mut self,
+        columns: std::ops::Range<usize>,
+        rows: std::ops::Range<usize>,
+        cell: Cell,
+    ) -> Result<(), MapError> {
+        if columns.start > columns.end
+            || rows.start > rows.end
+            || columns.end > self.width
+            || rows.end > self.height
+        {
+            return Err(MapError::RegionOffMap {
+                file: self.source.clone(),
+                columns,
+                rows,
+                width: self.width,
+                height: self.height,
+            });
+        }
+        for j in rows {
+            for i in columns.clone() {
+                self.cells[j * self.width + i] = cell;
+                self.occupied.put(i, j, cell == Cell::Occupied);
+                self.unknown.put(i, j, cell == Cell::Unknown);
+            }
+        }
+        Ok(())
     }
 
     fn frame(&self) -> GridFrame {

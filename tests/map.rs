@@ -416,6 +416,78 @@ fn paths_on_the_warehouse_map_reach_the_goal_and_keep_the_radius() {
     }
 }
 
+/// A changed region is a new first plan on the same map: a block put down on the path makes
+/// the new path go round it at the radius (checked on the changed grid), clearing it again
+/// gives back the polygons of the untouched map, and a region off the map is refused.
+#[test]
+fn a_changed_region_replans_round_it() {
+    let radius = 0.2;
+    let opts = (MapOptions::default(), PlannerOptions::default());
+    let mut map = OccupancyMap::load(warehouse_yaml()).expect("loads");
+    let before = map.polygons(GOAL, radius, &opts.0).expect("polygons");
+    let start = REACHABLE[0];
+    let first = map
+        .planner(GOAL, radius, &opts.0, &opts.1)
+        .expect("planner")
+        .plan(start);
+    assert!(first.status.reached_goal(), "{}", first.status);
+    // A 0.5 m square block centred on the middle of the first path.
+    let mid = first.points[first.points.len() / 2];
+    let (ci, cj) = map.cell_at(mid).expect("on the map");
+    let (columns, rows) = (ci - 5..ci + 5, cj - 5..cj + 5);
+    map.set_region(columns.clone(), rows.clone(), Cell::Occupied)
+        .expect("on the map");
+    for (i, j) in [(ci - 5, cj - 5), (ci + 4, cj + 4)] {
+        assert_eq!(map.cell(i, j), Cell::Occupied);
+    }
+    assert!(
+        path_clearance(&map, &first.points, radius) < radius,
+        "the block does not touch the first path"
+    );
+    let second = map
+        .planner(GOAL, radius, &opts.0, &opts.1)
+        .expect("planner")
+        .plan(start);
+    assert!(second.status.reached_goal(), "{}", second.status);
+    let clearance = path_clearance(&map, &second.points, radius);
+    assert!(
+        clearance >= radius - 1e-9,
+        "the new path comes {clearance} from a blocked cell"
+    );
+    assert!(
+        second.length > first.length,
+        "{} vs {}",
+        second.length,
+        first.length
+    );
+
+    map.set_region(columns, rows, Cell::Free)
+        .expect("on the map");
+    let after = map.polygons(GOAL, radius, &opts.0).expect("polygons");
+    assert_eq!(after.workspace, before.workspace);
+    assert_eq!(after.obstacles, before.obstacles);
+
+    let (w, h) = (map.width(), map.height());
+    let corner = map.cell(w - 2, 0);
+    let err = map
+        .set_region(w - 2..w + 1, 0..1, Cell::Occupied)
+        .expect_err("past the edge")
+        .to_string();
+    assert!(
+        err.contains(&format!("columns {}..{}", w - 2, w + 1)),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!("columns 0..{w}, rows 0..{h}")),
+        "{err}"
+    );
+    assert_eq!(
+        map.cell(w - 2, 0),
+        corner,
+        "a refused region changes nothing"
+    );
+}
+
 /// A scratch folder for map files.
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("hplan-map-{}-{name}", std::process::id()));

@@ -80,6 +80,12 @@ impl BitGrid {
         self.words[j * self.stride + i / 64] |= 1 << (i % 64);
     }
 
+    /// Sets cell `(i, j)` (on the grid) to `value`.
+    pub(crate) fn put(&mut self, i: usize, j: usize, value: bool) {
+        let word = &mut self.words[j * self.stride + i / 64];
+        *word = (*word & !(1 << (i % 64))) | (u64::from(value) << (i % 64));
+    }
+
     /// The number of set cells.
     #[cfg(test)]
     pub(crate) fn count(&self) -> usize {
