@@ -14,7 +14,7 @@ use harmonic_mesh::{
 };
 use harmonic_trajectory::{
     CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, SmoothOptions, SmoothP1Field,
-    TraceStatus, Tracer, descend, drive, path_metrics, trace_exact,
+    TraceStatus, Tracer, descend, drive, polyline_length, trace_exact,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -808,14 +808,14 @@ impl Planner {
         if let (TraceStatus::ReachedGoal(j), Some(goals)) = (path.status, &self.vertex_goals) {
             self.finish_at_vertex_goal(&mut path.points, j, goals);
         }
-        let metrics = path_metrics(&path.points, |a, b| self.domain.segment_clearance(a, b));
+        let min_clearance = self.domain.polyline_clearance(&path.points);
         PlannedPath {
             start: [start.x, start.y],
             status: path.status,
             goal: path.goal,
             tracer,
-            length: metrics.length,
-            min_clearance: finite_or_zero(metrics.min_clearance),
+            length: polyline_length(&path.points),
+            min_clearance: finite_or_zero(min_clearance),
             min_gradient: finite_or_zero(path.min_gradient),
             points: path.points.iter().map(|p| [p.x, p.y]).collect(),
         }
@@ -890,13 +890,13 @@ impl Planner {
             params.check_footprint.then_some(&collision),
         )?;
         let points: Vec<Point> = car.poses.iter().map(|q| Point::new(q[0], q[1])).collect();
-        let metrics = path_metrics(&points, |a, b| self.domain.segment_clearance(a, b));
+        let min_clearance = self.domain.polyline_clearance(&points);
         Ok(CarRun {
             start: pose,
             status: car.status,
             goal: car.goal,
             length: car.length,
-            min_clearance: finite_or_zero(metrics.min_clearance),
+            min_clearance: finite_or_zero(min_clearance),
             min_gradient: finite_or_zero(car.min_gradient),
             max_curvature: car.max_curvature,
             poses: car.poses,

@@ -1139,6 +1139,22 @@ impl Domain {
         )
     }
 
+    /// Minimum distance from the polyline `points` to walls and obstacles: the smallest
+    /// [`Domain::segment_clearance`] of its segments (for one point, its
+    /// [`Domain::distance_to_obstacles`]; infinity for none), found with a nearest-segment
+    /// search per vertex rather than two per segment.
+    pub fn polyline_clearance(&self, points: &[Point]) -> f64 {
+        let goal = self.goal_edges();
+        if goal.iter().all(|&g| g) {
+            return f64::INFINITY;
+        }
+        let unit: Vec<Point> = points.iter().map(|&p| self.frame.to_unit(p)).collect();
+        self.frame.len_to_user(
+            self.boundary_index
+                .polyline_distance_where(&unit, |k| !goal[k as usize]),
+        )
+    }
+
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
     /// crosses one). A segment fully inside an obstacle also has a positive value: check
     /// [`Domain::contains_free`] on an end point as well.

@@ -603,3 +603,41 @@ fn obstacles_that_touch_nothing_are_holes_as_they_are_and_the_others_still_merge
     assert!(domain.contains_free(p(2.5, 1.5)));
     assert!((domain.distance_to_obstacles(p(2.5, 1.5)) - 0.5).abs() < 1e-12);
 }
+
+proptest::proptest! {
+    /// A polyline's clearance is the smallest of its segments' (the pruned search finds the
+    /// same minimum, to the bit), on random walks across the reference domain, inside and
+    /// outside free space, with steps from a millimetre to across the scene.
+    #[test]
+    fn polyline_clearance_is_the_smallest_segment_clearance(
+        start in (0.0f64..10.0, 0.0f64..10.0),
+        steps in proptest::collection::vec((-1.0f64..1.0, -1.0f64..1.0, -4.0f64..1.0), 0..40),
+    ) {
+        let domain = Domain::new(&reference_disc(), &opts()).unwrap();
+        let mut points = vec![p(start.0, start.1)];
+        for (dx, dy, scale) in steps {
+            let last = points[points.len() - 1];
+            let s = 10f64.powf(scale);
+            points.push(p(last.x + s * dx, last.y + s * dy));
+        }
+        let expected = match points.as_slice() {
+            [only] => domain.segment_clearance(*only, *only),
+            _ => points
+                .windows(2)
+                .map(|w| domain.segment_clearance(w[0], w[1]))
+                .fold(f64::INFINITY, f64::min),
+        };
+        proptest::prop_assert_eq!(domain.polyline_clearance(&points), expected);
+    }
+}
+
+#[test]
+fn polyline_clearance_of_nothing_and_of_non_finite_points() {
+    let domain = Domain::new(&reference_disc(), &opts()).unwrap();
+    assert_eq!(domain.polyline_clearance(&[]), f64::INFINITY);
+    assert!(
+        domain
+            .polyline_clearance(&[p(1.0, 1.0), p(f64::NAN, 1.0)])
+            .is_nan()
+    );
+}

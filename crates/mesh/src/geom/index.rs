@@ -149,6 +149,44 @@ impl SegmentIndex {
         best
     }
 
+    /// Distance from the polyline `points` to the nearest segment whose payload `keep` accepts:
+    /// the smallest [`SegmentIndex::segment_distance_where`] over its segments (of its one
+    /// point, for a single point; infinity for none; NaN if a point is not finite). Each
+    /// vertex's nearest segment is found once, and a segment whose ends are farther, less half
+    /// its length, than the smallest distance found so far is not searched: on a traced path
+    /// of many short steps that is most of them.
+    pub(crate) fn polyline_distance_where(
+        &self,
+        points: &[Point],
+        keep: impl Fn(u32) -> bool + Copy,
+    ) -> f64 {
+        if !points.iter().all(|&p| finite(p)) {
+            return f64::NAN;
+        }
+        let Some(&first) = points.first() else {
+            return f64::INFINITY;
+        };
+        let mut d_prev = self.distance_where(first, keep);
+        let mut best = d_prev;
+        for w in points.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let d_b = self.distance_where(b, keep);
+            let near = d_prev.min(d_b);
+            best = best.min(near);
+            d_prev = d_b;
+            // Every point of ab is within half its length of an end.
+            if best == 0.0 || !near.is_finite() || near - 0.5 * (b - a).norm() >= best {
+                continue;
+            }
+            let lo = Point::new(a.x.min(b.x) - best, a.y.min(b.y) - best);
+            let hi = Point::new(a.x.max(b.x) + best, a.y.max(b.y) + best);
+            for (c, d, _) in self.in_box(lo, hi).filter(|&(_, _, k)| keep(k)) {
+                best = best.min(segment_segment_distance(a, b, c, d));
+            }
+        }
+        best
+    }
+
     /// Parity of the number of segments crossed by the ray from `p` towards +x (even-odd rule).
     pub(crate) fn ray_parity(&self, p: Point, x_max: f64) -> bool {
         let lo = Point::new(p.x, p.y);
