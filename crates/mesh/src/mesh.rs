@@ -76,9 +76,31 @@ pub struct Mesh {
     /// Connected component (through shared edges) of each triangle.
     triangle_component: Vec<u32>,
     component_count: u32,
-    /// Bucket grid for point location, built on first use.
+    /// Bucket grid for point location, built once [`SCANS_BEFORE_GRID`] locations have been
+    /// answered by scanning.
     #[serde(skip)]
     locator: std::sync::OnceLock<Locator>,
+    /// Locations answered by a scan so far.
+    #[serde(skip)]
+    scans: Scans,
+}
+
+/// Point locations (that no walk from a hint answered) made by testing every triangle before
+/// the bucket grid is built: a scan costs one containment test per triangle, building the
+/// grid several, so a mesh asked only a few times (a map's first plan locates its start
+/// once) never builds it, and one asked many times builds it early.
+const SCANS_BEFORE_GRID: u32 = 4;
+
+/// A counter that clones by value (a clone of a mesh starts where the mesh was).
+#[derive(Debug, Default)]
+struct Scans(std::sync::atomic::AtomicU32);
+
+impl Clone for Scans {
+    fn clone(&self) -> Self {
+        Scans(std::sync::atomic::AtomicU32::new(
+            self.0.load(std::sync::atomic::Ordering::Relaxed),
+        ))
+    }
 }
 
 /// Mesh statistics, including the conditions under which the P1 stiffness matrix is an
@@ -141,8 +163,9 @@ impl Locator {
         let ny = ((h / cell).ceil() as usize).max(1);
         let range = |t: &[u32; 3]| {
             let ps = t.map(|v| vertices[v as usize]);
-            let fx = |x: f64| (((x - lo.x) / cell).floor().max(0.0) as usize).min(nx - 1);
-            let fy = |y: f64| (((y - lo.y) / cell).floor().max(0.0) as usize).min(ny - 1);
+            // Truncating a non-negative value is its floor (and `as` makes NaN 0).
+            let fx = |x: f64| (((x - lo.x) / cell).max(0.0) as usize).min(nx - 1);
+            let fy = |y: f64| (((y - lo.y) / cell).max(0.0) as usize).min(ny - 1);
             let x0 = fx(ps[0].x.min(ps[1].x).min(ps[2].x));
             let x1 = fx(ps[0].x.max(ps[1].x).max(ps[2].x));
             let y0 = fy(ps[0].y.min(ps[1].y).min(ps[2].y));
@@ -447,6 +470,7 @@ impl Mesh {
             triangle_component,
             component_count,
             locator: std::sync::OnceLock::new(),
+            scans: Scans::default(),
         })
     }
 
@@ -462,8 +486,9 @@ impl Mesh {
     /// The triangle containing `p` (closed triangles), or `None` if `p` is outside free space.
     ///
     /// Walks from `hint` (a triangle index, e.g. the last answer) towards `p`; if the walk
-    /// meets the boundary or takes too long, falls back to a bucket grid built on first use,
-    /// so it always terminates and is exact.
+    /// meets the boundary or takes too long, falls back to testing every triangle for the
+    /// first few such locations and to a bucket grid (built then) after, so it always
+    /// terminates and is exact.
     pub fn locate(&self, p: Point, hint: Option<u32>) -> Option<u32> {
         if !p.x.is_finite() || !p.y.is_finite() || self.triangles.is_empty() {
             return None;
@@ -494,6 +519,13 @@ impl Mesh {
             if found {
                 return Some(t);
             }
+        }
+        if self.locator.get().is_none()
+            && self.scans.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < SCANS_BEFORE_GRID
+        {
+            // The grid's candidates of a cell are in triangle order, so the first triangle
+            // holding `p` is the grid's answer too.
+            return (0..self.triangles.len() as u32).find(|&t| self.triangle_contains(t, p));
         }
         let locator = self
             .locator

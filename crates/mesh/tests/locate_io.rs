@@ -62,6 +62,31 @@ fn locate_agrees_with_brute_force() {
     assert_eq!(mesh.locate(p(2.5, 5.0), Some(u32::MAX)), None);
 }
 
+/// The first locations a mesh answers without a hint scan every triangle; later ones use the
+/// bucket grid. Both give the same triangle, on vertices and edges too.
+#[test]
+fn scanned_and_grid_locations_agree() {
+    let (_, mesh) = reference_mesh(0.05);
+    let warmed = mesh.clone();
+    for _ in 0..16 {
+        warmed.locate(p(-1.0, -1.0), None);
+    }
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    for i in 0..400 {
+        let q = match i % 4 {
+            0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
+            1 => {
+                let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
+                let (a, b) = (mesh.vertices()[t[1] as usize], mesh.vertices()[t[2] as usize]);
+                a + (b - a) * 0.5
+            }
+            _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
+        };
+        let scanned = mesh.clone().locate(q, None);
+        assert_eq!(scanned, warmed.locate(q, None), "{q}");
+    }
+}
+
 #[test]
 fn triangle_files_round_trip() {
     let (_, mesh) = reference_mesh(0.045);
