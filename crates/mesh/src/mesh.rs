@@ -521,7 +521,11 @@ impl Mesh {
             }
         }
         if self.locator.get().is_none()
-            && self.scans.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < SCANS_BEFORE_GRID
+            && self
+                .scans
+                .0
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+                < SCANS_BEFORE_GRID
         {
             // The grid's candidates of a cell are in triangle order, so the first triangle
             // holding `p` is the grid's answer too.

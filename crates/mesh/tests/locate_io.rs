@@ -77,7 +77,10 @@ fn scanned_and_grid_locations_agree() {
             0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
             1 => {
                 let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
-                let (a, b) = (mesh.vertices()[t[1] as usize], mesh.vertices()[t[2] as usize]);
+                let (a, b) = (
+                    mesh.vertices()[t[1] as usize],
+                    mesh.vertices()[t[2] as usize],
+                );
                 a + (b - a) * 0.5
             }
             _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
