@@ -1016,3 +1016,47 @@ fn the_map_fuzz_corpus_replays_without_a_panic() {
         .sum();
     assert!(reached >= 10, "the seed maps plan: {reached} paths reached");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// `set_region` on a random map gives the map built from the changed cells: the same
+    /// cells, and the same traced polygons (which read the map's bit grids, not its cells);
+    /// a region past the edge is refused and changes nothing.
+    #[test]
+    fn set_region_is_the_map_of_the_changed_cells(
+        seed in proptest::prelude::any::<u64>(),
+        (w, h) in (4usize..150, 4usize..40),
+        region in (0usize..160, 0usize..160, 0usize..50, 0usize..50),
+        kind in 0usize..3,
+    ) {
+        let cell = [Cell::Free, Cell::Occupied, Cell::Unknown][kind];
+        let cells = random_cells(seed, w, h);
+        let mut map = OccupancyMap::from_cells(w, h, 0.05, [0.0; 3], cells.clone()).unwrap();
+        let (i0, i1) = (region.0.min(region.1), region.0.max(region.1));
+        let (j0, j1) = (region.2.min(region.3), region.2.max(region.3));
+        let fits = i1 <= w && j1 <= h;
+        let result = map.set_region(i0..i1, j0..j1, cell);
+        proptest::prop_assert_eq!(result.is_ok(), fits);
+        let mut expected = cells;
+        if fits {
+            for j in j0..j1 {
+                for i in i0..i1 {
+                    expected[j * w + i] = cell;
+                }
+            }
+        }
+        let rebuilt = OccupancyMap::from_cells(w, h, 0.05, [0.0; 3], expected).unwrap();
+        for j in 0..h {
+            for i in 0..w {
+                proptest::prop_assert_eq!(map.cell(i, j), rebuilt.cell(i, j));
+            }
+        }
+        let goal = rebuilt.cell_center(w / 2, h / 2);
+        let (a, b) = (
+            map.polygons(goal, 0.05, &MapOptions::default()),
+            rebuilt.polygons(goal, 0.05, &MapOptions::default()),
+        );
+        proptest::prop_assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    }
+}
