@@ -52,8 +52,12 @@ fn oriented(part: Part, mut unit: Vec<Point>, ccw: bool) -> Result<Vec<Point>, M
 }
 
 /// The first two edges of `rings` (ring, edge) that touch or cross and are not neighbours on
-/// one ring, by an R-tree of the edges.
-fn first_meeting(rings: &[&[Point]]) -> Option<((usize, usize), (usize, usize))> {
+/// one ring, by `index`, the R-tree of their edges numbered ring after ring (the domain's
+/// boundary index).
+fn first_meeting(
+    rings: &[&[Point]],
+    index: &SegmentIndex,
+) -> Option<((usize, usize), (usize, usize))> {
     let mut offsets = Vec::with_capacity(rings.len() + 1);
     let mut n = 0u32;
     for r in rings {
@@ -69,10 +73,6 @@ fn first_meeting(rings: &[&[Point]]) -> Option<((usize, usize), (usize, usize))>
         let ring = rings[r];
         (ring[e], ring[(e + 1) % ring.len()])
     };
-    let index = SegmentIndex::new(rings.iter().enumerate().flat_map(|(r, ring)| {
-        let base = offsets[r];
-        (0..ring.len()).map(move |e| (ring[e], ring[(e + 1) % ring.len()], base + e as u32))
-    }));
     let mut first: Option<((usize, usize), (usize, usize))> = None;
     for id in 0..n {
         let here = of(id);
@@ -230,13 +230,6 @@ impl Domain {
             goal_rings.push(ring);
         }
         rings.extend(goal_rings);
-        let refs: Vec<&[Point]> = rings.iter().map(Vec::as_slice).collect();
-        if let Some(((r, _), (s, _))) = first_meeting(&refs) {
-            return Err(MeshError::RingsMeet {
-                part: part_of(r),
-                other: part_of(s),
-            });
-        }
         let free: Vec<TaggedRing> = rings
             .iter()
             .enumerate()
@@ -267,8 +260,15 @@ impl Domain {
                 tags: r.tags.clone(),
             })
             .collect();
-        let bbox = bbox_of(&rings[0]);
         let boundary_index = boundary_index(&free);
+        let refs: Vec<&[Point]> = rings.iter().map(Vec::as_slice).collect();
+        if let Some(((r, _), (s, _))) = first_meeting(&refs, &boundary_index) {
+            return Err(MeshError::RingsMeet {
+                part: part_of(r),
+                other: part_of(s),
+            });
+        }
+        let bbox = bbox_of(&rings[0]);
         Ok(Domain {
             free_area: free.iter().map(|r| ring_area(&r.points)).sum(),
             workspace: vec![Region {
