@@ -225,6 +225,12 @@ pub fn offdiagonal_sign_violations(system: &LinearSystem) -> usize {
     count
 }
 
+/// Systems with fewer unknowns than this are factored in their own numbering
+/// ([`Assembler::ordering`]). Measured on Nav2's maps (first plan, best of 7, in-process):
+/// with 163 and 561 unknowns (tb3_sandbox, depot) the natural order was 1.5 % faster than
+/// nested dissection, with 1 659 (warehouse) 6 % slower.
+pub const NATURAL_ORDER_BELOW: usize = 1000;
+
 /// Builds the sparsity pattern and Dirichlet map of a mesh once, then assembles systems for
 /// boundary conditions of the same kinds (which parts are Dirichlet) as often as needed.
 ///
@@ -650,6 +656,18 @@ impl Assembler {
     pub fn nested_dissection(&self) -> Ordering {
         Ordering::NestedDissection {
             coords: self.unknown_coordinates(),
+        }
+    }
+
+    /// The ordering this system factors fastest with: below [`NATURAL_ORDER_BELOW`] unknowns
+    /// their own numbering (a mesh numbers its vertices along a Hilbert curve, so that order
+    /// is already local), where dissecting costs more than the fill it saves; from there
+    /// [`Assembler::nested_dissection`].
+    pub fn ordering(&self) -> Ordering {
+        if self.unknown_count() < NATURAL_ORDER_BELOW {
+            Ordering::Natural
+        } else {
+            self.nested_dissection()
         }
     }
 

@@ -187,7 +187,7 @@ impl GoalSolver {
             },
             SolveMethod::Auto => system.not_m_matrix().is_none(),
         };
-        let ordering = assembler.nested_dissection();
+        let ordering = assembler.ordering();
         let factor = if accurate {
             Factor::Accurate(AccurateLdlt::factor(&system.m_matrix()?, ordering)?)
         } else {

@@ -111,8 +111,8 @@ mod structured;
 pub mod volume;
 
 pub use assemble::{
-    Assembler, AssemblyOptions, BoundaryData, LinearSystem, NotMMatrix, RobinMass,
-    offdiagonal_sign_violations,
+    Assembler, AssemblyOptions, BoundaryData, LinearSystem, NATURAL_ORDER_BELOW, NotMMatrix,
+    RobinMass, offdiagonal_sign_violations,
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 pub use goals::{BLOCK_COLUMNS, GoalReport, GoalSolution, GoalSolver, MAX_GOAL_RIM};

@@ -300,12 +300,12 @@ fn may_have_underflowed(system: &LinearSystem, x: &[f64]) -> bool {
     })
 }
 
-/// One-shot convenience: assemble (lumped Robin mass), analyse with nested dissection
-/// ([`Assembler::nested_dissection`]), factor and solve ([`SolveMethod::Auto`]).
+/// One-shot convenience: assemble (lumped Robin mass), analyse in [`Assembler::ordering`]
+/// (nested dissection but for small systems), factor and solve ([`SolveMethod::Auto`]).
 /// For repeated solves on one mesh keep the [`Assembler`] and [`Solver`] instead.
 pub fn solve_potential(mesh: Arc<Mesh>, bcs: &BoundaryConditions) -> Result<Potential, FemError> {
     let assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
     let system = assembler.assemble(bcs)?;
-    let solver = Solver::new(&system, assembler.nested_dissection())?;
+    let solver = Solver::new(&system, assembler.ordering())?;
     solver.potential(mesh, &system)
 }
