@@ -13,6 +13,23 @@ fn reference_mesh(max_area: f64) -> (Domain, Mesh) {
     (domain, mesh)
 }
 
+/// A probe point for point location: a mesh vertex (`kind` 0), the midpoint of a triangle's
+/// edge (1), or a point of a box slightly larger than the reference scene (otherwise).
+fn probe_point(mesh: &Mesh, rng: &mut Rng, kind: usize) -> Point {
+    match kind {
+        0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
+        1 => {
+            let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
+            let (a, b) = (
+                mesh.vertices()[t[0] as usize],
+                mesh.vertices()[t[1] as usize],
+            );
+            a + (b - a) * 0.5
+        }
+        _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
+    }
+}
+
 #[test]
 fn locate_agrees_with_brute_force() {
     let (domain, mesh) = reference_mesh(0.02);
@@ -21,18 +38,7 @@ fn locate_agrees_with_brute_force() {
     let mut inside = 0;
     for i in 0..10_000 {
         // Points over a slightly larger box, plus some exactly on mesh vertices and edges.
-        let q = match i % 10 {
-            0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
-            1 => {
-                let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
-                let (a, b) = (
-                    mesh.vertices()[t[0] as usize],
-                    mesh.vertices()[t[1] as usize],
-                );
-                a + (b - a) * 0.5
-            }
-            _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
-        };
+        let q = probe_point(&mesh, &mut rng, i % 10);
         let brute: Vec<u32> = (0..mesh.triangles().len() as u32)
             .filter(|&t| mesh.triangle_contains(t, q))
             .collect();
@@ -73,18 +79,7 @@ fn scanned_and_grid_locations_agree() {
     }
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
     for i in 0..400 {
-        let q = match i % 4 {
-            0 => mesh.vertices()[(rng.next_f64() * mesh.vertices().len() as f64) as usize],
-            1 => {
-                let t = mesh.triangles()[(rng.next_f64() * mesh.triangles().len() as f64) as usize];
-                let (a, b) = (
-                    mesh.vertices()[t[1] as usize],
-                    mesh.vertices()[t[2] as usize],
-                );
-                a + (b - a) * 0.5
-            }
-            _ => Point::new(rng.next_f64() * 10.4 - 0.2, rng.next_f64() * 10.4 - 0.2),
-        };
+        let q = probe_point(&mesh, &mut rng, i % 4);
         let scanned = mesh.clone().locate(q, None);
         assert_eq!(scanned, warmed.locate(q, None), "{q}");
     }
