@@ -151,8 +151,8 @@ pub struct MapOptions {
     /// its narrow passages, whose wall-to-wall edges are split so every passage has unknowns
     /// inside, force most of its triangles: tb3_sandbox's mesh has 905 triangles at 30°, 701
     /// at 25° and 608 at 20° (warehouse's 9 869, 5 698 and 4 541), and its first plan takes
-    /// 10–15 % less time at 20° than at 25°. The mesh stays constrained Delaunay with no obtuse angle facing the boundary, so
-    /// the maximum principle holds at any bound.
+    /// 10–15 % less time at 20° than at 25°. The mesh stays constrained Delaunay with no
+    /// obtuse angle facing the boundary, so the maximum principle holds at any bound.
     pub min_angle_deg: f64,
 }
 

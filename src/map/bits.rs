@@ -77,7 +77,7 @@ impl BitGrid {
 
     /// Sets cell `(i, j)` (on the grid).
     pub(crate) fn set(&mut self, i: usize, j: usize) {
-        self.words[j * self.stride + i / 64] |= 1 << (i % 64);
+        self.put(i, j, true);
     }
 
     /// Sets cell `(i, j)` (on the grid) to `value`.

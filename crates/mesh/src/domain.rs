@@ -1144,29 +1144,26 @@ impl Domain {
     /// [`Domain::distance_to_obstacles`]; infinity for none), found with a nearest-segment
     /// search per vertex rather than two per segment.
     pub fn polyline_clearance(&self, points: &[Point]) -> f64 {
-        let goal = self.goal_edges();
-        if goal.iter().all(|&g| g) {
-            return f64::INFINITY;
-        }
         let unit: Vec<Point> = points.iter().map(|&p| self.frame.to_unit(p)).collect();
-        self.frame.len_to_user(
-            self.boundary_index
-                .polyline_distance_where(&unit, |k| !goal[k as usize]),
-        )
+        self.unit_polyline_clearance(&unit)
     }
 
     /// Minimum distance from the segment `ab` to walls and obstacles (0 if it touches or
     /// crosses one). A segment fully inside an obstacle also has a positive value: check
     /// [`Domain::contains_free`] on an end point as well.
     pub fn segment_clearance(&self, a: Point, b: Point) -> f64 {
+        self.unit_polyline_clearance(&[self.frame.to_unit(a), self.frame.to_unit(b)])
+    }
+
+    /// [`Domain::polyline_clearance`] of a polyline in unit coordinates.
+    fn unit_polyline_clearance(&self, unit: &[Point]) -> f64 {
         let goal = self.goal_edges();
         if goal.iter().all(|&g| g) {
             return f64::INFINITY;
         }
-        let (a, b) = (self.frame.to_unit(a), self.frame.to_unit(b));
         self.frame.len_to_user(
             self.boundary_index
-                .segment_distance_where(a, b, |k| !goal[k as usize]),
+                .polyline_distance_where(unit, |k| !goal[k as usize]),
         )
     }
 }

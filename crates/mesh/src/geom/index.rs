@@ -121,40 +121,12 @@ impl SegmentIndex {
             })
     }
 
-    /// Distance from the segment `ab` to the nearest segment whose payload `keep` accepts (0
-    /// if they meet; NaN if an end is not finite).
-    pub(crate) fn segment_distance_where(
-        &self,
-        a: Point,
-        b: Point,
-        keep: impl Fn(u32) -> bool + Copy,
-    ) -> f64 {
-        if !(finite(a) && finite(b)) {
-            return f64::NAN;
-        }
-        let mut best = self
-            .distance_where(a, keep)
-            .min(self.distance_where(b, keep));
-        if !best.is_finite() || best == 0.0 {
-            return best;
-        }
-        let lo = Point::new(a.x.min(b.x) - best, a.y.min(b.y) - best);
-        let hi = Point::new(a.x.max(b.x) + best, a.y.max(b.y) + best);
-        for (c, d, _) in self.in_box(lo, hi).filter(|&(_, _, k)| keep(k)) {
-            best = best.min(segment_segment_distance(a, b, c, d));
-            if best == 0.0 {
-                break;
-            }
-        }
-        best
-    }
-
-    /// Distance from the polyline `points` to the nearest segment whose payload `keep` accepts:
-    /// the smallest [`SegmentIndex::segment_distance_where`] over its segments (of its one
-    /// point, for a single point; infinity for none; NaN if a point is not finite). Each
-    /// vertex's nearest segment is found once, and a segment whose ends are farther, less half
-    /// its length, than the smallest distance found so far is not searched: on a traced path
-    /// of many short steps that is most of them.
+    /// Distance from the polyline `points` (a segment: two points) to the nearest segment whose
+    /// payload `keep` accepts: the smallest over its segments, 0 where one meets a kept
+    /// segment (of its one point, for a single point; infinity for none; NaN if a point is not
+    /// finite). Each vertex's nearest segment is found once, and a segment whose ends are
+    /// farther, less half its length, than the smallest distance found so far is not searched:
+    /// on a traced path of many short steps that is most of them.
     pub(crate) fn polyline_distance_where(
         &self,
         points: &[Point],
@@ -182,6 +154,9 @@ impl SegmentIndex {
             let hi = Point::new(a.x.max(b.x) + best, a.y.max(b.y) + best);
             for (c, d, _) in self.in_box(lo, hi).filter(|&(_, _, k)| keep(k)) {
                 best = best.min(segment_segment_distance(a, b, c, d));
+                if best == 0.0 {
+                    break;
+                }
             }
         }
         best
@@ -208,7 +183,7 @@ mod tests {
         assert!(index.nearest(nan).is_none());
         assert!(
             index
-                .segment_distance_where(nan, Point::new(0.5, 0.5), |_| true)
+                .polyline_distance_where(&[nan, Point::new(0.5, 0.5)], |_| true)
                 .is_nan()
         );
         assert_eq!(index.distance(Point::new(0.5, 2.0)), 2.0);
