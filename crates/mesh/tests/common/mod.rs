@@ -4,7 +4,7 @@
 #![allow(dead_code)] // each test binary uses a subset
 
 use harmonic_mesh::geom::{point_segment_distance, ring_edges};
-use harmonic_mesh::{Mesh, Point};
+use harmonic_mesh::{MIN_VERTEX_BUDGET, Mesh, MeshOptions, MeshReport, Point};
 
 /// Whether the segment `ab` lies on one edge of the closed `ring` (both ends within 1e-9 of
 /// it).
@@ -100,4 +100,25 @@ pub fn check_invariants_with_bridges(
         ));
     }
     Ok(())
+}
+
+/// Refinement finished, or stopped at its vertex budget (bounded work for any input) and
+/// only there: where free space has a sliver far narrower than the target edge that the
+/// triangle estimate does not see (a box edge 2e-4 from the wall asks for thousands of
+/// vertices along it at 30°). The mesh must be valid either way.
+pub fn refined_or_budget_spent(report: &MeshReport, opts: &MeshOptions) -> Result<(), String> {
+    let cap = (opts.max_triangles / 2 + 1).min(
+        report
+            .estimated_triangles
+            .saturating_mul(2)
+            .max(MIN_VERTEX_BUDGET),
+    );
+    if report.refinement_complete || report.added_vertices >= cap {
+        Ok(())
+    } else {
+        Err(format!(
+            "refinement stopped at {} added vertices, below its budget of {cap}",
+            report.added_vertices
+        ))
+    }
 }
