@@ -105,6 +105,7 @@
 mod assemble;
 mod bc;
 mod goals;
+mod multigrid;
 mod potential;
 mod solve;
 mod structured;
@@ -116,6 +117,7 @@ pub use assemble::{
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 pub use goals::{BLOCK_COLUMNS, GoalReport, GoalSolution, GoalSolver, MAX_GOAL_RIM};
+pub use multigrid::{MULTIGRID_REL_TOL, MultilevelSystem};
 pub use potential::{
     Evaluation, LocalExtrema, Potential, blend, interior_local_extrema,
     interior_local_extrema_except,
@@ -127,7 +129,7 @@ pub use solve::{
 pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
-pub use harmonic_solver::{Ordering, Parallelism, Wide};
+pub use harmonic_solver::{MultigridOptions, Ordering, Parallelism, PcgReport, Wide};
 
 /// Everything that can go wrong while assembling, solving or evaluating.
 #[derive(Debug, thiserror::Error)]

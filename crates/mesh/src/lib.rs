@@ -45,6 +45,7 @@ pub mod io;
 mod mesh;
 mod options;
 pub mod quadtree;
+mod refine_uniform;
 mod seam_refine;
 mod touch;
 mod triangulate;
@@ -53,6 +54,7 @@ pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use frame::Frame;
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
 pub use options::{Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
+pub use refine_uniform::{MeshHierarchy, Refinement};
 pub use triangulate::{MeshReport, SeamRefinements};
 
 /// A part of the input scene, used to say where an input error is.

@@ -65,6 +65,48 @@ pub fn pcg(
     x: &mut [f64],
     opts: &PcgOptions,
 ) -> Result<PcgReport, SolverError> {
+    check_inputs(a, b, x)?;
+    if norm(b) == 0.0 {
+        x.fill(0.0);
+        return Ok(PcgReport {
+            iterations: 0,
+            rel_residual: 0.0,
+        });
+    }
+    let precond = Precond::new(a, opts.preconditioner)?;
+    iterate(a, b, x, &precond, opts.rel_tol, opts.max_iter)
+}
+
+/// A preconditioner for [`pcg_with`]: `z ≈ A⁻¹ r` by a fixed symmetric positive definite
+/// operator (conjugate gradients need the same operator at every iteration).
+pub trait Precondition {
+    /// Writes the preconditioned residual `z` for the residual `r` (both of the system's size).
+    fn precondition(&self, r: &[f64], z: &mut [f64]);
+}
+
+/// [`pcg`] with a preconditioner of the caller's, such as [`crate::Multigrid`]: stops when
+/// ‖b − Ax‖₂ ≤ `rel_tol` · ‖b‖₂, errors after `max_iter` iterations.
+pub fn pcg_with<P: Precondition + ?Sized>(
+    a: &SymmetricCsc,
+    b: &[f64],
+    x: &mut [f64],
+    precond: &P,
+    rel_tol: f64,
+    max_iter: usize,
+) -> Result<PcgReport, SolverError> {
+    check_inputs(a, b, x)?;
+    if norm(b) == 0.0 {
+        x.fill(0.0);
+        return Ok(PcgReport {
+            iterations: 0,
+            rel_residual: 0.0,
+        });
+    }
+    iterate(a, b, x, precond, rel_tol, max_iter)
+}
+
+/// Sizes match and every number is finite.
+fn check_inputs(a: &SymmetricCsc, b: &[f64], x: &[f64]) -> Result<(), SolverError> {
     let n = a.n();
     for (what, len) in [("right-hand side", b.len()), ("initial guess", x.len())] {
         if len != n {
@@ -81,21 +123,26 @@ pub fn pcg(
             index,
         });
     }
-    for (what, v) in [("right-hand side", b), ("initial guess", &*x)] {
+    for (what, v) in [("right-hand side", b), ("initial guess", x)] {
         if let Some(index) = v.iter().position(|v| !v.is_finite()) {
             return Err(SolverError::NonFinite { what, index });
         }
     }
+    Ok(())
+}
+
+/// The iteration itself, on checked inputs with `b ≠ 0`.
+fn iterate<P: Precondition + ?Sized>(
+    a: &SymmetricCsc,
+    b: &[f64],
+    x: &mut [f64],
+    precond: &P,
+    rel_tol: f64,
+    max_iter: usize,
+) -> Result<PcgReport, SolverError> {
+    let n = a.n();
     let b_norm = norm(b);
-    if b_norm == 0.0 {
-        x.fill(0.0);
-        return Ok(PcgReport {
-            iterations: 0,
-            rel_residual: 0.0,
-        });
-    }
-    let precond = Precond::new(a, opts.preconditioner)?;
-    let tol = opts.rel_tol * b_norm;
+    let tol = rel_tol * b_norm;
 
     let mut r = vec![0.0; n];
     let mut z = vec![0.0; n];
@@ -116,16 +163,16 @@ pub fn pcg(
                 rel_residual: true_res / b_norm,
             });
         }
-        if iterations >= opts.max_iter {
+        if iterations >= max_iter {
             return Err(SolverError::NotConverged {
                 iterations,
                 rel_residual: true_res / b_norm,
             });
         }
-        precond.apply(&r, &mut z);
+        precond.precondition(&r, &mut z);
         p.copy_from_slice(&z);
         let mut rz = dot(&r, &z);
-        while iterations < opts.max_iter {
+        while iterations < max_iter {
             iterations += 1;
             a.mul_vec(&p, &mut ap);
             let pap = dot(&p, &ap);
@@ -144,7 +191,7 @@ pub fn pcg(
             if rr.sqrt() <= tol {
                 break;
             }
-            precond.apply(&r, &mut z);
+            precond.precondition(&r, &mut z);
             let rz_new = dot(&r, &z);
             let beta = rz_new / rz;
             rz = rz_new;
@@ -198,8 +245,10 @@ impl Precond {
             Preconditioner::IncompleteCholesky => Self::Ic0(Ic0::new(a)?),
         })
     }
+}
 
-    fn apply(&self, r: &[f64], z: &mut [f64]) {
+impl Precondition for Precond {
+    fn precondition(&self, r: &[f64], z: &mut [f64]) {
         match self {
             Self::Identity => z.copy_from_slice(r),
             Self::InvDiag(d) => {
