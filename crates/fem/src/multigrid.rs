@@ -79,7 +79,7 @@ impl MultilevelSystem {
         let mut levels = Vec::with_capacity(self.systems.len() - 1);
         for (l, parents) in self.parents.iter().enumerate() {
             let (below, here) = (&self.systems[l], &self.systems[l + 1]);
-            levels.push((here.matrix().clone(), interpolation(below, here, parents)?));
+            levels.push((here.matrix(), interpolation(below, here, parents)?));
         }
         Ok(Multigrid::new(factor, levels, opts)?)
     }

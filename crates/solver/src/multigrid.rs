@@ -1,5 +1,5 @@
 //! Geometric multigrid: V-cycles over nested levels, as the preconditioner of conjugate
-//! gradients ([`crate::pcg_with`]).
+//! gradients.
 //!
 //! The levels are the caller's: one matrix per level (a coarse mesh and its uniform
 //! refinements, each discretised on its own) and the prolongations between them (P1
@@ -19,7 +19,7 @@
 use crate::csc::SymmetricCsc;
 use crate::direct::Cholesky;
 use crate::error::{SolverError, StructureIssue};
-use crate::pcg::{PcgReport, Precondition, pcg_with};
+use crate::pcg::{PcgReport, Precondition, iterate_with};
 
 /// The interpolation from a coarse level's unknowns to a finer level's, by rows: fine
 /// unknown `i` is `Σ values[k] · coarse[columns[k]]` over `k` in `row_ptr[i]..row_ptr[i+1]`.
@@ -124,16 +124,270 @@ impl Default for MultigridOptions {
     }
 }
 
-/// One level above the coarsest: its matrix and the prolongation from the level below.
+/// One level above the coarsest: its matrix by rows and the prolongation from the level
+/// below.
 #[derive(Debug)]
 struct Level {
-    a: SymmetricCsc,
-    inv_diag: Vec<f64>,
+    a: Rows,
     from_below: Prolongation,
 }
 
+/// A symmetric matrix by rows for the cycle: the off-diagonal entries with 32-bit column
+/// indices and the diagonal apart. The cycle is bound by memory traffic, so the smoother
+/// reads its entries in single precision (8 bytes an entry where [`SymmetricCsc`] takes 16):
+/// the rounded matrix is still symmetric, so the cycle is still a fixed symmetric operator,
+/// and a preconditioner needs no more than that. Products with `A` (the residuals the cycle
+/// restricts, and conjugate gradients' own) use the double-precision entries.
+#[derive(Debug)]
+struct Rows {
+    row_ptr: Vec<u32>,
+    /// Per row, the end of its entries left of the diagonal (columns are sorted).
+    lower_end: Vec<u32>,
+    columns: Vec<u32>,
+    values: Vec<f64>,
+    /// `values` rounded to single precision, for the sweeps.
+    smoothing: Vec<f32>,
+    diagonal: Vec<f64>,
+    inv_diagonal: Vec<f64>,
+}
+
+impl Rows {
+    /// The rows of `a` (its columns: the pattern is symmetric). Errors on a non-finite value,
+    /// a diagonal entry that is not positive, or more entries than 32-bit indices reach.
+    fn of(a: &SymmetricCsc) -> Result<Self, SolverError> {
+        if let Some(index) = a.first_non_finite() {
+            return Err(SolverError::NonFinite {
+                what: "matrix values",
+                index,
+            });
+        }
+        if a.nnz() > u32::MAX as usize {
+            return Err(SolverError::DimensionMismatch {
+                what: "entries of a multigrid level (32-bit indices)",
+                expected: u32::MAX as usize,
+                found: a.nnz(),
+            });
+        }
+        let n = a.n();
+        let mut rows = Rows {
+            row_ptr: Vec::with_capacity(n + 1),
+            lower_end: Vec::with_capacity(n),
+            smoothing: Vec::new(),
+            columns: Vec::with_capacity(a.nnz() - n.min(a.nnz())),
+            values: Vec::with_capacity(a.nnz() - n.min(a.nnz())),
+            diagonal: vec![0.0; n],
+            inv_diagonal: vec![0.0; n],
+        };
+        rows.row_ptr.push(0);
+        for i in 0..n {
+            let (cols, vals) = a.column(i);
+            for (&j, &v) in cols.iter().zip(vals) {
+                if j == i {
+                    rows.diagonal[i] = v;
+                    rows.lower_end.push(rows.columns.len() as u32);
+                } else {
+                    rows.columns.push(j as u32);
+                    rows.values.push(v);
+                }
+            }
+            rows.row_ptr.push(rows.columns.len() as u32);
+            if rows.lower_end.len() == i {
+                // No stored diagonal: a zero one, refused just below.
+                rows.lower_end.push(rows.columns.len() as u32);
+            }
+            let d = rows.diagonal[i];
+            if d <= 0.0 {
+                return Err(if d == 0.0 {
+                    SolverError::Singular { column: i }
+                } else {
+                    SolverError::NotPositiveDefinite { column: i }
+                });
+            }
+            rows.inv_diagonal[i] = 1.0 / d;
+        }
+        rows.smoothing = rows.values.iter().map(|&v| v as f32).collect();
+        Ok(rows)
+    }
+
+    fn n(&self) -> usize {
+        self.diagonal.len()
+    }
+
+    /// `Σ_j a_ij x_j` over the off-diagonal entries of row `i`.
+    #[inline]
+    fn off_diagonal_dot(&self, i: usize, x: &[f64]) -> f64 {
+        let (s, e) = (self.row_ptr[i] as usize, self.row_ptr[i + 1] as usize);
+        let mut acc = 0.0;
+        for (&j, &v) in self.columns[s..e].iter().zip(&self.values[s..e]) {
+            acc += v * x[j as usize];
+        }
+        acc
+    }
+
+    /// `out = b − A x`, or `out = A x` with `b = None`; large levels on rayon's pool.
+    fn residual(&self, b: Option<&[f64]>, x: &[f64], out: &mut [f64]) {
+        let row = |i: usize| self.diagonal[i] * x[i] + self.off_diagonal_dot(i, x);
+        let chunk = |start: usize, out: &mut [f64]| match b {
+            Some(b) => {
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o = b[start + k] - row(start + k);
+                }
+            }
+            None => {
+                for (k, o) in out.iter_mut().enumerate() {
+                    *o = row(start + k);
+                }
+            }
+        };
+        if self.parallel() {
+            use rayon::prelude::*;
+            let size = self.n().div_ceil(rayon::current_num_threads());
+            out.par_chunks_mut(size)
+                .enumerate()
+                .for_each(|(c, o)| chunk(c * size, o));
+        } else {
+            chunk(0, out);
+        }
+    }
+
+    /// Whether this level's products and sweeps are split over rayon's pool.
+    fn parallel(&self) -> bool {
+        self.n() >= crate::PARALLEL_MIN_UNKNOWNS && rayon::current_num_threads() > 1
+    }
+
+    /// One Gauss–Seidel sweep on `A x = b`, in place. Large levels sweep their two halves of
+    /// rows at once on two threads, each reading the other half's values from before the
+    /// sweep (hybrid Gauss–Seidel: Gauss–Seidel within a half, Jacobi between them). It is
+    /// still a fixed linear smoother, and the backward sweep is its transpose, so the cycle
+    /// stays symmetric. The unknowns are numbered along the mesh (a Hilbert order), so the
+    /// halves are two regions that meet along a short seam.
+    ///
+    /// `from_zero` says `x` is zero: a forward sweep then reads only the entries left of the
+    /// diagonal (the others multiply zeros).
+    fn gauss_seidel(&self, b: &[f64], x: &mut [f64], sweep: Sweep, before: &mut [f64]) {
+        let n = self.n();
+        if !self.parallel() {
+            self.sweep_rows(0, b, x, None, sweep);
+            return;
+        }
+        let mid = n / 2;
+        if sweep == Sweep::ForwardFromZero {
+            // Nothing to read across the seam: the other half's values are zero.
+            let (lo, hi) = x.split_at_mut(mid);
+            rayon::join(
+                || self.sweep_rows(0, b, lo, None, sweep),
+                || self.sweep_rows(mid, b, hi, None, sweep),
+            );
+            return;
+        }
+        before.copy_from_slice(x);
+        let before = &*before;
+        let (lo, hi) = x.split_at_mut(mid);
+        rayon::join(
+            || self.sweep_rows(0, b, lo, Some(before), sweep),
+            || self.sweep_rows(mid, b, hi, Some(before), sweep),
+        );
+    }
+
+    /// A Gauss–Seidel sweep over rows `first..first + own.len()`, whose values are `own`.
+    /// With `before` (all of `x` before the sweep, for a sweep on two threads) the other rows'
+    /// values are read from it; without, `own` is the whole vector (`first = 0`), or the
+    /// sweep starts from zero and the other rows are zero.
+    ///
+    /// Each row's sum is split at the diagonal: the entries on the side not yet swept read
+    /// values from before the sweep and do not wait for the row just relaxed, which breaks
+    /// the chain of dependent rows (one row's sum no longer waits on the previous row's
+    /// result for all its terms) and runs about twice as fast as one sum per row.
+    fn sweep_rows(
+        &self,
+        first: usize,
+        b: &[f64],
+        own: &mut [f64],
+        before: Option<&[f64]>,
+        sweep: Sweep,
+    ) {
+        let end = first + own.len();
+        let (rows, cols, vals) = (&self.row_ptr, &self.columns, &self.smoothing);
+        // Σ a_ij x_j over entries k0..k1, x_j from `x` at j - offset.
+        let dot = |k0: usize, k1: usize, x: &[f64], offset: usize| -> f64 {
+            cols[k0..k1]
+                .iter()
+                .zip(&vals[k0..k1])
+                .map(|(&j, &v)| f64::from(v) * x[j as usize - offset])
+                .sum()
+        };
+        // The same where some columns may lie outside this block: those read `other(j)`.
+        let mixed = |k0: usize, k1: usize, own: &[f64], other: &dyn Fn(usize) -> f64| -> f64 {
+            cols[k0..k1]
+                .iter()
+                .zip(&vals[k0..k1])
+                .map(|(&j, &v)| {
+                    let j = j as usize;
+                    f64::from(v)
+                        * if j >= first && j < end {
+                            own[j - first]
+                        } else {
+                            other(j)
+                        }
+                })
+                .sum()
+        };
+        let zero = |_: usize| 0.0;
+        let old = |j: usize| before.map_or(0.0, |x| x[j]);
+        for step in 0..own.len() {
+            let local = match sweep {
+                Sweep::Backward => own.len() - 1 - step,
+                _ => step,
+            };
+            let i = first + local;
+            let (s, m, e) = (
+                rows[i] as usize,
+                self.lower_end[i] as usize,
+                rows[i + 1] as usize,
+            );
+            let sum = match (sweep, before) {
+                // Left of the diagonal: values of this sweep (this block's) or zero.
+                (Sweep::ForwardFromZero, _) if first == 0 => dot(s, m, own, 0),
+                (Sweep::ForwardFromZero, _) => mixed(s, m, own, &zero),
+                // One thread: everything from `own`, the whole vector, still in two sums.
+                (_, None) => dot(m, e, own, 0) + dot(s, m, own, 0),
+                // Two threads, forward: right of the diagonal not yet swept (before);
+                // left of it this block's new values, or another block's old ones.
+                (Sweep::Forward, Some(x)) => {
+                    dot(m, e, x, 0)
+                        + if first == 0 {
+                            dot(s, m, own, 0)
+                        } else {
+                            mixed(s, m, own, &old)
+                        }
+                }
+                // Backward mirrors it.
+                (Sweep::Backward, Some(x)) => {
+                    dot(s, m, x, 0)
+                        + if end == self.n() {
+                            dot(m, e, own, first)
+                        } else {
+                            mixed(m, e, own, &old)
+                        }
+                }
+            };
+            own[local] = (b[i] - sum) * self.inv_diagonal[i];
+        }
+    }
+}
+
+/// Work vectors of one level above the coarsest: its residual and the right-hand side and
+/// solution of the level below.
+struct Scratch {
+    r: Vec<f64>,
+    /// The level's solution before a sweep (read across the seam of a two-thread sweep).
+    before: Vec<f64>,
+    below_b: Vec<f64>,
+    below_x: Vec<f64>,
+}
+
 /// A multigrid V-cycle over a coarsest level solved directly and finer levels smoothed by
-/// Gauss–Seidel; a [`Precondition`] for [`pcg_with`] (see the [module](self) notes).
+/// Gauss–Seidel; a [`Precondition`] for [`crate::pcg_with`] (see the [module](self) notes).
 #[derive(Debug)]
 pub struct Multigrid {
     coarsest: Cholesky,
@@ -150,7 +404,7 @@ impl Multigrid {
     /// non-finite value, or a diagonal entry is not positive (the smoother divides by it).
     pub fn new(
         coarsest: Cholesky,
-        levels: Vec<(SymmetricCsc, Prolongation)>,
+        levels: Vec<(&SymmetricCsc, Prolongation)>,
         opts: MultigridOptions,
     ) -> Result<Self, SolverError> {
         let mut below = coarsest.symbolic().n();
@@ -170,24 +424,9 @@ impl Multigrid {
                     found: from_below.fine_len(),
                 });
             }
-            if let Some(index) = a.first_non_finite() {
-                return Err(SolverError::NonFinite {
-                    what: "matrix values",
-                    index,
-                });
-            }
-            let diag = a.diagonal();
-            if let Some(column) = diag.iter().position(|&d| d <= 0.0) {
-                return Err(if diag[column] == 0.0 {
-                    SolverError::Singular { column }
-                } else {
-                    SolverError::NotPositiveDefinite { column }
-                });
-            }
             below = a.n();
             built.push(Level {
-                inv_diag: diag.iter().map(|d| 1.0 / d).collect(),
-                a,
+                a: Rows::of(a)?,
                 from_below,
             });
         }
@@ -219,80 +458,125 @@ impl Multigrid {
         rel_tol: f64,
         max_iter: usize,
     ) -> Result<PcgReport, SolverError> {
-        match self.levels.last() {
-            Some(finest) => pcg_with(&finest.a, b, x, self, rel_tol, max_iter),
-            None => {
-                let solved = self.coarsest.solve(b)?;
-                x.copy_from_slice(&solved);
-                Ok(PcgReport {
-                    iterations: 0,
-                    rel_residual: 0.0,
-                })
+        let n = self.n();
+        for (what, v) in [("right-hand side", b), ("initial guess", &*x)] {
+            if v.len() != n {
+                return Err(SolverError::DimensionMismatch {
+                    what,
+                    expected: n,
+                    found: v.len(),
+                });
+            }
+            if let Some(index) = v.iter().position(|v| !v.is_finite()) {
+                return Err(SolverError::NonFinite { what, index });
             }
         }
+        let Some(level) = self.levels.last() else {
+            x.copy_from_slice(b);
+            self.coarsest.solve_in_place(x)?;
+            return Ok(PcgReport {
+                iterations: 0,
+                rel_residual: 0.0,
+            });
+        };
+        if b.iter().all(|&v| v == 0.0) {
+            x.fill(0.0);
+            return Ok(PcgReport {
+                iterations: 0,
+                rel_residual: 0.0,
+            });
+        }
+        let with_scratch = WithScratch {
+            multigrid: self,
+            scratch: std::cell::RefCell::new(self.scratch()),
+        };
+        iterate_with(
+            |v, av| level.a.residual(None, v, av),
+            b,
+            x,
+            &with_scratch,
+            rel_tol,
+            max_iter,
+        )
     }
 
-    /// One V-cycle from level `l` (0 = the coarsest) for the right-hand side `b`, into `x`.
-    fn cycle(&self, l: usize, b: &[f64], x: &mut [f64]) {
-        if l == 0 {
+    /// Work vectors for one cycle, coarse to fine.
+    fn scratch(&self) -> Vec<Scratch> {
+        let mut below = self.coarsest.symbolic().n();
+        self.levels
+            .iter()
+            .map(|level| {
+                let s = Scratch {
+                    r: vec![0.0; level.a.n()],
+                    before: vec![0.0; if level.a.parallel() { level.a.n() } else { 0 }],
+                    below_b: vec![0.0; below],
+                    below_x: vec![0.0; below],
+                };
+                below = level.a.n();
+                s
+            })
+            .collect()
+    }
+
+    /// One V-cycle for the right-hand side `b` of the level `scratch.len()` (0 = the
+    /// coarsest), into `x`.
+    fn cycle(&self, b: &[f64], x: &mut [f64], scratch: &mut [Scratch]) {
+        let Some((mine, below)) = scratch.split_last_mut() else {
             x.copy_from_slice(b);
             // The factor's solve checks sizes only, which match by construction.
             if self.coarsest.solve_in_place(x).is_err() {
                 x.fill(0.0);
             }
             return;
-        }
-        let level = &self.levels[l - 1];
+        };
+        let level = &self.levels[below.len()];
         x.fill(0.0);
-        for _ in 0..self.opts.sweeps {
-            gauss_seidel(&level.a, &level.inv_diag, b, x, Sweep::Forward);
+        for sweep in 0..self.opts.sweeps {
+            let kind = if sweep == 0 {
+                Sweep::ForwardFromZero
+            } else {
+                Sweep::Forward
+            };
+            level.a.gauss_seidel(b, x, kind, &mut mine.before);
         }
-        let mut r = vec![0.0; b.len()];
-        level.a.mul_vec(x, &mut r);
-        for (ri, bi) in r.iter_mut().zip(b) {
-            *ri = bi - *ri;
-        }
-        let below = level.from_below.coarse_len();
-        let mut rc = vec![0.0; below];
-        level.from_below.restrict(&r, &mut rc);
-        let mut xc = vec![0.0; below];
-        self.cycle(l - 1, &rc, &mut xc);
-        level.from_below.add_prolonged(&xc, x);
+        level.a.residual(Some(b), x, &mut mine.r);
+        level.from_below.restrict(&mine.r, &mut mine.below_b);
+        self.cycle(&mine.below_b, &mut mine.below_x, below);
+        level.from_below.add_prolonged(&mine.below_x, x);
         for _ in 0..self.opts.sweeps {
-            gauss_seidel(&level.a, &level.inv_diag, b, x, Sweep::Backward);
+            level
+                .a
+                .gauss_seidel(b, x, Sweep::Backward, &mut mine.before);
         }
     }
 }
 
 impl Precondition for Multigrid {
+    /// One V-cycle (allocating its work vectors; [`Multigrid::solve`] allocates them once).
     fn precondition(&self, r: &[f64], z: &mut [f64]) {
-        self.cycle(self.levels.len(), r, z);
+        self.cycle(r, z, &mut self.scratch());
+    }
+}
+
+/// The cycle with work vectors kept across the iterations of one solve.
+struct WithScratch<'a> {
+    multigrid: &'a Multigrid,
+    scratch: std::cell::RefCell<Vec<Scratch>>,
+}
+
+impl Precondition for WithScratch<'_> {
+    fn precondition(&self, r: &[f64], z: &mut [f64]) {
+        self.multigrid.cycle(r, z, &mut self.scratch.borrow_mut());
     }
 }
 
 /// The direction of a Gauss–Seidel sweep.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq, Eq)]
 enum Sweep {
+    /// Forward from `x = 0`.
+    ForwardFromZero,
     Forward,
     Backward,
-}
-
-/// One Gauss–Seidel sweep on `A x = b`, in place. The matrix stores its full pattern, so
-/// column `i` is row `i`.
-fn gauss_seidel(a: &SymmetricCsc, inv_diag: &[f64], b: &[f64], x: &mut [f64], sweep: Sweep) {
-    let relax = |i: usize, x: &mut [f64]| {
-        let (rows, vals) = a.column(i);
-        let mut s = b[i];
-        for (&j, &v) in rows.iter().zip(vals) {
-            s -= v * x[j];
-        }
-        // The loop took the diagonal term too: add it back.
-        x[i] += s * inv_diag[i];
-    };
-    match sweep {
-        Sweep::Forward => (0..a.n()).for_each(|i| relax(i, x)),
-        Sweep::Backward => (0..a.n()).rev().for_each(|i| relax(i, x)),
-    }
 }
 
 #[cfg(test)]
@@ -351,7 +635,8 @@ mod tests {
             a.values_mut().iter_mut().for_each(|v| *v *= scale);
             finer.push((a, p));
         }
-        Multigrid::new(factor, finer, MultigridOptions::default()).unwrap()
+        let levels = finer.iter().map(|(a, p)| (a, p.clone())).collect();
+        Multigrid::new(factor, levels, MultigridOptions::default()).unwrap()
     }
 
     #[test]
@@ -366,15 +651,39 @@ mod tests {
             assert!(report.rel_residual <= 1e-10);
             counts.push(report.iterations);
         }
-        // 63, 255 and 1023 unknowns: the same handful of iterations.
+        // 15, 63 and 511 unknowns: the same handful of iterations.
         assert!(counts.iter().all(|&c| c <= 12), "{counts:?}");
         assert!(counts[2] <= counts[0] + 3, "{counts:?}");
     }
 
     #[test]
     fn the_cycle_is_symmetric() {
-        // <M r1, r2> = <r1, M r2>, which conjugate gradients rely on.
-        let mg = hierarchy(3);
+        // <M r1, r2> = <r1, M r2>, which conjugate gradients rely on; 14 levels reach
+        // 65 535 unknowns, where the sweeps run on two threads when there are two.
+        for levels in [3, 14] {
+            cycle_is_symmetric(hierarchy(levels));
+        }
+    }
+
+    #[test]
+    fn large_levels_converge_as_fast() {
+        // The two-thread sweep (from 50 000 unknowns) loses little against the one-thread one.
+        let mg = hierarchy(14);
+        let n = mg.n();
+        assert!(n >= crate::PARALLEL_MIN_UNKNOWNS, "{n}");
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let mut x = vec![0.0; n];
+        let report = mg.solve(&b, &mut x, 1e-10, 100).unwrap();
+        assert!(report.iterations <= 12, "{report:?}");
+        let mut r = vec![0.0; n];
+        mg.levels[mg.levels.len() - 1]
+            .a
+            .residual(Some(&b), &x, &mut r);
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!(norm(&r) <= 1e-10 * norm(&b) * (1.0 + 1e-6));
+    }
+
+    fn cycle_is_symmetric(mg: Multigrid) {
         let n = mg.n();
         let r1: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
         let r2: Vec<f64> = (0..n).map(|i| (i as f64 * 1.13).cos()).collect();
@@ -396,9 +705,10 @@ mod tests {
             .and_then(|s| s.factor(&a))
             .unwrap();
         // A prolongation from 7 coarse unknowns, but the coarsest level has a.n().
+        let fine = laplacian_1d(15);
         let err = Multigrid::new(
             factor,
-            vec![(laplacian_1d(15), interpolation_1d(7))],
+            vec![(&fine, interpolation_1d(7))],
             MultigridOptions::default(),
         )
         .unwrap_err();

@@ -131,7 +131,7 @@ fn check_inputs(a: &SymmetricCsc, b: &[f64], x: &[f64]) -> Result<(), SolverErro
     Ok(())
 }
 
-/// The iteration itself, on checked inputs with `b ≠ 0`.
+/// The iteration with `A` as the matrix's own product.
 fn iterate<P: Precondition + ?Sized>(
     a: &SymmetricCsc,
     b: &[f64],
@@ -140,7 +140,20 @@ fn iterate<P: Precondition + ?Sized>(
     rel_tol: f64,
     max_iter: usize,
 ) -> Result<PcgReport, SolverError> {
-    let n = a.n();
+    iterate_with(|v, av| a.mul_vec(v, av), b, x, precond, rel_tol, max_iter)
+}
+
+/// The iteration itself, on checked inputs with `b ≠ 0`, `A` given by its product
+/// `a(v, av)` (`av = A v`).
+pub(crate) fn iterate_with<A: Fn(&[f64], &mut [f64]), P: Precondition + ?Sized>(
+    a: A,
+    b: &[f64],
+    x: &mut [f64],
+    precond: &P,
+    rel_tol: f64,
+    max_iter: usize,
+) -> Result<PcgReport, SolverError> {
+    let n = b.len();
     let b_norm = norm(b);
     let tol = rel_tol * b_norm;
 
@@ -152,7 +165,7 @@ fn iterate<P: Precondition + ?Sized>(
     // Outer loop: restarts from the true residual when the recurrence claims convergence but the
     // true residual disagrees (rounding drift).
     loop {
-        a.mul_vec(x, &mut r);
+        a(x, &mut r);
         for (ri, bi) in r.iter_mut().zip(b) {
             *ri = bi - *ri;
         }
@@ -174,7 +187,7 @@ fn iterate<P: Precondition + ?Sized>(
         let mut rz = dot(&r, &z);
         while iterations < max_iter {
             iterations += 1;
-            a.mul_vec(&p, &mut ap);
+            a(&p, &mut ap);
             let pap = dot(&p, &ap);
             if pap <= 0.0 || !pap.is_finite() {
                 // Name the unknown contributing the most negative curvature pᵢ (Ap)ᵢ.
