@@ -2,14 +2,22 @@
 //! 3k / 30k / 300k / 1M triangles: pattern (Assembler::new), assemble (values only, into an
 //! existing system; also for the Robin case), symbolic analysis, numeric factorisation, triangular solves.
 //!
+//! The `multigrid/<size>` groups time the multigrid route at the same sizes: a mesh at 16×
+//! the area refined twice (`MeshHierarchy`), every level assembled (`MultilevelSystem`),
+//! the cycle's set-up and the conjugate-gradient solve.
+//!
 //! `cargo bench -p harmonic-fem --bench fem` (filter sizes with e.g. `-- 1M`).
 
 use std::sync::Arc;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use harmonic_fem::{Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Ordering};
+use harmonic_fem::{
+    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL,
+    MultigridOptions, MultilevelSystem, Ordering,
+};
 use harmonic_fixtures::reference_mesh;
+use harmonic_mesh::MeshHierarchy;
 use harmonic_solver::SymbolicCholesky;
 
 /// The peers' Robin case (docs/peers.md, case (b)): ∂φ/∂n = 1 − φ on walls and obstacles.
@@ -84,5 +92,38 @@ fn stages(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, stages);
+/// Uniform refinements per multigrid hierarchy (the coarse mesh has 1/16 of the triangles).
+const REFINEMENTS: usize = 2;
+
+fn multigrid(c: &mut Criterion) {
+    for (label, max_area) in &SIZES[1..] {
+        let mut group = c.benchmark_group(format!("multigrid/{label}"));
+        group.sample_size(10);
+        group.warm_up_time(Duration::from_millis(500));
+        group.measurement_time(Duration::from_secs(3));
+        let coarse_area = max_area * 4f64.powi(REFINEMENTS as i32);
+        let coarse = reference_mesh(coarse_area);
+        group.bench_function("refine", |b| {
+            b.iter(|| MeshHierarchy::new(coarse.clone(), REFINEMENTS))
+        });
+        let hierarchy = MeshHierarchy::new(coarse, REFINEMENTS).expect("refine");
+        let bcs = BoundaryConditions::default();
+        group.bench_function("assemble", |b| {
+            b.iter(|| MultilevelSystem::assemble(&hierarchy, &bcs))
+        });
+        let levels = MultilevelSystem::assemble(&hierarchy, &bcs).expect("assemble");
+        group.bench_function("setup", |b| {
+            b.iter(|| levels.multigrid(MultigridOptions::default()))
+        });
+        let cycle = levels
+            .multigrid(MultigridOptions::default())
+            .expect("multigrid");
+        group.bench_function("solve", |b| {
+            b.iter(|| levels.solve(&cycle, MULTIGRID_REL_TOL))
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, stages, multigrid);
 criterion_main!(benches);

@@ -38,11 +38,28 @@ impl MultilevelSystem {
     /// boundary tags are the same on every level).
     pub fn assemble(hierarchy: &MeshHierarchy, bcs: &BoundaryConditions) -> Result<Self, FemError> {
         let meshes = hierarchy.levels().to_vec();
-        let mut systems = Vec::with_capacity(meshes.len());
-        let mut coarsest = None;
-        for mesh in &meshes {
+        let assemble = |mesh: &Arc<Mesh>| -> Result<(Assembler, LinearSystem), FemError> {
             let assembler = Assembler::new(Arc::clone(mesh), bcs, AssemblyOptions::default())?;
-            systems.push(assembler.assemble(bcs)?);
+            let system = assembler.assemble(bcs)?;
+            Ok((assembler, system))
+        };
+        // The finest level is three quarters of the work: it goes to a second thread while
+        // this one assembles the others.
+        let (finest, coarser) = meshes.split_last().ok_or(FemError::LengthMismatch {
+            what: "levels of the hierarchy",
+            expected: 1,
+            got: 0,
+        })?;
+        let (finest, coarser) = rayon::join(
+            || assemble(finest),
+            || coarser.iter().map(assemble).collect::<Result<Vec<_>, _>>(),
+        );
+        let mut levels = coarser?;
+        levels.push(finest?);
+        let mut coarsest = None;
+        let mut systems = Vec::with_capacity(levels.len());
+        for (assembler, system) in levels {
+            systems.push(system);
             coarsest.get_or_insert(assembler);
         }
         let parents = (1..meshes.len())
@@ -75,13 +92,24 @@ impl MultilevelSystem {
     /// (unknowns at Dirichlet vertices are left out: their correction is zero).
     pub fn multigrid(&self, opts: MultigridOptions) -> Result<Multigrid, FemError> {
         let coarse = self.systems[0].matrix();
-        let factor = SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse)?;
-        let mut levels = Vec::with_capacity(self.systems.len() - 1);
-        for (l, parents) in self.parents.iter().enumerate() {
-            let (below, here) = (&self.systems[l], &self.systems[l + 1]);
-            levels.push((here.matrix(), interpolation(below, here, parents)?));
-        }
-        Ok(Multigrid::new(factor, levels, opts)?)
+        let (factor, interpolations) = rayon::join(
+            || SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse),
+            || {
+                self.parents
+                    .iter()
+                    .enumerate()
+                    .map(|(l, parents)| {
+                        interpolation(&self.systems[l], &self.systems[l + 1], parents)
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            },
+        );
+        let levels = self.systems[1..]
+            .iter()
+            .map(LinearSystem::matrix)
+            .zip(interpolations?)
+            .collect();
+        Ok(Multigrid::new(factor?, levels, opts)?)
     }
 
     /// ψ on the finest mesh by conjugate gradients preconditioned with `multigrid` (built by

@@ -397,7 +397,7 @@ impl Mesh {
 
     /// The rest of a mesh once its triangles and (consistent) adjacency are known: boundary
     /// edges with their tags, vertex tags and components.
-    fn with_adjacency(
+    pub(crate) fn with_adjacency(
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
         neighbors: Vec<[u32; 3]>,

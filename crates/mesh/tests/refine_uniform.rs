@@ -14,6 +14,20 @@ fn refine_and_check(coarse: &Mesh) -> Mesh {
     let q0 = coarse.quality();
     let step = coarse.refined_uniformly().expect("refinement");
     let fine = &step.mesh;
+    // The adjacency built during refinement is the one computed from scratch.
+    let boundary: Vec<_> = fine
+        .boundary_edges()
+        .iter()
+        .map(|e| (e.vertices[0], e.vertices[1], e.tag))
+        .collect();
+    let computed = Mesh::from_parts(
+        fine.vertices().to_vec(),
+        fine.triangles().to_vec(),
+        &boundary,
+    )
+    .expect("refined triangles form a mesh");
+    assert_eq!(computed.neighbors(), fine.neighbors());
+    assert_eq!(computed.boundary_edges(), fine.boundary_edges());
     let q = fine.quality();
     assert_eq!(q.triangles, 4 * q0.triangles);
     assert_eq!(

@@ -408,8 +408,7 @@ impl Multigrid {
         opts: MultigridOptions,
     ) -> Result<Self, SolverError> {
         let mut below = coarsest.symbolic().n();
-        let mut built = Vec::with_capacity(levels.len());
-        for (a, from_below) in levels {
+        for (a, from_below) in &levels {
             if from_below.coarse_len() != below {
                 return Err(SolverError::DimensionMismatch {
                     what: "prolongation columns (unknowns of the level below)",
@@ -425,11 +424,20 @@ impl Multigrid {
                 });
             }
             below = a.n();
-            built.push(Level {
-                a: Rows::of(a)?,
-                from_below,
-            });
         }
+        // The row copies are independent: on rayon's pool (the finest is most of the work).
+        let built = {
+            use rayon::prelude::*;
+            levels
+                .into_par_iter()
+                .map(|(a, from_below)| {
+                    Ok(Level {
+                        a: Rows::of(a)?,
+                        from_below,
+                    })
+                })
+                .collect::<Result<Vec<_>, SolverError>>()?
+        };
         Ok(Self {
             coarsest,
             levels: built,
