@@ -4,7 +4,9 @@
 //! the numerical core of the harmonic planner: stiffness by the cotangent formula assembled
 //! straight into compressed sparse storage, Robin boundary mass and load, Neumann load and
 //! Dirichlet lifting; the solution as a [`Potential`] with point values, element gradients,
-//! recovered nodal gradients and an error indicator.
+//! recovered nodal gradients and an error indicator. For large meshes, [`MultilevelSystem`]
+//! solves on a uniformly refined mesh by multigrid-preconditioned conjugate gradients, in
+//! linear time.
 //!
 //! ## The ψ convention
 //! Far from the goal a Dirichlet potential φ is within 1e-17 of the wall value, so a float φ

@@ -34,7 +34,7 @@ fn compare(coarse_area: f64, refinements: usize, bcs: &BoundaryConditions) -> (f
 fn dirichlet_walls_agree_with_the_direct_solve() {
     let (diff, iterations) = compare(0.05, 2, &BoundaryConditions::default());
     assert!(diff <= 1e-8, "max |ψ_mg − ψ_direct| = {diff:e}");
-    assert!(iterations <= 15, "{iterations} iterations");
+    assert!(iterations <= 10, "{iterations} iterations");
 }
 
 #[test]
@@ -46,17 +46,19 @@ fn robin_walls_agree_with_the_direct_solve() {
     });
     let (diff, iterations) = compare(0.05, 2, &bcs);
     assert!(diff <= 1e-8, "max |ψ_mg − ψ_direct| = {diff:e}");
-    assert!(iterations <= 15, "{iterations} iterations");
+    assert!(iterations <= 10, "{iterations} iterations");
 }
 
 #[test]
 fn iterations_stay_flat_as_levels_are_added() {
-    // About 1.5k coarse triangles refined 1, 2 and 3 times (to about 100k).
+    // About 1.5k coarse triangles refined 1, 2 and 3 times (6k to 100k triangles).
     let counts: Vec<usize> = (1..=3)
         .map(|k| compare(0.1, k, &BoundaryConditions::default()).1)
         .collect();
-    assert!(counts.iter().all(|&c| c <= 15), "{counts:?}");
-    assert!(counts[2] <= counts[0] + 3, "{counts:?}");
+    eprintln!("iterations with 1, 2, 3 refinements: {counts:?}");
+    // 7, 8, 8 when written.
+    assert!(counts.iter().all(|&c| c <= 10), "{counts:?}");
+    assert!(counts[2] <= counts[0] + 2, "{counts:?}");
 }
 
 #[test]
