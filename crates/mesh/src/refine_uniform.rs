@@ -305,6 +305,10 @@ impl MeshHierarchy {
     /// `coarse` and `refinements` successive [`Mesh::refined_uniformly`] of it: the finest
     /// level has `4^refinements` times the triangles, with the same smallest angle.
     ///
+    /// Refuses up front, with [`MeshError::TooManyTriangles`], a finest level above the
+    /// mesher's default budget ([`crate::MeshOptions`]'s `max_triangles`, 20 M triangles),
+    /// before any memory is spent on it.
+    ///
     /// ```
     /// use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshHierarchy, MeshOptions, Point};
     /// let spec = DomainSpec {
@@ -323,6 +327,18 @@ impl MeshHierarchy {
     /// # Ok::<(), harmonic_mesh::MeshError>(())
     /// ```
     pub fn new(coarse: Mesh, refinements: usize) -> Result<Self, MeshError> {
+        let limit = crate::MeshOptions::default().max_triangles;
+        let finest = u32::try_from(refinements)
+            .ok()
+            .and_then(|k| 4usize.checked_pow(k))
+            .and_then(|f| coarse.triangles().len().checked_mul(f))
+            .unwrap_or(usize::MAX);
+        if finest > limit {
+            return Err(MeshError::TooManyTriangles {
+                estimated: finest,
+                limit,
+            });
+        }
         let mut levels = vec![std::sync::Arc::new(coarse)];
         let mut parents = Vec::with_capacity(refinements);
         for _ in 0..refinements {

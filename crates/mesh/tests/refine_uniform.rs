@@ -106,6 +106,18 @@ fn curved_goal_and_two_halves_refine() {
     refine_and_check(&coarse);
 }
 
+#[test]
+fn a_hierarchy_past_the_budget_is_refused_up_front() {
+    let coarse = reference_mesh(0.5);
+    let err = harmonic_mesh::MeshHierarchy::new(coarse.clone(), 40).unwrap_err();
+    assert!(
+        matches!(err, harmonic_mesh::MeshError::TooManyTriangles { estimated, .. } if estimated == usize::MAX),
+        "{err}"
+    );
+    // 4^10 times a few hundred triangles is past 20 M as well.
+    assert!(harmonic_mesh::MeshHierarchy::new(coarse, 10).is_err());
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
