@@ -19,7 +19,7 @@
 use crate::csc::SymmetricCsc;
 use crate::direct::Cholesky;
 use crate::error::{SolverError, StructureIssue};
-use crate::pcg::{PcgReport, Precondition, iterate_with};
+use crate::pcg::{PcgReport, Precondition, iterate_with, zero_rhs};
 
 /// The interpolation from a coarse level's unknowns to a finer level's, by rows: fine
 /// unknown `i` is `Σ values[k] · coarse[columns[k]]` over `k` in `row_ptr[i]..row_ptr[i+1]`.
@@ -487,12 +487,8 @@ impl Multigrid {
                 rel_residual: 0.0,
             });
         };
-        if b.iter().all(|&v| v == 0.0) {
-            x.fill(0.0);
-            return Ok(PcgReport {
-                iterations: 0,
-                rel_residual: 0.0,
-            });
+        if let Some(zero) = zero_rhs(b, x) {
+            return Ok(zero);
         }
         let with_scratch = WithScratch {
             multigrid: self,

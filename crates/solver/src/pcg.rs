@@ -66,15 +66,12 @@ pub fn pcg(
     opts: &PcgOptions,
 ) -> Result<PcgReport, SolverError> {
     check_inputs(a, b, x)?;
-    if norm(b) == 0.0 {
-        x.fill(0.0);
-        return Ok(PcgReport {
-            iterations: 0,
-            rel_residual: 0.0,
-        });
+    if let Some(zero) = zero_rhs(b, x) {
+        return Ok(zero);
     }
     let precond = Precond::new(a, opts.preconditioner)?;
-    iterate(a, b, x, &precond, opts.rel_tol, opts.max_iter)
+    let product = |v: &[f64], av: &mut [f64]| a.mul_vec(v, av);
+    iterate_with(product, b, x, &precond, opts.rel_tol, opts.max_iter)
 }
 
 /// A preconditioner for [`pcg_with`]: `z ≈ A⁻¹ r` by a fixed symmetric positive definite
@@ -95,14 +92,23 @@ pub fn pcg_with<P: Precondition + ?Sized>(
     max_iter: usize,
 ) -> Result<PcgReport, SolverError> {
     check_inputs(a, b, x)?;
-    if norm(b) == 0.0 {
+    if let Some(zero) = zero_rhs(b, x) {
+        return Ok(zero);
+    }
+    let product = |v: &[f64], av: &mut [f64]| a.mul_vec(v, av);
+    iterate_with(product, b, x, precond, rel_tol, max_iter)
+}
+
+/// For `b = 0`, the solution `x = 0` and its report, with no iteration (and no
+/// preconditioner built).
+pub(crate) fn zero_rhs(b: &[f64], x: &mut [f64]) -> Option<PcgReport> {
+    b.iter().all(|&v| v == 0.0).then(|| {
         x.fill(0.0);
-        return Ok(PcgReport {
+        PcgReport {
             iterations: 0,
             rel_residual: 0.0,
-        });
-    }
-    iterate(a, b, x, precond, rel_tol, max_iter)
+        }
+    })
 }
 
 /// Sizes match and every number is finite.
@@ -129,18 +135,6 @@ fn check_inputs(a: &SymmetricCsc, b: &[f64], x: &[f64]) -> Result<(), SolverErro
         }
     }
     Ok(())
-}
-
-/// The iteration with `A` as the matrix's own product.
-fn iterate<P: Precondition + ?Sized>(
-    a: &SymmetricCsc,
-    b: &[f64],
-    x: &mut [f64],
-    precond: &P,
-    rel_tol: f64,
-    max_iter: usize,
-) -> Result<PcgReport, SolverError> {
-    iterate_with(|v, av| a.mul_vec(v, av), b, x, precond, rel_tol, max_iter)
 }
 
 /// The iteration itself, on checked inputs with `b ≠ 0`, `A` given by its product
