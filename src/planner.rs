@@ -5,12 +5,13 @@ use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use harmonic_fem::{
-    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, Parallelism, Potential,
-    SolveMethod, Solver, interior_local_extrema_except,
+    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL,
+    MultigridOptions, MultilevelSystem, Parallelism, Potential, SolveMethod, Solver,
+    interior_local_extrema_except,
 };
 use harmonic_mesh::{
-    BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshOptions, MeshReport, Point,
-    QualityReport, Shape,
+    BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshHierarchy, MeshOptions, MeshReport,
+    Point, QualityReport, Shape,
 };
 use harmonic_trajectory::{
     CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, SmoothOptions, SmoothP1Field,
@@ -36,6 +37,15 @@ pub enum PlanError {
     /// A goal given to a [`crate::Workspace`] is not usable.
     #[error(transparent)]
     Goal(#[from] crate::workspace::GoalError),
+    /// [`PlannerOptions::multigrid`] asked of a planner whose mesh is not a scene's own, or
+    /// with the blended conditions.
+    #[error(
+        "multigrid (PlannerOptions::multigrid) needs a scene's own mesh and plain boundary conditions, not {what}"
+    )]
+    MultigridUnsupported {
+        /// What the planner was built from instead.
+        what: &'static str,
+    },
 }
 
 /// A stage of [`Planner::with_options`], reported to [`PlannerOptions::on_stage`].
@@ -68,6 +78,17 @@ pub struct PlannerOptions {
     /// accurate LDLᵀ up to [`harmonic_fem::AUTO_ACCURATE_MAX_UNKNOWNS`] unknowns, Cholesky
     /// above, redone accurately when ψ spans too many orders of magnitude).
     pub solve: SolveMethod,
+    /// `Some(k)`: mesh at `4^k` times the scene's largest triangle area (its default when
+    /// it sets none), refine that mesh uniformly `k` times ([`MeshHierarchy`]: the same
+    /// smallest angle, triangles of at most the area asked) and solve by conjugate gradients
+    /// with a multigrid V-cycle over those levels ([`MultilevelSystem`]) instead of a
+    /// factorisation. Its work grows linearly with the mesh (a 1 M-triangle scene in about
+    /// half the direct route's time), but ψ is right only to about 1e-10 of its largest
+    /// value: for open scenes, not for mazes where ψ falls many orders of magnitude (the
+    /// direct solve resolves those). Scene planners only ([`Planner::with_options`],
+    /// [`Planner::with_constraints`]); others refuse it with
+    /// [`PlanError::MultigridUnsupported`]. `None` (the default) or `Some(0)`: the direct solve.
+    pub multigrid: Option<usize>,
 }
 
 impl PlannerOptions {
@@ -90,29 +111,47 @@ pub(crate) struct Meshed {
     pub(crate) scale: f64,
     /// Validating and meshing, in milliseconds.
     pub(crate) ms: f64,
+    /// The levels `mesh` is the finest of, when it was refined uniformly for a multigrid
+    /// solve ([`PlannerOptions::multigrid`]).
+    pub(crate) hierarchy: Option<MeshHierarchy>,
 }
 
 impl Meshed {
     /// Validates and meshes `spec` with the scene's mesh options.
     pub(crate) fn new(scene: &Scene, spec: &DomainSpec) -> Result<Meshed, PlanError> {
-        Meshed::constrained(scene, spec, &[], &[])
+        Meshed::constrained(scene, spec, &[], &[], 0)
     }
 
     /// [`Meshed::new`] with interior constraint segments and points the mesh must hold
-    /// (see [`Domain::with_constraints`]).
+    /// (see [`Domain::with_constraints`]), meshed at `4^refinements` times the scene's
+    /// largest area and refined uniformly `refinements` times.
     pub(crate) fn constrained(
         scene: &Scene,
         spec: &DomainSpec,
         segments: &[[Point; 2]],
         points: &[Point],
+        refinements: usize,
     ) -> Result<Meshed, PlanError> {
         let t = Instant::now();
-        let mesh_options = scene.mesh_options();
+        let mut mesh_options = scene.mesh_options();
         let mut domain = Domain::new(spec, &mesh_options)?;
         if !segments.is_empty() || !points.is_empty() {
             domain = domain.with_constraints(segments, points)?;
         }
-        Meshed::of_domain(domain, &mesh_options, t)
+        if refinements == 0 {
+            return Meshed::of_domain(domain, &mesh_options, t);
+        }
+        // Past 8 refinements any mesh is over the hierarchy's triangle budget anyway.
+        let factor = 4f64.powi(refinements.min(16) as i32);
+        mesh_options.max_area = mesh_options.max_area.map(|a| a * factor);
+        let mut meshed = Meshed::of_domain(domain, &mesh_options, t)?;
+        let coarse = Arc::try_unwrap(meshed.mesh).unwrap_or_else(|shared| (*shared).clone());
+        let hierarchy = MeshHierarchy::new(coarse, refinements)?;
+        meshed.mesh = Arc::clone(hierarchy.finest());
+        meshed.quality = Arc::new(OnceLock::new());
+        meshed.hierarchy = Some(hierarchy);
+        meshed.ms = millis(t);
+        Ok(meshed)
     }
 
     /// Meshes a validated domain; `t` is when its validation began (counted as meshing).
@@ -131,6 +170,7 @@ impl Meshed {
             quality: Arc::new(OnceLock::new()),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms,
+            hierarchy: None,
         })
     }
 
@@ -160,6 +200,7 @@ impl Meshed {
             quality: Arc::new(OnceLock::from(quality)),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms: millis(t),
+            hierarchy: None,
         })
     }
 }
@@ -170,6 +211,7 @@ impl std::fmt::Debug for PlannerOptions {
             .field("on_stage", &self.on_stage.as_ref().map(|_| "observer"))
             .field("parallelism", &self.parallelism)
             .field("solve", &self.solve)
+            .field("multigrid", &self.multigrid)
             .finish()
     }
 }
@@ -588,7 +630,8 @@ impl Planner {
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
         options.stage(Stage::Meshing);
-        let meshed = Meshed::new(scene, &scene.domain_spec())?;
+        let refinements = options.multigrid.unwrap_or(0);
+        let meshed = Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
         Planner::solved(
             meshed,
             &scene.boundary_conditions(),
@@ -607,7 +650,9 @@ impl Planner {
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
         options.stage(Stage::Meshing);
-        let meshed = Meshed::constrained(scene, &scene.domain_spec(), segments, points)?;
+        let refinements = options.multigrid.unwrap_or(0);
+        let meshed =
+            Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
         Planner::solved(
             meshed,
             &scene.boundary_conditions(),
@@ -648,9 +693,27 @@ impl Planner {
     ) -> Result<Planner, PlanError> {
         let stage = |s: Stage| options.stage(s);
         let mesh = Arc::clone(&meshed.mesh);
+        if options.multigrid.unwrap_or(0) > 0 && meshed.hierarchy.is_none() {
+            return Err(PlanError::MultigridUnsupported {
+                what: "a map, a validated domain or a mesh made elsewhere",
+            });
+        }
         stage(Stage::Assembling);
         let t = Instant::now();
-        let (potential, assemble_ms, t) = if let Some((k, d, n)) = blend {
+        let (potential, assemble_ms, t) = if let Some(hierarchy) = &meshed.hierarchy {
+            if blend.is_some() {
+                return Err(PlanError::MultigridUnsupported {
+                    what: "the blended conditions",
+                });
+            }
+            let levels = MultilevelSystem::assemble(hierarchy, bcs)?;
+            let assemble_ms = millis(t);
+            stage(Stage::Solving);
+            let t = Instant::now();
+            let cycle = levels.multigrid(MultigridOptions::default())?;
+            let (potential, _) = levels.solve(&cycle, MULTIGRID_REL_TOL)?;
+            (potential, assemble_ms, t)
+        } else if let Some((k, d, n)) = blend {
             stage(Stage::Solving);
             let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
             (p, 0.0, t)

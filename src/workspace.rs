@@ -203,6 +203,12 @@ impl Workspace {
         bcs: &harmonic_fem::BoundaryConditions,
         options: &PlannerOptions,
     ) -> Result<Workspace, PlanError> {
+        if options.multigrid.unwrap_or(0) > 0 {
+            // New goals reuse one factorisation; a multigrid solve keeps none.
+            return Err(PlanError::MultigridUnsupported {
+                what: "a workspace of many goals",
+            });
+        }
         options.stage(Stage::Assembling);
         let t = Instant::now();
         let bcs = bcs.clone();

@@ -99,6 +99,17 @@ enum Command {
             conflicts_with = "goal"
         )]
         goal_tag: Option<String>,
+        /// On a plane scene with one goal: mesh at 4^K times the largest triangle area,
+        /// refine that mesh uniformly K times and solve by multigrid-preconditioned
+        /// conjugate gradients (linear time: for large, open scenes; ψ to 1e-10 of its
+        /// scale, so not for mazes, where the default direct solve resolves ψ far below it).
+        #[arg(
+            long,
+            value_name = "K",
+            value_parser = clap::value_parser!(u8).range(1..=8),
+            conflicts_with_all = ["map", "poly", "mesh_in"]
+        )]
+        multigrid: Option<u8>,
     },
     /// Drive a car-like robot (front-wheel steering) along the potential.
     Car {
@@ -422,9 +433,15 @@ fn write_file(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-fn build(scene: &Scene, path: &Path, quiet: bool) -> Result<Planner, String> {
+fn build(
+    scene: &Scene,
+    path: &Path,
+    quiet: bool,
+    multigrid: Option<u8>,
+) -> Result<Planner, String> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(quiet),
+        multigrid: multigrid.map(usize::from),
         ..PlannerOptions::default()
     };
     Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
@@ -646,6 +663,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             poly,
             mesh_in,
             goal_tag,
+            multigrid,
         } => {
             if let Some(poly) = &poly {
                 return plan_poly(poly, &common, &goal, &starts);
@@ -675,6 +693,12 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 }
                 (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),
+                    _ if multigrid.is_some() => {
+                        return Err(format!(
+                            "{}: --multigrid is for plane scenes; this scene is a volume or a polygon or arm robot's",
+                            path.display()
+                        ));
+                    }
                     AnyScene::Volume(scene) if goal.is_empty() => {
                         return plan_volume(&scene, path, &common, &starts);
                     }
@@ -698,6 +722,12 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             };
             let all_starts = starts_of::<2>(&starts, "X,Y on a plane scene")?;
             if goal.len() > 1 {
+                if multigrid.is_some() {
+                    return Err(
+                        "--multigrid plans for one goal (several goals share one factorisation, which a multigrid solve does not keep)"
+                            .into(),
+                    );
+                }
                 let goals = order.starts_per_goal(&goal, &all_starts, &scene.starts);
                 return plan_goals(WorkspaceSource::Scene(&scene), &path, &common, &goals);
             }
@@ -709,7 +739,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                         ..Default::default()
                     }]);
             }
-            let planner = build(&scene, &path, common.json)?;
+            let planner = build(&scene, &path, common.json, multigrid)?;
             let starts = if all_starts.is_empty() {
                 scene.starts.clone()
             } else {
@@ -728,7 +758,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             if pose.is_empty() {
                 return Err("car needs at least one --pose X,Y,THETA".into());
             }
-            let planner = build(&scene, &path, common.json)?;
+            let planner = build(&scene, &path, common.json, None)?;
             let mut params = CarParams::for_scene(&planner);
             if let Some(l) = wheelbase {
                 params.wheelbase = l;
@@ -788,7 +818,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 return Ok(());
             }
             let scene = plane(load(&path, &no_overrides)?, "export")?;
-            let planner = build(&scene, &path, true)?;
+            let planner = build(&scene, &path, true, None)?;
             if let Some(out) = &potential {
                 let text = serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;
                 write_file(out, &text)?;

@@ -216,3 +216,78 @@ fn a_missing_argument_is_named_on_the_same_line() {
         "one line naming --goal: {err}"
     );
 }
+
+#[test]
+fn multigrid_plans_a_scene_and_is_refused_elsewhere() {
+    let out = hplan()
+        .current_dir(root())
+        .args([
+            "plan",
+            "meshes/reference.json",
+            "--max-area",
+            "0.004",
+            "--multigrid",
+            "2",
+            "--json",
+        ])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let paths = report["paths"].as_array().expect("paths");
+    assert!(!paths.is_empty());
+    assert!(
+        paths.iter().all(|p| p["status"] == "reached_goal"),
+        "{paths:?}"
+    );
+    assert_eq!(report["mesh"]["refinement_complete"], true);
+
+    let fails = |args: &[&str], needle: &str| {
+        let out = hplan()
+            .current_dir(root())
+            .args(args)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    };
+    fails(
+        &[
+            "plan",
+            "--map",
+            "meshes/warehouse_map.yaml",
+            "--goal",
+            "16.5,1.5",
+            "--multigrid",
+            "2",
+        ],
+        "cannot be used with",
+    );
+    fails(
+        &["plan", "meshes/reference.json", "--multigrid", "0"],
+        "not in 1..=8",
+    );
+    fails(
+        &["plan", "meshes/maze3d.json", "--multigrid", "1"],
+        "--multigrid is for plane scenes",
+    );
+    fails(
+        &[
+            "plan",
+            "meshes/reference.json",
+            "--multigrid",
+            "1",
+            "--goal",
+            "8.5,1.5",
+            "--goal",
+            "1,9",
+        ],
+        "--multigrid plans for one goal",
+    );
+}
