@@ -108,7 +108,13 @@ class CarRun:
 class Planner:
     """A planner for one plane scene: meshed, assembled and solved once (GIL released)."""
 
-    def __init__(self, scene: Scene, *, max_area: Optional[float] = None) -> None: ...
+    def __init__(
+        self,
+        scene: Scene,
+        *,
+        max_area: Optional[float] = None,
+        multigrid: Optional[int] = None,
+    ) -> None: ...
     @staticmethod
     def from_map(
         yaml: StrPath,

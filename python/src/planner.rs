@@ -20,7 +20,10 @@ use crate::scene::PyScene;
 /// `Planner(scene)` validates and meshes the scene, assembles the finite element system and
 /// factors and solves it — once (the GIL is released meanwhile); every query afterwards
 /// (`plan`, `plan_many`, `potential`, `psi`, `gradient`, `drive`) reuses that solution.
-/// `max_area` overrides the scene's `mesh.max_area` (as `hplan --max-area`).
+/// `max_area` overrides the scene's `mesh.max_area` (as `hplan --max-area`). `multigrid=K`
+/// (1 to 8) meshes at 4^K times that area, refines the mesh uniformly K times and solves by
+/// multigrid-preconditioned conjugate gradients instead of factoring (as `hplan --multigrid`:
+/// linear time for large, open scenes; ψ to 1e-10 of its scale, so not for mazes).
 ///
 /// A planner is immutable: an error in one query leaves it usable for the next.
 #[pyclass(module = "harmonic_planner", name = "Planner", frozen)]
@@ -67,11 +70,20 @@ impl PyPlanner {
         }
     }
 
-    fn build(py: Python<'_>, scene: Scene, source: Option<String>) -> PyResult<PyPlanner> {
+    fn build(
+        py: Python<'_>,
+        scene: Scene,
+        source: Option<String>,
+        multigrid: Option<usize>,
+    ) -> PyResult<PyPlanner> {
         let shown = source.clone();
+        let options = PlannerOptions {
+            multigrid,
+            ..PlannerOptions::default()
+        };
         let planner = py.detach(move || {
             guarded(|| {
-                Planner::new(&scene).map_err(|e| {
+                Planner::with_options(&scene, &options).map_err(|e| {
                     scene_error(match &shown {
                         Some(file) => format!("{file}: {e}"),
                         None => e.to_string(),
@@ -110,13 +122,23 @@ pub(crate) const PARALLEL_FROM: usize = 4096;
 #[pymethods]
 impl PyPlanner {
     #[new]
-    #[pyo3(signature = (scene, *, max_area = None))]
-    fn new(py: Python<'_>, scene: &PyScene, max_area: Option<f64>) -> PyResult<PyPlanner> {
+    #[pyo3(signature = (scene, *, max_area = None, multigrid = None))]
+    fn new(
+        py: Python<'_>,
+        scene: &PyScene,
+        max_area: Option<f64>,
+        multigrid: Option<usize>,
+    ) -> PyResult<PyPlanner> {
         let mut plane = scene.plane("Planner")?;
         if let Some(a) = positive("max_area", max_area)? {
             plane.mesh.max_area = Some(a);
         }
-        PyPlanner::build(py, plane, scene.source.clone())
+        if let Some(k) = multigrid.filter(|k| !(1..=8).contains(k)) {
+            return Err(scene_error(format!(
+                "multigrid must be 1 to 8 refinements, got {k}"
+            )));
+        }
+        PyPlanner::build(py, plane, scene.source.clone(), multigrid)
     }
 
     /// A planner on a ROS map_server occupancy map (`map.yaml` with its PGM/PNG image)

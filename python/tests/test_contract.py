@@ -74,3 +74,15 @@ def test_paths_are_printable(planner):
     assert len(path) == path.points.shape[0]
     assert "Planner(" in repr(planner)
     assert os.fspath(hp.Scene.from_file(ROOT / "meshes" / "reference.json").source)
+
+
+def test_multigrid_plans_the_same_path(reference_path):
+    scene = hp.Scene.from_file(reference_path)
+    direct = hp.Planner(scene, max_area=0.004)
+    refined = hp.Planner(scene, max_area=0.004, multigrid=2)
+    for start in ([1.0, 1.0], [1.0, 9.0]):
+        a, b = direct.plan(start), refined.plan(start)
+        assert a.reached_goal and b.reached_goal
+        assert abs(a.length - b.length) <= 5e-3 * a.length
+    with pytest.raises(hp.SceneError, match="multigrid must be 1 to 8"):
+        hp.Planner(scene, multigrid=0)
