@@ -1,7 +1,11 @@
 //! The multigrid solve (`MultilevelSystem`) against the direct one on the same refined mesh,
 //! for Dirichlet and Robin walls, with its iteration count independent of the levels.
 
+mod common;
+
 use std::sync::Arc;
+
+use common::max_abs_diff;
 
 use harmonic_fem::{
     BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL, MultigridOptions, MultilevelSystem,
@@ -21,12 +25,7 @@ fn compare(coarse_area: f64, refinements: usize, bcs: &BoundaryConditions) -> (f
     let (mg, report) = levels.solve(&cycle, MULTIGRID_REL_TOL).expect("solve");
     assert!(report.rel_residual <= MULTIGRID_REL_TOL);
     let direct = solve_potential(Arc::clone(hierarchy.finest()), bcs).expect("direct solve");
-    let diff = mg
-        .psi()
-        .iter()
-        .zip(direct.psi())
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let diff = max_abs_diff(mg.psi(), direct.psi());
     (diff, report.iterations)
 }
 

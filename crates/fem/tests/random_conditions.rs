@@ -6,7 +6,7 @@ mod common;
 
 use std::sync::Arc;
 
-use common::{square_with_hole, three_part_tags};
+use common::{max_abs_diff, square_with_hole, three_part_tags};
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL,
     MultigridOptions, MultilevelSystem, Ordering, Solver, offdiagonal_sign_violations,
@@ -102,12 +102,7 @@ proptest! {
         let (mg, report) = system.solve(&cycle, MULTIGRID_REL_TOL).expect("solve");
         prop_assert!(report.iterations <= 12, "{report:?}");
         let scale = direct.psi().iter().fold(1.0f64, |m, v| m.max(v.abs()));
-        let diff = mg
-            .psi()
-            .iter()
-            .zip(direct.psi())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let diff = max_abs_diff(mg.psi(), direct.psi());
         prop_assert!(diff <= 1e-8 * scale, "max |Δψ| = {diff:e}, scale {scale}");
         let (lo, hi) = levels(&bcs);
         let tol = 1e-8 * (hi - lo).abs().max(1.0);

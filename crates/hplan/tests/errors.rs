@@ -219,25 +219,16 @@ fn a_missing_argument_is_named_on_the_same_line() {
 
 #[test]
 fn multigrid_plans_a_scene_and_is_refused_elsewhere() {
-    let out = hplan()
-        .current_dir(root())
-        .args([
-            "plan",
-            "meshes/reference.json",
-            "--max-area",
-            "0.004",
-            "--multigrid",
-            "2",
-            "--json",
-        ])
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let reference = reference();
+    let report = common::run_json(&[
+        "plan",
+        &reference,
+        "--max-area",
+        "0.004",
+        "--multigrid",
+        "2",
+        "--json",
+    ]);
     let paths = report["paths"].as_array().expect("paths");
     assert!(!paths.is_empty());
     assert!(
@@ -246,48 +237,43 @@ fn multigrid_plans_a_scene_and_is_refused_elsewhere() {
     );
     assert_eq!(report["mesh"]["refinement_complete"], true);
 
-    let fails = |args: &[&str], needle: &str| {
-        let out = hplan()
-            .current_dir(root())
-            .args(args)
-            .output()
-            .expect("runs");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{args:?} succeeded");
-        assert!(err.contains(needle), "{args:?}: {err}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
-    };
-    fails(
-        &[
-            "plan",
-            "--map",
-            "meshes/warehouse_map.yaml",
-            "--goal",
-            "16.5,1.5",
-            "--multigrid",
-            "2",
-        ],
-        "cannot be used with",
-    );
-    fails(
-        &["plan", "meshes/reference.json", "--multigrid", "0"],
-        "not in 1..=8",
-    );
-    fails(
-        &["plan", "meshes/maze3d.json", "--multigrid", "1"],
-        "--multigrid is for plane scenes",
-    );
-    fails(
-        &[
-            "plan",
-            "meshes/reference.json",
-            "--multigrid",
-            "1",
-            "--goal",
-            "8.5,1.5",
-            "--goal",
-            "1,9",
-        ],
-        "--multigrid plans for one goal",
-    );
+    let map = warehouse_yaml();
+    let map = map.to_str().expect("utf-8 path");
+    let maze3d = harmonic_fixtures::mesh_file("maze3d.json");
+    let maze3d = maze3d.to_str().expect("utf-8 path");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &[
+                "plan",
+                "--map",
+                map,
+                "--goal",
+                "16.5,1.5",
+                "--multigrid",
+                "2",
+            ],
+            "cannot be used with",
+        ),
+        (&["plan", &reference, "--multigrid", "0"], "not in 1..=8"),
+        (
+            &["plan", maze3d, "--multigrid", "1"],
+            "--multigrid is for plane scenes",
+        ),
+        (
+            &[
+                "plan",
+                &reference,
+                "--multigrid",
+                "1",
+                "--goal",
+                "8.5,1.5",
+                "--goal",
+                "1,9",
+            ],
+            "--multigrid plans for one goal",
+        ),
+    ];
+    for (args, fragment) in cases {
+        hplan_fails_with_one_line(args, fragment).unwrap();
+    }
 }

@@ -1,6 +1,7 @@
 //! The fem tests' structured mesh: a square with a square hole on `harmonic_fixtures`'s grid
 //! (right isosceles triangles along alternating diagonals, so Delaunay), outer sides tagged
-//! separately.
+//! separately; and a comparison of solutions.
+#![allow(dead_code)] // each test binary uses a subset
 
 use harmonic_fixtures::{Cell, Grid, Side, p};
 use harmonic_mesh::{BoundaryTag, Mesh};
@@ -22,4 +23,12 @@ pub fn three_part_tags(side: Side) -> BoundaryTag {
         Side::Left => BoundaryTag::Goal(0),
         _ => BoundaryTag::Wall,
     }
+}
+
+/// The largest |a_i − b_i|.
+pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
