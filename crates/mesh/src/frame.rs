@@ -37,7 +37,7 @@ fn shortest_decimal(v: f64, tol: f64) -> f64 {
     }
     let mut ten = 1.0;
     for _ in 0..=MAX_DECIMALS {
-        let n = (v * ten).round();
+        let n = round_half_away(v * ten);
         if n.abs() >= 9e15 {
             break;
         }
@@ -48,6 +48,22 @@ fn shortest_decimal(v: f64, tol: f64) -> f64 {
         ten *= 10.0;
     }
     v
+}
+
+/// `x.round()` without a call into libm (the baseline x86-64 target has no rounding
+/// instruction, and [`shortest_decimal`] rounds up to 13 times per coordinate): the same
+/// value wherever `|x| < 2^63`; beyond, ±2^63, which is as far past [`shortest_decimal`]'s
+/// limit.
+fn round_half_away(x: f64) -> f64 {
+    let t = x as i64 as f64; // truncated toward zero, exact below 2^63
+    let f = x - t; // exact: t is x without its fraction bits
+    if f >= 0.5 {
+        t + 1.0
+    } else if f <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
 }
 
 /// `v` with the fewest significant decimal digits (at most [`MAX_DIGITS`]) within the
@@ -216,6 +232,45 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rounding_without_libm_is_rounding() {
+        let mut cases = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -2.5,
+            0.49999999999999994,
+            4503599627370495.5,
+        ];
+        cases.extend([
+            2f64.powi(52),
+            2f64.powi(53) + 2.0,
+            9e15,
+            -9.1e15,
+            1e300,
+            -1e300,
+        ]);
+        // A spread of magnitudes and fractions, halves included.
+        for k in 0..2000 {
+            let x = (k as f64 * 0.3711 - 300.0) * 10f64.powi(k % 17 - 4);
+            cases.extend([x, x.trunc() + 0.5, -x.trunc() - 0.5]);
+        }
+        for x in cases {
+            let (ours, libm) = (round_half_away(x), x.round());
+            if x.abs() < 2f64.powi(63) {
+                assert_eq!(
+                    ours.to_bits() & !(1 << 63),
+                    libm.to_bits() & !(1 << 63),
+                    "{x}"
+                );
+            } else {
+                assert!(ours.abs() >= 9e15 && ours.signum() == x.signum(), "{x}");
+            }
+        }
+    }
 
     #[test]
     fn the_unit_scene_starts_at_the_origin_with_side_ten() {

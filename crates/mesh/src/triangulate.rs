@@ -1106,9 +1106,9 @@ impl BoundaryDetail {
 struct BoundarySegments<'a> {
     tags: Vec<(Point, Point, BoundaryTag)>,
     index: &'a SegmentIndex,
-    /// The segments by their ends (the bits of `from` and `to`, free space on the left):
-    /// a mesh boundary edge that refinement did not split is a ring segment verbatim.
-    by_ends: HashMap<[u64; 4], u32>,
+    /// The segments by their first end (its bits; free space on the left), sorted: a mesh
+    /// boundary edge leaving a ring vertex lies on a segment leaving it.
+    by_start: Vec<([u64; 2], u32)>,
 }
 
 impl<'a> BoundarySegments<'a> {
@@ -1122,37 +1122,53 @@ impl<'a> BoundarySegments<'a> {
                 (0..n).map(move |k| (ring.points[k], ring.points[(k + 1) % n], ring.tags[k]))
             })
             .collect();
-        let by_ends = tags
+        let mut by_start: Vec<([u64; 2], u32)> = tags
             .iter()
             .enumerate()
-            .map(|(k, (a, b, _))| (ends_key(*a, *b), k as u32))
+            .map(|(k, (a, _, _))| (point_key(*a), k as u32))
             .collect();
+        by_start.sort_unstable();
         BoundarySegments {
             tags,
             index: domain.unit_boundary_index(),
-            by_ends,
+            by_start,
         }
     }
 
-    /// The tag of the mesh boundary edge `a -> b` (free space on its left): that of the ring
-    /// segment with these very ends, or else (`a -> b` is a piece of a split segment) of the
-    /// segment nearest to its midpoint.
-    fn tag_of(&self, a: Point, b: Point) -> Result<BoundaryTag, MeshError> {
-        if let Some(&k) = self.by_ends.get(&ends_key(a, b)) {
-            return Ok(self.tags[k as usize].2);
-        }
+    /// The segments leaving the ring vertex at `a` (none if `a` is not a ring vertex).
+    fn leaving(&self, a: Point) -> &[([u64; 2], u32)] {
+        let key = point_key(a);
+        let from = self.by_start.partition_point(|e| e.0 < key);
+        let to = from + self.by_start[from..].partition_point(|e| e.0 == key);
+        &self.by_start[from..to]
+    }
+
+    /// The segment the mesh boundary edge `a -> b` lies on, if `a` is a ring vertex: the one
+    /// leaving `a` that `b` lies on (up to rounding; unit coordinates, sides of about 10).
+    fn leaving_through(&self, a: Point, b: Point) -> Option<u32> {
+        self.leaving(a).iter().map(|e| e.1).find(|&k| {
+            let (p, q, _) = self.tags[k as usize];
+            q == b || crate::geom::point_segment_distance(b, p, q) <= ON_SEGMENT
+        })
+    }
+
+    /// The segment nearest the midpoint of `a -> b` (a piece of a split segment).
+    fn nearest(&self, a: Point, b: Point) -> Result<u32, MeshError> {
         let m = Point::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
-        // The midpoint lies on its ring segment up to rounding (unit coordinates: sides of about 10).
-        let (_, k) = self.index.nearest_near(m, 1e-9).ok_or_else(|| {
+        let (_, k) = self.index.nearest_near(m, ON_SEGMENT).ok_or_else(|| {
             MeshError::Triangulation("free space has no boundary segments".to_string())
         })?;
-        Ok(self.tags[k as usize].2)
+        Ok(k)
     }
 }
 
-/// The key of the directed segment `a -> b` in [`BoundarySegments::by_ends`].
-fn ends_key(a: Point, b: Point) -> [u64; 4] {
-    [a.x, a.y, b.x, b.y].map(f64::to_bits)
+/// How far a point refinement put on a ring segment may lie from it (rounding; unit
+/// coordinates, sides of about 10).
+const ON_SEGMENT: f64 = 1e-9;
+
+/// The key of a point in [`BoundarySegments::by_start`].
+fn point_key(p: Point) -> [u64; 2] {
+    [p.x.to_bits(), p.y.to_bits()]
 }
 
 /// The parts of a mesh under one numbering of their vertices.
@@ -1255,20 +1271,72 @@ fn renumbered_triangles(tri_raw: &[[usize; 3]], new_id: &[u32], nv: usize) -> Ve
     sorted_triangles(&rotated, nv)
 }
 
-/// The boundary edges in the new numbers, each with the tag of the boundary segment nearest
-/// its midpoint.
+/// The boundary edges in the new numbers, each with the tag of the ring segment it lies on.
+///
+/// An edge leaving a ring vertex lies on the segment leaving that vertex through its other
+/// end; an edge leaving a point refinement put on a segment lies on the segment of the edge
+/// coming into that point, so walking back along the boundary to an edge leaving a ring
+/// vertex finds it. Where the walk is not clear (a vertex with several incoming edges) the
+/// segment nearest the edge's midpoint is taken.
 fn tagged_boundary(
     glued: &Glued,
     new_id: &[u32],
     segments: &BoundarySegments,
 ) -> Result<Vec<(u32, u32, BoundaryTag)>, MeshError> {
+    const NONE: u32 = u32::MAX;
+    const SEVERAL: u32 = u32::MAX - 1;
     let positions = &glued.positions;
-    let mut boundary = Vec::with_capacity(glued.boundary.len());
-    for &(a, b) in &glued.boundary {
-        let tag = segments.tag_of(positions[a], positions[b])?;
-        boundary.push((new_id[a], new_id[b], tag));
+    let edges = &glued.boundary;
+    let mut incoming = vec![NONE; positions.len()];
+    let mut segment: Vec<u32> = Vec::with_capacity(edges.len());
+    for (i, &(a, b)) in edges.iter().enumerate() {
+        incoming[b] = if incoming[b] == NONE {
+            i as u32
+        } else {
+            SEVERAL
+        };
+        segment.push(
+            segments
+                .leaving_through(positions[a], positions[b])
+                .unwrap_or(NONE),
+        );
     }
-    Ok(boundary)
+    let mut walked: Vec<usize> = Vec::new();
+    for i in 0..edges.len() {
+        if segment[i] != NONE {
+            continue;
+        }
+        // Back along the boundary through points on a segment, at most once round a ring;
+        // every edge walked over lies on the segment found.
+        walked.clear();
+        walked.push(i);
+        let mut found = NONE;
+        for _ in 0..edges.len() {
+            let a = edges[walked[walked.len() - 1]].0;
+            let k = incoming[a];
+            if k >= SEVERAL || !segments.leaving(positions[a]).is_empty() {
+                break;
+            }
+            if segment[k as usize] != NONE {
+                found = segment[k as usize];
+                break;
+            }
+            walked.push(k as usize);
+        }
+        if found == NONE {
+            let (a, b) = edges[i];
+            segment[i] = segments.nearest(positions[a], positions[b])?;
+        } else {
+            for &j in &walked {
+                segment[j] = found;
+            }
+        }
+    }
+    Ok(edges
+        .iter()
+        .zip(&segment)
+        .map(|(&(a, b), &k)| (new_id[a], new_id[b], segments.tags[k as usize].2))
+        .collect())
 }
 
 /// Triangles (vertex numbers) and boundary edges `(from, to)` of a part.
