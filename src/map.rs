@@ -44,7 +44,7 @@ use std::sync::Arc;
 use serde_yaml_ng::Value;
 
 use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
-use harmonic_mesh::{MeshOptions, Point};
+use harmonic_mesh::{Bridges, MeshOptions, Point};
 
 use crate::planner::{PlanError, Planner, PlannerOptions};
 use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
@@ -1207,6 +1207,12 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
 /// boundary's own detail. The mesher's default for a point robot. [`MapOptions::max_area`]
 /// overrides. (Against edges of four radii: a fifth fewer triangles on depot, 30 % on the
 /// 2000² maps, and their first plans 20–35 % faster, at path lengths within 1 %.)
+///
+/// Bridges (interior edges joining two wall vertices) are split at their midpoints and the
+/// midpoints kept as they are ([`Bridges::Midpoints`]): the walls are Dirichlet, so the
+/// system stays an M-matrix, and the second refinement pass that [`Bridges::Refined`] runs would
+/// cost a quarter of a small map's first plan (tb3_sandbox: 608 → 485 triangles, smallest
+/// angle 20° → 10.5°, the mesh a third faster, path lengths within 1 %).
 fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> MeshOptions {
     let robot = (robot_radius > 0.0).then(|| {
         let outer = trace::ring_area(&polys.workspace).abs();
@@ -1216,6 +1222,7 @@ fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> Me
     MeshOptions {
         max_area: opts.max_area.or(robot),
         min_angle_deg: opts.min_angle_deg,
+        bridges: Bridges::Midpoints,
         ..MeshOptions::default()
     }
 }

@@ -3,7 +3,7 @@
 //! Further arguments `prefill` (switch the lattice prefill on) and `no-bridges` (switch bridge
 //! splitting off).
 
-use harmonic_mesh::{Domain, MeshOptions};
+use harmonic_mesh::{Bridges, Domain, MeshOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let max_area: f64 = std::env::args()
@@ -17,7 +17,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         max_area: Some(max_area),
         min_angle_deg: 30.0,
         prefill: flags.iter().any(|f| f == "prefill"),
-        split_boundary_bridges: !flags.iter().any(|f| f == "no-bridges"),
+        bridges: if flags.iter().any(|f| f == "no-bridges") {
+            Bridges::Kept
+        } else {
+            Bridges::Refined
+        },
         ..MeshOptions::default()
     };
     let t0 = std::time::Instant::now();

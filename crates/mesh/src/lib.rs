@@ -53,7 +53,7 @@ mod triangulate;
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use frame::Frame;
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
-pub use options::{Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
+pub use options::{Bridges, Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
 pub use refine_uniform::{MeshHierarchy, Refinement};
 pub use triangulate::{MeshReport, SeamRefinements};
 

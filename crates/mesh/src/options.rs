@@ -36,15 +36,15 @@ pub struct MeshOptions {
     /// plain refinement (spade's refinement pass over all faces dominates either way), and the
     /// pre-split corners need bridge splitting (and another refinement pass) more often.
     pub prefill: bool,
-    /// Split every interior edge whose two end vertices lie on the boundary (a "bridge"), and
-    /// refine again where that spoils the angle, area or boundary-angle bounds (default true).
-    /// A bridge carries no unknown when the boundary is Dirichlet, and across a passage one
+    /// Split every interior edge whose two end vertices lie on the boundary (a "bridge"):
+    /// a bridge carries no unknown when the boundary is Dirichlet, and across a passage one
     /// triangle wide it seals the passage. Ears (a triangle with two boundary edges at a
     /// corner) are left alone: their third edge seals nothing. Up to 8 rounds;
-    /// [`MeshReport::bridges_remaining`] counts what is left (sharp input corners).
+    /// [`MeshReport::bridges_remaining`] counts what is left (sharp input corners). What
+    /// follows a split is [`Bridges`]'s choice (default [`Bridges::Refined`]).
     ///
     /// [`MeshReport::bridges_remaining`]: crate::MeshReport::bridges_remaining
-    pub split_boundary_bridges: bool,
+    pub bridges: Bridges,
     /// Smaller triangles near the goals and at obstacle corners (default `None`: the area
     /// bound is `max_area` everywhere). See [`Grading`].
     pub grading: Option<Grading>,
@@ -68,12 +68,32 @@ impl Default for MeshOptions {
             min_angle_deg: 30.0,
             max_triangles: 20_000_000,
             prefill: false,
-            split_boundary_bridges: true,
+            bridges: Bridges::Refined,
             grading: None,
             halves_from: HALVES_FROM,
             simplify: None,
         }
     }
+}
+
+/// How [`MeshOptions::bridges`] splits the interior edges that join two boundary vertices.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Bridges {
+    /// Leave bridges as refinement made them.
+    Kept,
+    /// Split each at its midpoint and refine again (a pass over the whole mesh) where that
+    /// spoils the angle or area bound, or puts an obtuse angle opposite a boundary edge.
+    /// Every bound holds in the final mesh.
+    #[default]
+    Refined,
+    /// Split each at its midpoint and keep the midpoints as they are. The faces around a
+    /// midpoint may then break the angle bound (by about half: splitting an edge of a
+    /// 20° mesh leaves angles of 10° and more on Nav2's maps) and may put an obtuse angle
+    /// opposite a boundary edge, which couples two boundary vertices only: the matrix on
+    /// the unknowns stays an M-matrix where the boundary is Dirichlet, as a map's walls
+    /// are. A fifth to a quarter fewer triangles on small maps, and no second refinement.
+    Midpoints,
 }
 
 /// A local area bound: finer triangles at goal boundaries and at obstacle corners, growing

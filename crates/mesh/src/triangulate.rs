@@ -11,7 +11,7 @@ use spade::{
 use crate::geom::SegmentIndex;
 use crate::grading::SizeField;
 use crate::halves::{HalfInput, Seam, choose_cuts, split_inputs};
-use crate::options::MeshOptions;
+use crate::options::{Bridges, MeshOptions};
 use crate::seam_refine::{Bounds, refine_at_seam};
 use crate::{BoundaryTag, Domain, Mesh, MeshError, Point, TaggedRing};
 
@@ -35,10 +35,10 @@ pub struct MeshReport {
     /// The triangle count estimated before meshing (checked against the budget).
     pub estimated_triangles: usize,
     /// Interior edges joining two boundary vertices that were split (see
-    /// [`MeshOptions::split_boundary_bridges`]).
+    /// [`MeshOptions::bridges`]).
     pub bridges_split: usize,
     /// Such edges left after the last round (0 unless features are much narrower than the
-    /// target edge length).
+    /// target edge length; all of them with [`Bridges::Kept`]).
     pub bridges_remaining: usize,
     /// Of a mesh made in halves: how often a half took the other half's cut vertices and
     /// was refined around them locally, and how often it took spade's full pass instead
@@ -410,7 +410,9 @@ impl Refiner<'_> {
         }
         let mut bridges_split = 0;
         let mut bridges_remaining = 0;
-        if opts.split_boundary_bridges {
+        if opts.bridges == Bridges::Kept {
+            bridges_remaining = boundary_bridges(&cdt, &excluded, self.seam).len();
+        } else {
             let min_sin = opts.min_angle_deg.to_radians().sin();
             for round in 0..=BRIDGE_ROUNDS {
                 let mids = boundary_bridges(&cdt, &excluded, self.seam);
@@ -428,33 +430,35 @@ impl Refiner<'_> {
                 }
                 // Insertion only changes faces around the new vertices: refine again (a pass
                 // over the whole mesh) only if one of them breaks the angle or area bound.
-                let bad = inserted.iter().any(|&v| {
-                    cdt.vertex(v).out_edges().any(|e| {
-                        e.face().as_inner().is_some_and(|f| {
-                            let [a, b, c] = f.positions();
-                            let area =
-                                0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
-                            let (la, lb, lc) = (
-                                ((b.x - c.x).powi(2) + (b.y - c.y).powi(2)).sqrt(),
-                                ((c.x - a.x).powi(2) + (c.y - a.y).powi(2)).sqrt(),
-                                ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt(),
-                            );
-                            // sin of the smallest angle = 2·area / (product of the two longer sides).
-                            let (_, mid, hi) = sort3(la, lb, lc);
-                            // An obtuse angle opposite a boundary edge breaks the M-matrix property.
-                            let obtuse_boundary = f.adjacent_edges().into_iter().any(|e| {
-                                e.is_constraint_edge()
-                                    && e.opposite_position().is_some_and(|o| {
-                                        let [p, q] = e.positions();
-                                        (p.x - o.x) * (q.x - o.x) + (p.y - o.y) * (q.y - o.y) < 0.0
-                                    })
-                            });
-                            area > max_area
-                                || 2.0 * area < min_sin * mid * hi * (1.0 - 1e-12)
-                                || obtuse_boundary
+                let bad = opts.bridges == Bridges::Refined
+                    && inserted.iter().any(|&v| {
+                        cdt.vertex(v).out_edges().any(|e| {
+                            e.face().as_inner().is_some_and(|f| {
+                                let [a, b, c] = f.positions();
+                                let area =
+                                    0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+                                let (la, lb, lc) = (
+                                    ((b.x - c.x).powi(2) + (b.y - c.y).powi(2)).sqrt(),
+                                    ((c.x - a.x).powi(2) + (c.y - a.y).powi(2)).sqrt(),
+                                    ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt(),
+                                );
+                                // sin of the smallest angle = 2·area / (product of the two longer sides).
+                                let (_, mid, hi) = sort3(la, lb, lc);
+                                // An obtuse angle opposite a boundary edge breaks the M-matrix property.
+                                let obtuse_boundary = f.adjacent_edges().into_iter().any(|e| {
+                                    e.is_constraint_edge()
+                                        && e.opposite_position().is_some_and(|o| {
+                                            let [p, q] = e.positions();
+                                            (p.x - o.x) * (q.x - o.x) + (p.y - o.y) * (q.y - o.y)
+                                                < 0.0
+                                        })
+                                });
+                                area > max_area
+                                    || 2.0 * area < min_sin * mid * hi * (1.0 - 1e-12)
+                                    || obtuse_boundary
+                            })
                         })
-                    })
-                });
+                    });
                 if bad {
                     let (e, c) = self.spade_refine(&mut cdt, vertex_cap)?;
                     excluded = e;

@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use harmonic_fixtures::{p, rect, reference_disc};
 use harmonic_mesh::{
-    BoundaryTag, Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Part, Point, Shape,
+    BoundaryTag, Bridges, Domain, DomainSpec, GoalShape, MeshError, MeshOptions, Part, Point, Shape,
 };
 
 fn square_with(obstacles: Vec<Shape>, goals: Vec<GoalShape>) -> DomainSpec {
@@ -449,6 +449,10 @@ fn clearance_is_exact() {
     assert!(!domain.contains_free(p(-1.0, 5.0)));
 }
 
+/// Both ways of splitting bridges keep unknowns in a door narrower than the target edge:
+/// refined again (every angle bound kept), or the midpoints kept as they are (fewer
+/// vertices, angles down to about half the bound next to them); without splitting the door
+/// is sealed.
 #[test]
 fn narrow_door_keeps_unknowns_across_it() {
     // A wall with a door 0.1 wide, a third of the target edge length (0.34).
@@ -460,20 +464,43 @@ fn narrow_door_keeps_unknowns_across_it() {
         vec![GoalShape::Point(p(5.0, 9.0))],
     );
     let domain = Domain::new(&spec, &opts()).unwrap();
-    let (mesh, report) = domain.mesh(&opts()).unwrap();
-    assert!(report.bridges_split > 0);
-    assert_eq!(report.bridges_remaining, 0);
-    check_invariants(&mesh, domain.free_area(), 1e-9).unwrap();
-    // Some vertex strictly inside the door carries an unknown (is not on the boundary).
-    let inside_door = mesh
-        .vertices()
-        .iter()
-        .zip(mesh.vertex_tags())
-        .filter(|(v, t)| t.is_none() && v.x > 4.95 && v.x < 5.05 && v.y > 4.9 && v.y < 5.1)
-        .count();
-    assert!(inside_door > 0);
-    // The door is a passage: one component.
-    assert_eq!(mesh.component_count(), 1);
+    let mut vertices = Vec::new();
+    for bridges in [Bridges::Refined, Bridges::Midpoints, Bridges::Kept] {
+        let opts = MeshOptions { bridges, ..opts() };
+        let (mesh, report) = domain.mesh(&opts).unwrap();
+        check_invariants_with_bridges(&mesh, domain.free_area(), 1e-9, report.bridges_remaining)
+            .unwrap();
+        // Vertices strictly inside the door carry unknowns (are not on the boundary).
+        let inside_door = mesh
+            .vertices()
+            .iter()
+            .zip(mesh.vertex_tags())
+            .filter(|(v, t)| t.is_none() && v.x > 4.95 && v.x < 5.05 && v.y > 4.9 && v.y < 5.1)
+            .count();
+        let min_angle = mesh.quality().min_angle_deg;
+        match bridges {
+            Bridges::Kept => {
+                assert_eq!(report.bridges_split, 0);
+                assert!(report.bridges_remaining > 0);
+                assert_eq!(inside_door, 0, "the door is sealed");
+            }
+            _ => {
+                assert!(report.bridges_split > 0);
+                assert_eq!(report.bridges_remaining, 0);
+                assert!(inside_door > 0, "{bridges:?}");
+                let bound = if bridges == Bridges::Refined {
+                    30.0
+                } else {
+                    15.0
+                };
+                assert!(min_angle >= bound - 1e-9, "{bridges:?}: {min_angle}°");
+            }
+        }
+        // The door is a passage: one component.
+        assert_eq!(mesh.component_count(), 1);
+        vertices.push(mesh.vertices().len());
+    }
+    assert!(vertices[1] < vertices[0], "{vertices:?}");
 }
 
 #[test]

@@ -66,7 +66,7 @@ pub fn check_invariants_with_bridges(
             return Err(format!("triangle {t} {tri:?} not CCW"));
         }
     }
-    // No interior edge joins two boundary vertices, ears aside (split_boundary_bridges).
+    // No interior edge joins two boundary vertices, ears aside (MeshOptions::bridges).
     let mut found = 0;
     for (t, tri) in mesh.triangles().iter().enumerate() {
         for k in 0..3 {
