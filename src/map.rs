@@ -386,8 +386,9 @@ pub struct MapPolygons {
     /// Its holes (clockwise): the blocked cells grown by the robot radius and the margin.
     pub obstacles: Vec<Vec<[f64; 2]>>,
     /// What the cells were cleared with beyond the robot radius, in world units: the
-    /// simplification tolerance and the quarter cell the contour may cut across a cell's
-    /// corner. Every point of the polygons keeps the robot radius from every blocked cell;
+    /// simplification tolerance, the quarter cell the contour may cut across a cell's corner
+    /// and the 10⁻⁶ cells its vertices are moved off their lattice by (so that no four are
+    /// cocircular, a tie Delaunay's in-circle test resolves slowly). Every point of the polygons keeps the robot radius from every blocked cell;
     /// the boundary keeps at most about the margin plus one cell more.
     pub margin: f64,
     /// The Douglas–Peucker tolerance used, in cells.
@@ -814,7 +815,7 @@ impl OccupancyMap {
         }
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
         let eps = opts.simplify_cells;
-        let margin = (eps + trace::CONTOUR_CUT) * self.resolution;
+        let margin = (eps + trace::CONTOUR_CUT + trace::JITTER) * self.resolution;
         let clear = bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution);
         let too_close = || MapError::GoalTooClose {
             file: self.source.clone(),

@@ -620,6 +620,14 @@ fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
+/// The smallest clearance of a path to be reported: measured along it, or known to be 0
+/// (a path led in from outside the mesh, whose lead-in counts as clearance 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Clearance {
+    Measure,
+    Zero,
+}
+
 impl Planner {
     /// Builds the planner: validates and meshes the scene, assembles and solves for the
     /// potential.
@@ -821,27 +829,28 @@ impl Planner {
     /// along which φ strictly decreases.
     /// `start` is a [`Point`] or the scene format's `[x, y]`.
     pub fn plan(&self, start: impl Into<Point>) -> PlannedPath {
-        self.entered(start.into(), |start| {
+        self.entered(start.into(), |start, clearance| {
             let field = self.smooth_field();
             let opts = SmoothOptions::for_scale(self.scale);
             let (path, tracer) = descend(&field, start, None, &opts, &ExactOptions::default());
-            self.planned(start, path, tracer)
+            self.planned(start, path, tracer, clearance)
         })
     }
 
     /// The exact tracer's path from `start` (straight within each triangle, φ strictly
     /// decreasing along it).
     pub fn plan_exact(&self, start: impl Into<Point>) -> PlannedPath {
-        self.entered(start.into(), |start| {
+        self.entered(start.into(), |start, clearance| {
             let path = trace_exact(self.smooth_field().p1(), start, &ExactOptions::default());
-            self.planned(start, path, Tracer::Exact)
+            self.planned(start, path, Tracer::Exact, clearance)
         })
     }
 
     /// `plan(start)`, or, for a start outside the mesh that the planner's [`StartEntry`]
     /// leads in, that lead-in followed by `plan` from its last point. The lead-in keeps the
-    /// robot radius but lies outside the meshed free space, so it counts as clearance 0.
-    fn entered(&self, start: Point, plan: impl Fn(Point) -> PlannedPath) -> PlannedPath {
+    /// robot radius but lies outside the meshed free space, so it counts as clearance 0
+    /// (`plan` is told so, with [`Clearance::Zero`], and need not measure it).
+    fn entered(&self, start: Point, plan: impl Fn(Point, Clearance) -> PlannedPath) -> PlannedPath {
         let lead = match &self.entry {
             Some(entry) if self.mesh.locate(start, None).is_none() => {
                 entry.lead_in(start, &|p| self.mesh.locate(p, None).is_some())
@@ -849,14 +858,13 @@ impl Planner {
             _ => None,
         };
         let Some(lead) = lead.filter(|l| l.len() >= 2) else {
-            return plan(start);
+            return plan(start, Clearance::Measure);
         };
         let inside = lead[lead.len() - 1];
-        let mut path = plan(inside);
+        let mut path = plan(inside, Clearance::Zero);
         let lead_length: f64 = lead.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         path.start = [start.x, start.y];
         path.length += lead_length;
-        path.min_clearance = path.min_clearance.min(0.0);
         let mut points: Vec<[f64; 2]> = lead[..lead.len() - 1].iter().map(|p| [p.x, p.y]).collect();
         points.append(&mut path.points);
         path.points = points;
@@ -868,11 +876,20 @@ impl Planner {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: Point, mut path: Path, tracer: Tracer) -> PlannedPath {
+    fn planned(
+        &self,
+        start: Point,
+        mut path: Path,
+        tracer: Tracer,
+        clearance: Clearance,
+    ) -> PlannedPath {
         if let (TraceStatus::ReachedGoal(j), Some(goals)) = (path.status, &self.vertex_goals) {
             self.finish_at_vertex_goal(&mut path.points, j, goals);
         }
-        let min_clearance = self.domain.polyline_clearance(&path.points);
+        let min_clearance = match clearance {
+            Clearance::Measure => self.domain.polyline_clearance(&path.points),
+            Clearance::Zero => 0.0,
+        };
         PlannedPath {
             start: [start.x, start.y],
             status: path.status,

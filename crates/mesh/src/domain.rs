@@ -338,6 +338,29 @@ pub(crate) fn circle_polygon(
         .collect())
 }
 
+/// The disc around a point goal: [`circle_polygon`]'s vertices, the `k`-th of `n` pulled
+/// in to `1 − k / (4n)` of `radius`. The goal's shape is the mesher's choice, and on a
+/// regular polygon every four vertices are cocircular: each Delaunay in-circle test among
+/// them is a tie its exact arithmetic resolves slowly (about 14 000 instructions, dozens per
+/// mesh). On this slow spiral none are, and the disc still reaches `radius`.
+pub(crate) fn point_goal_polygon(
+    part: Part,
+    center: Point,
+    radius: f64,
+    h: f64,
+) -> Result<Vec<Point>, MeshError> {
+    let mut ring = circle_polygon(part, center, radius, h)?;
+    let n = ring.len() as f64;
+    for (k, p) in ring.iter_mut().enumerate() {
+        let s = 1.0 - k as f64 / (4.0 * n);
+        *p = Point::new(
+            center.x + s * (p.x - center.x),
+            center.y + s * (p.y - center.y),
+        );
+    }
+    Ok(ring)
+}
+
 fn to_geo(points: &[Point]) -> Polygon<f64> {
     Polygon::new(
         LineString::from(
@@ -688,7 +711,7 @@ fn goal_shapes(
                 } else {
                     2.0 * h
                 };
-                circle_polygon(part, *p, r, h)?
+                point_goal_polygon(part, *p, r, h)?
             }
         };
         let poly = to_geo(&ring);

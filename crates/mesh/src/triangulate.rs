@@ -4,6 +4,7 @@ use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use serde::{Deserialize, Serialize};
+use spade::handles::FixedVertexHandle;
 use spade::{
     AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
 };
@@ -135,8 +136,13 @@ fn sort3(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
 
 /// Midpoints of the interior edges of free faces whose two ends lie on the boundary (the
 /// constraint edges, less those on the seam of a mesh made in halves: the seam's own edges
-/// are interior edges of the glued mesh), except the third edges of ears.
-fn boundary_bridges(cdt: &Cdt, excluded: &[bool], seam: Option<&Seam>) -> Vec<Point2<f64>> {
+/// are interior edges of the glued mesh), except the third edges of ears; each with one end
+/// of its edge, where spade's point location starts.
+fn boundary_bridges(
+    cdt: &Cdt,
+    excluded: &[bool],
+    seam: Option<&Seam>,
+) -> Vec<(Point2<f64>, FixedVertexHandle)> {
     let free = |h: spade::handles::DirectedEdgeHandle<'_, _, _, _, _>| {
         h.face()
             .as_inner()
@@ -182,7 +188,8 @@ fn boundary_bridges(cdt: &Cdt, excluded: &[bool], seam: Option<&Seam>) -> Vec<Po
         })
         .map(|e| {
             let [a, b] = e.positions();
-            Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y))
+            let mid = Point2::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
+            (mid, e.vertices()[0].fix())
         })
         .collect()
 }
@@ -373,11 +380,19 @@ impl Refiner<'_> {
         Ok((excluded, result.refinement_complete))
     }
 
-    fn insert(
+    fn insert(cdt: &mut Cdt, p: Point2<f64>) -> Result<FixedVertexHandle, MeshError> {
+        catch_unwind(AssertUnwindSafe(|| cdt.insert(p)))
+            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+            .map_err(spade_error)
+    }
+
+    /// [`Refiner::insert`], locating `p` from the vertex `hint` next to it.
+    fn insert_near(
         cdt: &mut Cdt,
         p: Point2<f64>,
-    ) -> Result<spade::handles::FixedVertexHandle, MeshError> {
-        catch_unwind(AssertUnwindSafe(|| cdt.insert(p)))
+        hint: FixedVertexHandle,
+    ) -> Result<FixedVertexHandle, MeshError> {
+        catch_unwind(AssertUnwindSafe(|| cdt.insert_with_hint(p, hint)))
             .map_err(|e| MeshError::Triangulation(panic_message(e)))?
             .map_err(spade_error)
     }
@@ -425,8 +440,8 @@ impl Refiner<'_> {
                 }
                 bridges_split += mids.len();
                 let mut inserted = Vec::with_capacity(mids.len());
-                for m in mids {
-                    inserted.push(Self::insert(&mut cdt, m)?);
+                for (m, hint) in mids {
+                    inserted.push(Self::insert_near(&mut cdt, m, hint)?);
                 }
                 // Insertion only changes faces around the new vertices: refine again (a pass
                 // over the whole mesh) only if one of them breaks the angle or area bound.

@@ -3,7 +3,7 @@
 
 use super::{
     Clearance, Constraints, Domain, GoalShape, Region, TaggedRing, bbox_of, boundary_index,
-    circle_polygon, edge_for_area, options_to_unit, ring_area,
+    circle_polygon, edge_for_area, options_to_unit, point_goal_polygon, ring_area,
 };
 use crate::geom::{SegmentIndex, polygon_contains, segments_intersect};
 use crate::{BoundaryTag, Frame, MeshError, MeshOptions, Part, Point};
@@ -217,7 +217,7 @@ impl Domain {
                             robot_radius: 0.0,
                         });
                     }
-                    circle_polygon(part, c, (2.0 * h).min(0.5 * d), h)?
+                    point_goal_polygon(part, c, (2.0 * h).min(0.5 * d), h)?
                 }
             };
             let ring = oriented(part, ring, false)?;
