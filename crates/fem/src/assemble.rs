@@ -661,8 +661,8 @@ impl Assembler {
     }
 
     /// The ordering this system factors fastest with: below [`NATURAL_ORDER_BELOW`] unknowns
-    /// their own numbering (a mesh numbers its vertices along a Hilbert curve, so that order
-    /// is already local), where dissecting costs more than the fill it saves; from there
+    /// their own numbering (a mesh numbers its vertices along a Hilbert curve from
+    /// `harmonic_mesh::HILBERT_FROM` vertices, so that order is already local), where dissecting costs more than the fill it saves; from there
     /// [`Assembler::nested_dissection`].
     pub fn ordering(&self) -> Ordering {
         if self.unknown_count() < NATURAL_ORDER_BELOW {

@@ -10,7 +10,7 @@
 //! robot-radius offsetting, polygon booleans with geo/i_overlay, snapping, boundary tags) →
 //! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, optional [`Grading`] towards
 //! goals and obstacle corners, large meshes in two halves on two threads glued along a cut —
-//! [`MeshOptions::halves_from`] —, Hilbert vertex order) →
+//! [`MeshOptions::halves_from`] —, Hilbert vertex order from [`HILBERT_FROM`] vertices) →
 //! [`Mesh`] (adjacency, tags, components, point location, quality report).
 //!
 //! ```
@@ -55,7 +55,7 @@ pub use frame::Frame;
 pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
 pub use options::{Bridges, Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
 pub use refine_uniform::{MeshHierarchy, Refinement};
-pub use triangulate::{MeshReport, SeamRefinements};
+pub use triangulate::{HILBERT_FROM, MeshReport, SeamRefinements};
 
 /// A part of the input scene, used to say where an input error is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -786,7 +786,8 @@ fn with_free_faces(parts: [Part; 2], seam: &Seam) -> [(Part, FreeFaces); 2] {
 impl Domain {
     /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
     /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
-    /// curve. Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
+    /// curve (from [`HILBERT_FROM`] vertices; a smaller mesh keeps the triangulation's order).
+    /// Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
     ///
     /// Meshes of more than [`MeshOptions::halves_from`] triangles (estimated; without grading
     /// or prefill) are made as two halves on two threads, cut along a line at `0` or `±2^k`
@@ -1245,8 +1246,15 @@ fn glue(parts: Vec<(Part, FreeFaces)>, seam: Option<&Seam>) -> Result<Glued, Mes
     })
 }
 
-/// The used vertices renumbered along a Hilbert curve over the bounding box `(lo, hi)`:
-/// per glued vertex its new number (`u32::MAX` if unused), and the vertices in new order.
+/// Vertices from which a mesh is numbered along a Hilbert curve. The numbering costs ~600
+/// instructions a vertex: on Nav2's tb3_sandbox map (317 vertices) a twentieth of the first
+/// plan, where the triangulation's own order factors as fast (`harmonic_fem` factors small
+/// systems in their own numbering, `NATURAL_ORDER_BELOW`, and relies on its locality); on depot (1 100 vertices) that order doubled the solve (0.5 → 1.0–1.3 ms).
+pub const HILBERT_FROM: usize = 512;
+
+/// The used vertices renumbered along a Hilbert curve over the bounding box `(lo, hi)` (kept in
+/// their order below [`HILBERT_FROM`] vertices): per glued vertex its new number (`u32::MAX`
+/// if unused), and the vertices in new order.
 fn hilbert_numbering(glued: &Glued, (lo, hi): (Point, Point)) -> (Vec<u32>, Vec<Point>) {
     let positions = &glued.positions;
     let mut used = vec![false; positions.len()];
@@ -1254,6 +1262,16 @@ fn hilbert_numbering(glued: &Glued, (lo, hi): (Point, Point)) -> (Vec<u32>, Vec<
         for &v in t {
             used[v] = true;
         }
+    }
+    if positions.len() < HILBERT_FROM {
+        // Small enough for the caches in any order: the triangulation's own.
+        let mut new_id = vec![u32::MAX; positions.len()];
+        let mut vertices = Vec::with_capacity(positions.len());
+        for v in (0..positions.len()).filter(|&v| used[v]) {
+            new_id[v] = vertices.len() as u32;
+            vertices.push(positions[v]);
+        }
+        return (new_id, vertices);
     }
     let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
     let order = radix_sort_by_key(
