@@ -480,6 +480,11 @@ impl Refiner<'_> {
                     complete &= c;
                 } else {
                     excluded.resize(cdt.num_all_faces(), false);
+                    // Every edge an insertion makes (by splitting or flipping) ends at the new
+                    // vertex, which is interior: with no refinement after them, no bridge is
+                    // left to look for.
+                    bridges_remaining = 0;
+                    break;
                 }
             }
         }
