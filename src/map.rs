@@ -15,7 +15,8 @@
 //! [`OccupancyMap::to_scene`] returns those polygons as a [`Scene`] of a point robot, so the
 //! planner, the command line and the pictures work on maps unchanged. The mesh is sized for
 //! the robot: triangles with edges of about six robot radii on open floor, graded down by the
-//! refinement near walls and in narrow passages (smallest angle 20°). Free areas not
+//! refinement near walls and in narrow passages (smallest angle 20°, about 10° next to the
+//! midpoints that split wall-to-wall edges). Free areas not
 //! connected to the goal, and passages too narrow for the robot, are outside the scene.
 //!
 //! ```
@@ -149,10 +150,12 @@ pub struct MapOptions {
     /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 20 (Triangle's
     /// `-q` default) rather than the 30 of scene files. A map's many short boundary edges and
     /// its narrow passages, whose wall-to-wall edges are split so every passage has unknowns
-    /// inside, force most of its triangles: tb3_sandbox's mesh has 905 triangles at 30°, 701
-    /// at 25° and 608 at 20° (warehouse's 9 869, 5 698 and 4 541), and its first plan takes
-    /// 10–15 % less time at 20° than at 25°. The mesh stays constrained Delaunay with no
-    /// obtuse angle facing the boundary, so the maximum principle holds at any bound.
+    /// inside, force most of its triangles: tb3_sandbox's mesh has 654 triangles at 30°, 533
+    /// at 25° and 493 at 20° (warehouse's 9 933, 5 716 and 4 496), and warehouse's first plan
+    /// takes a quarter less time at 20° than at 25° (tb3's the same). The bound holds except
+    /// next to the midpoints that split wall-to-wall edges ([`Bridges::Midpoints`]). The mesh
+    /// stays constrained Delaunay and the walls are Dirichlet, so the system is an M-matrix
+    /// and the maximum principle holds at any bound.
     pub min_angle_deg: f64,
 }
 
