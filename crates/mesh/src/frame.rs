@@ -88,7 +88,7 @@ pub const UNIT_SIDE: f64 = 10.0;
 /// A similarity `u = (p − offset) / scale` onto coordinates of unit size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Frame {
-    /// A tenth of the workspace's larger bounding-box side ([`UNIT_SIDE`] units of the unit
+    /// A tenth of the workspace's larger bounding-box side (10 units of the unit
     /// scene are the larger side).
     pub scale: f64,
     /// The lower-left corner of the workspace's bounding box.
