@@ -323,14 +323,24 @@ pub(crate) fn circle_polygon(
     radius: f64,
     h: f64,
 ) -> Result<Vec<Point>, MeshError> {
+    check_circle(part, center, radius)?;
+    Ok(regular_polygon(center, radius, sides(radius, h, 12)))
+}
+
+/// A finite centre and a positive, finite radius, or the error naming `part`.
+fn check_circle(part: Part, center: Point, radius: f64) -> Result<(), MeshError> {
     if !center.x.is_finite() || !center.y.is_finite() {
         return Err(MeshError::NonFinite { part, vertex: 0 });
     }
     if !(radius.is_finite() && radius > 0.0) {
         return Err(MeshError::InvalidRadius { part, radius });
     }
-    let n = ((std::f64::consts::TAU * radius / h).ceil() as usize).clamp(12, 4096);
-    Ok(regular_polygon(center, radius, n))
+    Ok(())
+}
+
+/// Sides of chords at most `h` on a circle of `radius`, from `fewest` to 4096.
+fn sides(radius: f64, h: f64, fewest: usize) -> usize {
+    ((std::f64::consts::TAU * radius / h).ceil() as usize).clamp(fewest, 4096)
 }
 
 /// `n` points evenly spaced on the circle of `radius` around `center`, counter-clockwise from
@@ -358,11 +368,8 @@ pub(crate) fn point_goal_polygon(
     radius: f64,
     h: f64,
 ) -> Result<Vec<Point>, MeshError> {
-    // Checked as a circle; at least 6 sides (a circle's 12 would make a disc far smaller
-    // than the target edge, near a wall, grade the mesh down to its 12 short sides).
-    circle_polygon(part, center, radius, h)?;
-    let sides = ((std::f64::consts::TAU * radius / h).ceil() as usize).clamp(6, 4096);
-    let mut ring = regular_polygon(center, radius, sides);
+    check_circle(part, center, radius)?;
+    let mut ring = regular_polygon(center, radius, sides(radius, h, 6));
     let n = ring.len() as f64;
     for (k, p) in ring.iter_mut().enumerate() {
         let s = 1.0 - k as f64 / (4.0 * n);

@@ -380,21 +380,19 @@ impl Refiner<'_> {
         Ok((excluded, result.refinement_complete))
     }
 
-    fn insert(cdt: &mut Cdt, p: Point2<f64>) -> Result<FixedVertexHandle, MeshError> {
-        catch_unwind(AssertUnwindSafe(|| cdt.insert(p)))
-            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-            .map_err(spade_error)
-    }
-
-    /// [`Refiner::insert`], locating `p` from the vertex `hint` next to it.
-    fn insert_near(
+    /// Inserts `p`, located from the vertex `hint` next to it if there is one (else from the
+    /// last vertex spade touched).
+    fn insert(
         cdt: &mut Cdt,
         p: Point2<f64>,
-        hint: FixedVertexHandle,
+        hint: Option<FixedVertexHandle>,
     ) -> Result<FixedVertexHandle, MeshError> {
-        catch_unwind(AssertUnwindSafe(|| cdt.insert_with_hint(p, hint)))
-            .map_err(|e| MeshError::Triangulation(panic_message(e)))?
-            .map_err(spade_error)
+        catch_unwind(AssertUnwindSafe(|| match hint {
+            Some(h) => cdt.insert_with_hint(p, h),
+            None => cdt.insert(p),
+        }))
+        .map_err(|e| MeshError::Triangulation(panic_message(e)))?
+        .map_err(spade_error)
     }
 
     /// Refines `cdt` completely, or until it has `vertex_cap` vertices (a bound on all of
@@ -416,7 +414,7 @@ impl Refiner<'_> {
                     break;
                 }
                 for c in centroids {
-                    Self::insert(&mut cdt, c)?;
+                    Self::insert(&mut cdt, c, None)?;
                 }
                 let (e, c) = self.spade_refine(&mut cdt, vertex_cap)?;
                 excluded = e;
@@ -441,7 +439,7 @@ impl Refiner<'_> {
                 bridges_split += mids.len();
                 let mut inserted = Vec::with_capacity(mids.len());
                 for (m, hint) in mids {
-                    inserted.push(Self::insert_near(&mut cdt, m, hint)?);
+                    inserted.push(Self::insert(&mut cdt, m, Some(hint))?);
                 }
                 // Insertion only changes faces around the new vertices: refine again (a pass
                 // over the whole mesh) only if one of them breaks the angle or area bound.
@@ -730,7 +728,7 @@ fn mesh_halves(
             let mut cdt = part.cdt;
             let mut inserted = Vec::with_capacity(add.len());
             for t in add {
-                inserted.push(Refiner::insert(&mut cdt, cut.point(t))?);
+                inserted.push(Refiner::insert(&mut cdt, cut.point(t), None)?);
             }
             // Around a few new seam vertices local refinement usually does; spade's full
             // pass over the half where it does not.
@@ -1253,8 +1251,9 @@ fn glue(parts: Vec<(Part, FreeFaces)>, seam: Option<&Seam>) -> Result<Glued, Mes
 
 /// Vertices from which a mesh is numbered along a Hilbert curve. The numbering costs ~600
 /// instructions a vertex: on Nav2's tb3_sandbox map (317 vertices) a twentieth of the first
-/// plan, where the triangulation's own order factors as fast (`harmonic_fem` factors small
-/// systems in their own numbering, `NATURAL_ORDER_BELOW`, and relies on its locality); on depot (1 100 vertices) that order doubled the solve (0.5 → 1.0–1.3 ms).
+/// plan, where the triangulation's own order factors as fast. `harmonic_fem` factors small
+/// systems in their own numbering (`NATURAL_ORDER_BELOW`) and relies on its locality: on
+/// depot (1 100 vertices) the triangulation's order doubled the solve (0.5 → 1.0–1.3 ms).
 pub const HILBERT_FROM: usize = 512;
 
 /// The used vertices renumbered along a Hilbert curve over the bounding box `(lo, hi)` (kept in
@@ -1268,30 +1267,27 @@ fn hilbert_numbering(glued: &Glued, (lo, hi): (Point, Point)) -> (Vec<u32>, Vec<
             used[v] = true;
         }
     }
-    if positions.len() < HILBERT_FROM {
+    let used_ids = (0..positions.len()).filter(|&v| used[v]);
+    let order: Vec<u32> = if positions.len() < HILBERT_FROM {
         // Small enough for the caches in any order: the triangulation's own.
-        let mut new_id = vec![u32::MAX; positions.len()];
-        let mut vertices = Vec::with_capacity(positions.len());
-        for v in (0..positions.len()).filter(|&v| used[v]) {
-            new_id[v] = vertices.len() as u32;
-            vertices.push(positions[v]);
-        }
-        return (new_id, vertices);
-    }
-    let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
-    let order = radix_sort_by_key(
-        (0..positions.len())
-            .filter(|&v| used[v])
+        used_ids.map(|v| v as u32).collect()
+    } else {
+        let span = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
+        let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
+        let keyed = used_ids
             .map(|v| {
                 let p = positions[v];
-                let q = |c: f64, l: f64| (((c - l) / span).clamp(0.0, 1.0) * 65535.0) as u32;
                 (hilbert(q(p.x, lo.x), q(p.y, lo.y)), v as u32)
             })
-            .collect(),
-    );
+            .collect();
+        radix_sort_by_key(keyed)
+            .into_iter()
+            .map(|(_, v)| v)
+            .collect()
+    };
     let mut new_id = vec![u32::MAX; positions.len()];
     let mut vertices = Vec::with_capacity(order.len());
-    for (i, &(_, v)) in order.iter().enumerate() {
+    for (i, &v) in order.iter().enumerate() {
         new_id[v as usize] = i as u32;
         vertices.push(positions[v as usize]);
     }
