@@ -259,6 +259,9 @@ pub struct Planner {
     pub(crate) vertex_goals: Option<Arc<VertexGoals>>,
     /// A way into the mesh for starts outside it, if the planner's source has one.
     pub(crate) entry: Option<Arc<dyn StartEntry>>,
+    /// The smooth tracer's options: [`SmoothOptions::for_scale`] of the scene's size, with
+    /// the tolerance the planner's source may set ([`Planner::with_trace_tolerance`]).
+    pub(crate) smooth: SmoothOptions,
 }
 
 /// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
@@ -767,12 +770,20 @@ impl Planner {
             scale: meshed.scale,
             vertex_goals: None,
             entry: None,
+            smooth: SmoothOptions::for_scale(meshed.scale),
         })
     }
 
     /// Leads starts outside the mesh in through `entry`.
     pub(crate) fn with_entry(mut self, entry: Arc<dyn StartEntry>) -> Planner {
         self.entry = Some(entry);
+        self
+    }
+
+    /// Traces with a local error of `tolerance` per step instead of the one for the scene's
+    /// size (a map's is set by its resolution).
+    pub(crate) fn with_trace_tolerance(mut self, tolerance: f64) -> Planner {
+        self.smooth.tolerance = tolerance;
         self
     }
 
@@ -831,8 +842,8 @@ impl Planner {
     pub fn plan(&self, start: impl Into<Point>) -> PlannedPath {
         self.entered(start.into(), |start, clearance| {
             let field = self.smooth_field();
-            let opts = SmoothOptions::for_scale(self.scale);
-            let (path, tracer) = descend(&field, start, None, &opts, &ExactOptions::default());
+            let (path, tracer) =
+                descend(&field, start, None, &self.smooth, &ExactOptions::default());
             self.planned(start, path, tracer, clearance)
         })
     }

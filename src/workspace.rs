@@ -34,7 +34,7 @@ use std::time::Instant;
 
 use harmonic_fem::{Assembler, AssemblyOptions, GoalReport, GoalSolver, SolveMethod};
 use harmonic_mesh::{Domain, DomainSpec, Mesh, NO_NEIGHBOR, Point};
-use harmonic_trajectory::{NOT_A_GOAL, SmoothP1Field};
+use harmonic_trajectory::{NOT_A_GOAL, SmoothOptions, SmoothP1Field};
 use serde::Serialize;
 
 use crate::planner::{
@@ -142,6 +142,8 @@ pub struct Workspace {
     /// A way into the mesh for starts outside it, given to every planner (a map's clear
     /// cells).
     entry: Option<Arc<dyn crate::planner::StartEntry>>,
+    /// The smooth tracer's tolerance for its planners, when its source sets one (a map).
+    trace_tolerance: Option<f64>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -197,6 +199,13 @@ impl Workspace {
         self
     }
 
+    /// Traces with a local error of `tolerance` per step in every planner made from here on
+    /// (see [`Planner::with_trace_tolerance`]).
+    pub(crate) fn with_trace_tolerance(mut self, tolerance: f64) -> Workspace {
+        self.trace_tolerance = Some(tolerance);
+        self
+    }
+
     /// Assembles the walls' system of `meshed` under `bcs` and factors it.
     pub(crate) fn factored(
         meshed: Meshed,
@@ -230,6 +239,7 @@ impl Workspace {
             meshed,
             goals,
             entry: None,
+            trace_tolerance: None,
         })
     }
 
@@ -437,6 +447,7 @@ impl Workspace {
         let potential = self.goals.potential_of(psi)?;
         let nodal_gradients = potential.nodal_gradients_psi().to_vec();
         SmoothP1Field::ascending(&self.meshed.mesh, potential.psi(), &nodal_gradients)?;
+        let scene = SmoothOptions::for_scale(self.meshed.scale);
         Ok(Planner {
             domain: Arc::clone(&self.meshed.domain),
             mesh: Arc::clone(&self.meshed.mesh),
@@ -448,6 +459,10 @@ impl Workspace {
             scale: self.meshed.scale,
             vertex_goals: Some(Arc::new(marks)),
             entry: self.entry.clone(),
+            smooth: SmoothOptions {
+                tolerance: self.trace_tolerance.unwrap_or(scene.tolerance),
+                ..scene
+            },
         })
     }
 }
