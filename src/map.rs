@@ -792,16 +792,20 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<MapPolygons, MapError> {
-        Ok(self.traced(goal, robot_radius, opts)?.0)
+        Ok(self.traced(goal, robot_radius, opts, &[])?.polygons)
     }
 
-    /// [`OccupancyMap::polygons`] and the blocked cells they were traced from.
+    /// [`OccupancyMap::polygons`], the blocked cells they were traced from, and the domain
+    /// of the polygons with `goals` in it and its mesh options. The domain's validation
+    /// ([`harmonic_mesh::Domain::of_rings`]) is the check that keeps simplified rings from
+    /// crossing or changing their nesting: a ring it refuses is kept as traced.
     fn traced(
         &self,
         goal: [f64; 2],
         robot_radius: f64,
         opts: &MapOptions,
-    ) -> Result<(MapPolygons, BitGrid), MapError> {
+        goals: &[harmonic_mesh::GoalShape],
+    ) -> Result<TracedDomain, MapError> {
         check_radius_and_area(robot_radius, opts)?;
         if !(opts.simplify_cells.is_finite()
             && (0.0..=MAX_SIMPLIFY_CELLS).contains(&opts.simplify_cells))
@@ -834,18 +838,51 @@ impl OccupancyMap {
         if !clear.get(gc as isize, gr as isize) {
             return Err(too_close());
         }
-        let traced =
-            trace::trace(&clear, gc, gr, eps, self.world_to_grid(goal)).ok_or_else(too_close)?;
-        let world = |ring: Vec<[f64; 2]>| -> Vec<[f64; 2]> {
-            ring.into_iter().map(|g| self.grid_to_world(g)).collect()
+        let check = |rings: &trace::Traced| {
+            let polygons = self.world_polygons(rings, margin, eps);
+            let mesh_options = mesh_options(&polygons, robot_radius, opts);
+            let point = |p: &[f64; 2]| Point::new(p[0], p[1]);
+            let outer: Vec<Point> = polygons.workspace.iter().map(point).collect();
+            let holes: Vec<Vec<Point>> = polygons
+                .obstacles
+                .iter()
+                .map(|r| r.iter().map(point).collect())
+                .collect();
+            match harmonic_mesh::Domain::of_rings(&outer, &holes, goals, &mesh_options) {
+                Ok(domain) => Ok((polygons, domain, mesh_options)),
+                Err(error) => Err(refused(rings, error)),
+            }
         };
-        let polygons = MapPolygons {
-            workspace: world(traced.outer),
-            obstacles: traced.holes.into_iter().map(world).collect(),
+        let (_, (polygons, domain, mesh_options)) =
+            trace::trace(&clear, gc, gr, eps, self.world_to_grid(goal), check)
+                .map_err(|e| MapError::Plan {
+                    file: self.source.clone(),
+                    source: e.into(),
+                })?
+                .ok_or_else(too_close)?;
+        Ok(TracedDomain {
+            polygons,
+            blocked,
+            domain,
+            mesh_options,
+        })
+    }
+
+    /// Traced rings (grid coordinates) in world coordinates: the outer ring the workspace,
+    /// the holes its obstacles.
+    fn world_polygons(&self, rings: &trace::Traced, margin: f64, eps: f64) -> MapPolygons {
+        let world = |k: usize| -> Vec<[f64; 2]> {
+            rings.rings[k]
+                .iter()
+                .map(|&g| self.grid_to_world(g))
+                .collect()
+        };
+        MapPolygons {
+            workspace: rings.outer().map(world).unwrap_or_default(),
+            obstacles: rings.holes().map(world).collect(),
             margin,
             simplify_cells: eps,
-        };
-        Ok((polygons, blocked))
+        }
     }
 
     /// The blocked cells (occupied, and unknown unless `unknown` says they are free) as bits.
@@ -963,27 +1000,19 @@ impl OccupancyMap {
         opts: &MapOptions,
         goals: &[harmonic_mesh::GoalShape],
     ) -> Result<(harmonic_mesh::Domain, MeshOptions, cells::CellEntry), MapError> {
-        let (polys, blocked) = self.traced(goal, robot_radius, opts)?;
+        let TracedDomain {
+            polygons,
+            blocked,
+            domain,
+            mesh_options,
+        } = self.traced(goal, robot_radius, opts, goals)?;
         let entry = cells::CellEntry {
             blocked,
             radius: robot_radius / self.resolution,
             clear: None,
             frame: self.frame(),
-            reach: (polys.margin / self.resolution).ceil() as usize + 4,
+            reach: (polygons.margin / self.resolution).ceil() as usize + 4,
         };
-        let point = |p: &[f64; 2]| Point::new(p[0], p[1]);
-        let holes: Vec<Vec<Point>> = polys
-            .obstacles
-            .iter()
-            .map(|r| r.iter().map(point).collect())
-            .collect();
-        let outer: Vec<Point> = polys.workspace.iter().map(point).collect();
-        let mesh_options = mesh_options(&polys, robot_radius, opts);
-        let domain = harmonic_mesh::Domain::of_rings(&outer, &holes, goals, &mesh_options)
-            .map_err(|e| MapError::Plan {
-                file: self.source.clone(),
-                source: e.into(),
-            })?;
         Ok((domain, mesh_options, entry))
     }
 
@@ -1226,6 +1255,42 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
         });
     }
     Ok(())
+}
+
+/// What [`OccupancyMap::traced`] makes: the polygons, the blocked cells they were traced
+/// from, and their domain with its mesh options.
+struct TracedDomain {
+    polygons: MapPolygons,
+    blocked: BitGrid,
+    domain: harmonic_mesh::Domain,
+    mesh_options: MeshOptions,
+}
+
+/// `error` from [`harmonic_mesh::Domain::of_rings`] on `rings` (its workspace the outer ring,
+/// its obstacles the holes in order), with the rings it blames: both rings of a crossing or a
+/// wrong nesting, and a hole outside the outer ring with the outer ring.
+fn refused(rings: &trace::Traced, error: harmonic_mesh::MeshError) -> trace::Refused {
+    use harmonic_mesh::{MeshError, Part};
+    let holes: Vec<usize> = rings.holes().collect();
+    let ring = |part: &Part| match part {
+        Part::Workspace => rings.outer(),
+        Part::Obstacle(i) => holes.get(*i).copied(),
+        _ => None,
+    };
+    let blamed: Vec<usize> = match &error {
+        MeshError::RingsMeet { part, other } | MeshError::HoleInHole { part, other } => {
+            [part, other].into_iter().filter_map(ring).collect()
+        }
+        MeshError::OutsideWorkspace { part } => [&Part::Workspace, part]
+            .into_iter()
+            .filter_map(ring)
+            .collect(),
+        _ => Vec::new(),
+    };
+    trace::Refused {
+        rings: blamed,
+        error,
+    }
 }
 
 /// The mesh a disc robot needs on open floor: triangles with edges of about six robot radii

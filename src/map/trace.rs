@@ -11,12 +11,13 @@
 //! radius `r` from every blocked cell. Simplification never changes the topology: a ring whose
 //! simplified form would cross another ring or itself, change its orientation, or end up on
 //! the wrong side of another ring is kept as traced (traced rings are simple and disjoint).
+//! Crossings and nesting are judged by the caller's check, which is the domain's own
+//! ([`harmonic_mesh::Domain::of_rings`]): the rings are checked once, by the code that
+//! would refuse them.
 
 use geo::{Coord, LineString, Simplify};
-use harmonic_mesh::Point;
-use harmonic_mesh::geom::{ring_edges, segments_intersect};
-use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree, RTreeObject};
+use harmonic_mesh::geom::ring_edges;
+use harmonic_mesh::{MeshError, Point};
 
 use super::bits::{self, BitGrid};
 
@@ -52,53 +53,67 @@ fn jitter(rings: &mut [Vec<[f64; 2]>]) {
 }
 
 /// The traced free space of the goal's component, in grid coordinates (cell `(i, j)` is
-/// `[i, i + 1] × [j, j + 1]`).
+/// `[i, i + 1] × [j, j + 1]`): one outer ring, counter-clockwise, and the holes, clockwise,
+/// in no particular order.
 pub(super) struct Traced {
-    /// The outer ring, counter-clockwise.
-    pub(super) outer: Vec<[f64; 2]>,
-    /// The holes, clockwise.
-    pub(super) holes: Vec<Vec<[f64; 2]>>,
+    pub(super) rings: Vec<Vec<[f64; 2]>>,
+}
+
+impl Traced {
+    /// The index of the outer ring (a 4-connected component has one), if any.
+    pub(super) fn outer(&self) -> Option<usize> {
+        self.rings.iter().position(|r| ring_area(r) > 0.0)
+    }
+
+    /// The indices of the holes, in order.
+    pub(super) fn holes(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.rings.len()).filter(|&k| ring_area(&self.rings[k]) <= 0.0)
+    }
+}
+
+/// Why a check refused a set of rings: the error, and the rings taking part in it (a
+/// crossing, a wrong nesting), which simplification may give back as traced. With no ring
+/// named the error stands.
+pub(super) struct Refused {
+    pub(super) rings: Vec<usize>,
+    pub(super) error: MeshError,
 }
 
 /// Traces the 4-connected component of `clear` holding cell `(i, j)` (which must be set) and
 /// simplifies its rings to `eps` cells, keeping their topology and keeping `goal` (grid
 /// coordinates, in cell `(i, j)`) inside, at least [`GOAL_ROOM`] cells from every ring: rings
-/// whose simplification would take that room are kept as traced. `None` when even the traced
-/// rings leave the goal less room (it lies in a corner of its cell at the component's edge).
-pub(super) fn trace(
+/// whose simplification would take that room, or that `check` refuses, are kept as traced.
+/// `check` sees every candidate set of rings (grid coordinates, in the order of
+/// [`Traced::rings`]) and makes what the caller builds of them; it is called until it accepts
+/// one. `Ok(None)` when even the traced rings leave the goal less room (it lies in a corner of
+/// its cell at the component's edge); an error when `check` refuses rings it cannot blame
+/// on simplification.
+pub(super) fn trace<T>(
     clear: &BitGrid,
     i: usize,
     j: usize,
     eps: f64,
     goal: [f64; 2],
-) -> Option<Traced> {
+    check: impl FnMut(&Traced) -> Result<T, Refused>,
+) -> Result<Option<(Traced, T)>, MeshError> {
     let component = bits::component(clear, i, j);
     let mut traced = bits::contours(&component);
     jitter(&mut traced);
-    let rings = simplified(traced, eps, goal)?;
-    let mut outer: Option<Vec<[f64; 2]>> = None;
-    let mut holes = Vec::new();
-    for ring in rings {
-        if ring_area(&ring) > 0.0 {
-            // A 4-connected component has one outer ring.
-            outer = Some(ring);
-        } else {
-            holes.push(ring);
-        }
-    }
-    Some(Traced {
-        outer: outer.unwrap_or_default(),
-        holes,
-    })
+    simplified(traced, eps, goal, check)
 }
 
-/// How far inside the traced rings the goal must stay, in cells.
+/// How far inside the traced rings the goal must stay/// How far inside the traced rings the goal must stay, in cells.
 pub(super) const GOAL_ROOM: f64 = 0.05;
 
 /// Each ring simplified by Douglas–Peucker to `eps`, except the rings whose simplified forms
-/// would change the topology (see the module documentation) or come within [`GOAL_ROOM`] of
-/// `goal` or put it outside, which stay as they are; `None` if the traced rings themselves do.
-fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64, goal: [f64; 2]) -> Option<Vec<Vec<[f64; 2]>>> {
+/// collapse or turn over, come within [`GOAL_ROOM`] of `goal` or put it outside, or take part
+/// in what `check` refuses, which stay as they are (see [`trace`]).
+fn simplified<T>(
+    rings: Vec<Vec<[f64; 2]>>,
+    eps: f64,
+    goal: [f64; 2],
+    mut check: impl FnMut(&Traced) -> Result<T, Refused>,
+) -> Result<Option<(Traced, T)>, MeshError> {
     let mut out: Vec<Vec<[f64; 2]>> = rings
         .iter()
         .map(|r| {
@@ -114,22 +129,37 @@ fn simplified(rings: Vec<Vec<[f64; 2]>>, eps: f64, goal: [f64; 2]) -> Option<Vec
         .collect();
     let mut exact: Vec<bool> = out.iter().zip(&rings).map(|(o, r)| o == r).collect();
     loop {
-        let mut bad = conflicts(&out);
-        if !room_for(&out, goal) {
+        let (bad, refused) = if room_for(&out, goal) {
+            let candidate = Traced { rings: out };
+            match check(&candidate) {
+                Ok(made) => return Ok(Some((candidate, made))),
+                Err(refused) => {
+                    out = candidate.rings;
+                    (refused.rings.clone(), Some(refused.error))
+                }
+            }
+        } else {
             // The rings that come near the goal: within the tolerance and the room of it.
             let reach = eps + 1.0;
-            bad.extend((0..out.len()).filter(|&k| near(&out[k], goal, reach)));
-        }
+            (
+                (0..out.len())
+                    .filter(|&k| near(&out[k], goal, reach))
+                    .collect(),
+                None,
+            )
+        };
         let mut changed = false;
         for k in bad {
-            if !exact[k] {
+            if k < out.len() && !exact[k] {
                 out[k] = rings[k].clone();
                 exact[k] = true;
                 changed = true;
             }
         }
         if !changed {
-            return room_for(&out, goal).then_some(out);
+            // Traced rings are simple and disjoint: a refusal of them is the caller's to
+            // report; no room around the goal is `None`.
+            return refused.map_or(Ok(None), Err);
         }
     }
 }
@@ -170,89 +200,6 @@ fn simplify(ring: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
     out
 }
 
-type Segment = GeomWithData<Rectangle<[f64; 2]>, (u32, u32)>;
-
-/// The rings taking part in a crossing (two edges that meet and are not neighbours on one
-/// ring) or in a wrong nesting (a hole outside the outer ring or inside another hole, found by
-/// the parity of a ray from one of its vertices).
-fn conflicts(rings: &[Vec<[f64; 2]>]) -> Vec<usize> {
-    let edge = |r: usize, e: usize| {
-        let ring = &rings[r];
-        (ring[e], ring[(e + 1) % ring.len()])
-    };
-    let segments: Vec<Segment> = rings
-        .iter()
-        .enumerate()
-        .flat_map(|(r, ring)| {
-            (0..ring.len()).map(move |e| {
-                let (a, b) = (ring[e], ring[(e + 1) % ring.len()]);
-                GeomWithData::new(
-                    Rectangle::from_corners(
-                        [a[0].min(b[0]), a[1].min(b[1])],
-                        [a[0].max(b[0]), a[1].max(b[1])],
-                    ),
-                    (r as u32, e as u32),
-                )
-            })
-        })
-        .collect();
-    let tree = RTree::bulk_load(segments.clone());
-    let point = |p: [f64; 2]| Point::new(p[0], p[1]);
-    let mut bad = vec![false; rings.len()];
-    for s in &segments {
-        let (r, e) = (s.data.0 as usize, s.data.1 as usize);
-        let (a, b) = edge(r, e);
-        for o in tree.locate_in_envelope_intersecting(&s.envelope()) {
-            let (r2, e2) = (o.data.0 as usize, o.data.1 as usize);
-            if (r2, e2) <= (r, e) {
-                continue;
-            }
-            let n = rings[r].len();
-            if r2 == r && (e2 == (e + 1) % n || e == (e2 + 1) % n) {
-                continue;
-            }
-            let (c, d) = edge(r2, e2);
-            if segments_intersect(point(a), point(b), point(c), point(d)) {
-                bad[r] = true;
-                bad[r2] = true;
-            }
-        }
-    }
-    // Nesting: a ray from a vertex of each hole to the right crosses the other rings an odd
-    // number of times (once, the outer ring) when the hole is where it belongs.
-    let x_max = segments
-        .iter()
-        .map(|s| s.envelope().upper()[0])
-        .fold(f64::NEG_INFINITY, f64::max);
-    for (r, ring) in rings.iter().enumerate() {
-        if ring_area(ring) > 0.0 {
-            continue;
-        }
-        let p = ring[0];
-        let ray = AABB::from_corners([p[0], p[1]], [x_max + 1.0, p[1]]);
-        let mut crossed = Vec::new();
-        for o in tree.locate_in_envelope_intersecting(&ray) {
-            let (r2, e2) = (o.data.0 as usize, o.data.1 as usize);
-            if r2 == r {
-                continue;
-            }
-            let (a, b) = edge(r2, e2);
-            if (a[1] > p[1]) != (b[1] > p[1])
-                && a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]) > p[0]
-            {
-                crossed.push(r2);
-            }
-        }
-        if crossed.len() % 2 == 0 {
-            bad[r] = true;
-            for r2 in crossed {
-                bad[r2] = true;
-            }
-        }
-    }
-    (0..rings.len()).filter(|&r| bad[r]).collect()
-}
-
 /// The signed area of a ring (positive counter-clockwise).
 pub(super) fn ring_area(ring: &[[f64; 2]]) -> f64 {
     let n = ring.len();
@@ -268,6 +215,28 @@ pub(super) fn ring_area(ring: &[[f64; 2]]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use harmonic_mesh::{Domain, MeshOptions};
+
+    /// The planner's check, on grid coordinates: the domain of the rings (no goal), or the
+    /// rings its refusal blames, sorted.
+    fn check(t: &Traced) -> Result<(), Refused> {
+        let points = |k: usize| -> Vec<Point> {
+            t.rings[k].iter().map(|p| Point::new(p[0], p[1])).collect()
+        };
+        let outer = points(t.outer().expect("an outer ring"));
+        let holes: Vec<Vec<Point>> = t.holes().map(points).collect();
+        Domain::of_rings(&outer, &holes, &[], &MeshOptions::default())
+            .map(|_| ())
+            .map_err(|e| {
+                let mut refused = super::super::refused(t, e);
+                refused.rings.sort_unstable();
+                refused
+            })
+    }
+
+    fn blamed(rings: Vec<Vec<[f64; 2]>>) -> Option<Vec<usize>> {
+        check(&Traced { rings }).err().map(|r| r.rings)
+    }
 
     #[test]
     fn simplification_keeps_rings_that_would_cross_as_traced() {
@@ -288,15 +257,21 @@ mod tests {
             [20.0, 2.0],
         ];
         let rings = vec![outer.clone(), hole.clone()];
-        assert!(conflicts(&rings).is_empty());
+        assert_eq!(blamed(rings.clone()), None);
         assert_eq!(
-            conflicts(&[outer.clone(), simplify(&hole, 1.2)]),
-            vec![0, 1],
+            blamed(vec![outer.clone(), simplify(&hole, 1.2)]),
+            Some(vec![0, 1]),
             "the simplified hole crosses the bump"
         );
-        let out = simplified(rings, 1.2, [30.0, 8.0]).expect("room for the goal");
-        assert_eq!(out, vec![outer, hole]);
-        assert!(conflicts(&out).is_empty());
+        let mut checks = 0;
+        let (out, ()) = simplified(rings, 1.2, [30.0, 8.0], |t| {
+            checks += 1;
+            check(t)
+        })
+        .expect("no refusal of the traced rings")
+        .expect("room for the goal");
+        assert_eq!(out.rings, vec![outer, hole]);
+        assert_eq!(checks, 2, "refused once, then accepted as traced");
     }
 
     #[test]
@@ -315,21 +290,42 @@ mod tests {
         ];
         assert_eq!(simplify(&outer, 2.0).len(), 4);
         let goal = [10.0, 20.5];
-        let out = simplified(vec![outer.clone()], 2.0, goal).expect("room");
-        assert_eq!(out[0], outer);
+        let (out, ()) = simplified(vec![outer.clone()], 2.0, goal, check)
+            .expect("no refusal")
+            .expect("room");
+        assert_eq!(out.rings[0], outer);
         // A goal outside the traced ring has no room at all.
-        assert!(simplified(vec![outer], 2.0, [10.0, 21.2]).is_none());
+        assert!(
+            simplified(vec![outer], 2.0, [10.0, 21.2], check)
+                .expect("no refusal")
+                .is_none()
+        );
     }
 
     #[test]
-    fn a_hole_jumped_by_another_ring_is_found() {
+    fn wrong_nestings_blame_both_rings() {
         let outer = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
         let big = vec![[2.0, 2.0], [2.0, 8.0], [8.0, 8.0], [8.0, 2.0]];
         let inside_big = vec![[4.0, 4.0], [4.0, 5.0], [5.0, 5.0], [5.0, 4.0]];
-        // The nested hole and every ring its ray crosses (the culprit is among them).
-        let bad = conflicts(&[outer.clone(), big, inside_big]);
-        assert_eq!(bad, vec![0, 1, 2]);
+        // A hole in a hole: both holes.
+        assert_eq!(
+            blamed(vec![outer.clone(), big, inside_big]),
+            Some(vec![1, 2])
+        );
+        // A hole outside the outer ring: the hole and the outer ring.
         let outside = vec![[14.0, 4.0], [14.0, 5.0], [15.0, 5.0], [15.0, 4.0]];
-        assert_eq!(conflicts(&[outer, outside]), vec![1]);
+        assert_eq!(blamed(vec![outside, outer.clone()]), Some(vec![0, 1]));
+    }
+
+    #[test]
+    fn a_refusal_of_the_traced_rings_is_an_error() {
+        // Two holes that touch: traced rings never do, so nothing can be given back.
+        let outer = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
+        let a = vec![[2.0, 2.0], [2.0, 4.0], [4.0, 4.0], [4.0, 2.0]];
+        let b = vec![[4.0, 2.0], [4.0, 4.0], [6.0, 4.0], [6.0, 2.0]];
+        let e = simplified(vec![outer, a, b], 0.0, [8.0, 8.0], check)
+            .err()
+            .expect("refused");
+        assert!(e.to_string().contains("touch or cross"), "{e}");
     }
 }
