@@ -758,6 +758,13 @@ fn nav2_maps_plans_reach_and_keep_the_radius_on_the_grid() {
             let path = planner.plan(r.start);
             let what = format!("{} from {:?} ({mesher:?})", r.map, r.start);
             assert_eq!(path.status.as_str(), "reached_goal", "{what}");
+            // No step of nothing (a lead-in from a start on a cell centre to that centre).
+            let shortest = path
+                .points
+                .windows(2)
+                .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(shortest > 1e-9, "{what}: a step of {shortest}");
             let clearance = path_clearance(&map, &path.points, radius);
             // Both meshers keep the radius exactly: the clear cells are found on the grid.
             assert!(

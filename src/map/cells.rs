@@ -292,9 +292,16 @@ impl crate::planner::StartEntry for CellEntry {
             cells.push(k);
         }
         cells.reverse();
-        // From the start to the first cell's centre, and on from centre to centre.
+        // From the start to the first cell's centre, and on from centre to centre; a start
+        // on the first cell's centre (to rounding: NavFn's requests are cell centres) does
+        // not step to it.
+        let on_first = (g[0] - (first.0 as f64 + 0.5))
+            .abs()
+            .max((g[1] - (first.1 as f64 + 0.5)).abs())
+            < 1e-9;
+        let skip = usize::from(on_first && cells.len() >= 2);
         let mut lead = vec![start];
-        lead.extend(cells.iter().map(|&k| centre(k)));
+        lead.extend(cells.iter().skip(skip).map(|&k| centre(k)));
         Some(lead)
     }
 }
