@@ -246,9 +246,22 @@ fn grow_row(row: &mut [u64], tmp: &mut [u64], by: usize, mask: u64) {
     while reach < by {
         // The union of [−reach, reach] shifted by [−s, s] is gapless when s ≤ reach + 1.
         let s = (reach + 1).min(by - reach);
-        tmp.copy_from_slice(row);
-        or_shifted(row, tmp, s, true);
-        or_shifted(row, tmp, s, false);
+        if s < 64 {
+            // One pass: each word ORs its neighbours' bits shifted in, read before they
+            // change (0 < s < 64, so no shift overflows).
+            let (s, n) = (s as u32, row.len());
+            let mut before = 0u64;
+            for k in 0..n {
+                let word = row[k];
+                let after = if k + 1 < n { row[k + 1] } else { 0 };
+                row[k] = word | word << s | word >> s | before >> (64 - s) | after << (64 - s);
+                before = word;
+            }
+        } else {
+            tmp.copy_from_slice(row);
+            or_shifted(row, tmp, s, true);
+            or_shifted(row, tmp, s, false);
+        }
         if let Some(last) = row.last_mut() {
             *last &= mask;
         }

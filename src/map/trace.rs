@@ -15,8 +15,7 @@
 //! ([`harmonic_mesh::Domain::of_rings`]): the rings are checked once, by the code that
 //! would refuse them.
 
-use geo::{Coord, LineString, Simplify};
-use harmonic_mesh::geom::ring_edges;
+use harmonic_mesh::geom::{ring_edges, simplify_ring};
 use harmonic_mesh::{MeshError, Point};
 
 use super::bits::{self, BitGrid};
@@ -102,7 +101,7 @@ pub(super) fn trace<T>(
     simplified(traced, eps, goal, check)
 }
 
-/// How far inside the traced rings the goal must stay/// How far inside the traced rings the goal must stay, in cells.
+/// How far inside the traced rings the goal must stay, in cells.
 pub(super) const GOAL_ROOM: f64 = 0.05;
 
 /// Each ring simplified by Douglas–Peucker to `eps`, except the rings whose simplified forms
@@ -187,17 +186,12 @@ fn near(ring: &[[f64; 2]], p: [f64; 2], reach: f64) -> bool {
     (0..2).all(|d| p[d] >= lo[d] - reach && p[d] <= hi[d] + reach)
 }
 
-/// Douglas–Peucker on a closed ring (geo's `Simplify` on the ring closed at its first vertex).
+/// Douglas–Peucker on a closed ring ([`harmonic_mesh::geom::simplify_ring`]).
 fn simplify(ring: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
-    if eps <= 0.0 || ring.len() <= 3 {
-        return ring.to_vec();
-    }
-    let mut coords: Vec<Coord<f64>> = ring.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
-    coords.push(coords[0]);
-    let simplified = LineString::new(coords).simplify(eps);
-    let mut out: Vec<[f64; 2]> = simplified.0.iter().map(|c| [c.x, c.y]).collect();
-    out.pop();
-    out
+    simplify_ring(ring, eps)
+        .into_iter()
+        .map(|k| ring[k])
+        .collect()
 }
 
 /// The signed area of a ring (positive counter-clockwise).

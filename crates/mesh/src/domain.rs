@@ -671,14 +671,22 @@ fn inflated_obstacles(
 }
 
 /// A conservative simplification of the obstacle `ring`, inflated by `rr`: Ramer–Douglas–
-/// Peucker to `tol / 2` (geo's `Simplify`) keeps every point of the original within `tol / 2`
+/// Peucker to `tol / 2` ([`crate::geom::simplify_ring`]) keeps every point of the original within `tol / 2`
 /// of the simplified boundary, so growing the simplified polygon by `tol / 2` (mitred joins,
 /// which contain round ones) contains the original; the robot radius is added to the same
 /// offset. The boundary moves out by at most about `tol`.
 fn simplified(ring: &[Point], tol: f64, rr: f64, join_angle: f64) -> MultiPolygon<f64> {
-    use geo::Simplify;
     let poly = to_geo(ring);
-    let coarse = poly.simplify(0.5 * tol);
+    let kept: Vec<Point> = crate::geom::simplify_ring(ring, 0.5 * tol)
+        .into_iter()
+        .map(|k| ring[k])
+        .collect();
+    // A ring that would collapse stays as it is.
+    let coarse = if kept.len() >= 3 {
+        to_geo(&kept)
+    } else {
+        poly.clone()
+    };
     let grow = 0.5 * tol + rr;
     let join = if rr > 0.0 {
         LineJoin::Round(join_angle)

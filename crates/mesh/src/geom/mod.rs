@@ -1,5 +1,6 @@
 //! The workspace's one home of the planar geometric kernels: distances between points,
-//! segments and polygons, the even-odd inside test, polyline length.
+//! segments and polygons, the even-odd inside test, polyline length, Douglas–Peucker on a
+//! ring ([`simplify_ring`]).
 //!
 //! Rings are slices of vertices, closed implicitly (the last vertex joins the first), in
 //! either orientation. Every function takes the project's [`Point`] or anything that turns
@@ -16,8 +17,10 @@
 //! ```
 
 mod index;
+mod simplify;
 
 pub(crate) use index::SegmentIndex;
+pub use simplify::simplify_ring;
 
 use crate::{Point, orient2d};
 
