@@ -15,8 +15,8 @@
 //! [`OccupancyMap::to_scene`] returns those polygons as a [`Scene`] of a point robot, so the
 //! planner, the command line and the pictures work on maps unchanged. The mesh is sized for
 //! the robot: triangles with edges of about six robot radii on open floor, graded down by the
-//! refinement near walls and in narrow passages (smallest angle 20°, about 10° next to the
-//! midpoints that split wall-to-wall edges). Free areas not
+//! refinement near walls and in narrow passages (smallest angle 15°, down to about 7.5°
+//! next to the midpoints that split wall-to-wall edges). Free areas not
 //! connected to the goal, and passages too narrow for the robot, are outside the scene.
 //!
 //! ```
@@ -147,15 +147,17 @@ pub struct MapOptions {
     /// radius (edges of about six radii on open floor, [`OccupancyMap::to_scene`]), or the
     /// mesher's default for a point robot.
     pub max_area: Option<f64>,
-    /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 20 (Triangle's
-    /// `-q` default) rather than the 30 of scene files. A map's many short boundary edges and
-    /// its narrow passages, whose wall-to-wall edges are split so every passage has unknowns
-    /// inside, force most of its triangles: tb3_sandbox's mesh has 654 triangles at 30°, 533
-    /// at 25° and 493 at 20° (warehouse's 9 933, 5 716 and 4 496), and warehouse's first plan
-    /// takes a quarter less time at 20° than at 25° (tb3's the same). The bound holds except
-    /// next to the midpoints that split wall-to-wall edges ([`Bridges::Midpoints`]). The mesh
-    /// stays constrained Delaunay and the walls are Dirichlet, so the system is an M-matrix
-    /// and the maximum principle holds at any bound.
+    /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 15 rather
+    /// than the 30 of scene files. A map's many short boundary edges and its narrow passages,
+    /// whose wall-to-wall edges are split so every passage has unknowns inside, force most
+    /// of its triangles, and refinement is a third of a small map's first plan: tb3_sandbox's
+    /// mesh has 654 triangles at 30°, 533 at 25°, 463 at 20° and 476 at 15°, but its first
+    /// plan costs 4.87 M instructions at 20° and 4.72 M at 15° (map_circular 5.07 M and
+    /// 4.65 M with 474 and 444 triangles; warehouse 4 490 and 3 902 triangles). Path lengths
+    /// on Nav2's maps move by at most 2 % either way between 20° and 15°. The bound holds
+    /// except next to the midpoints that split wall-to-wall edges ([`Bridges::Midpoints`]).
+    /// The mesh stays constrained Delaunay and the walls are Dirichlet, so the system is an
+    /// M-matrix and the maximum principle holds at any bound.
     pub min_angle_deg: f64,
 }
 
@@ -167,7 +169,7 @@ impl Default for MapOptions {
             snap: Snap::OpenFloor,
             simplify_cells: 1.0,
             max_area: None,
-            min_angle_deg: 20.0,
+            min_angle_deg: 15.0,
         }
     }
 }
@@ -1304,8 +1306,8 @@ fn refused(rings: &trace::Traced, error: harmonic_mesh::MeshError) -> trace::Ref
 /// Bridges (interior edges joining two wall vertices) are split at their midpoints and the
 /// midpoints kept as they are ([`Bridges::Midpoints`]): the walls are Dirichlet, so the
 /// system stays an M-matrix, and the second refinement pass that [`Bridges::Refined`] runs would
-/// cost a quarter of a small map's first plan (tb3_sandbox: 608 → 485 triangles, smallest
-/// angle 20° → 10.5°, the mesh a third faster, path lengths within 1 %).
+/// cost a quarter of a small map's first plan (tb3_sandbox at a 20° bound: 608 → 485
+/// triangles, smallest angle 20° → 10.5°, the mesh a third faster, path lengths within 1 %).
 fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> MeshOptions {
     let robot = (robot_radius > 0.0).then(|| {
         let outer = trace::ring_area(&polys.workspace).abs();
