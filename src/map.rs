@@ -150,9 +150,9 @@ pub struct MapOptions {
     /// The mesh's smallest angle, in degrees (the scene's `mesh.min_angle_deg`): 15 rather
     /// than the 30 of scene files. A map's many short boundary edges and its narrow passages,
     /// whose wall-to-wall edges are split so every passage has unknowns inside, force most
-    /// of its triangles, and refinement is a third of a small map's first plan: tb3_sandbox's
-    /// mesh has 654 triangles at 30°, 533 at 25°, 463 at 20° and 476 at 15°, but its first
-    /// plan costs 4.87 M instructions at 20° and 4.72 M at 15° (map_circular 5.07 M and
+    /// of its triangles, and refinement with the midpoints is a fifth of a small map's first
+    /// plan: tb3_sandbox's mesh has 463 triangles at 20° and 476 at 15°, but its first plan
+    /// costs 4.87 M instructions at 20° and 4.72 M at 15° (map_circular 5.07 M and
     /// 4.65 M with 474 and 444 triangles; warehouse 4 490 and 3 902 triangles). Path lengths
     /// on Nav2's maps move by at most 2 % either way between 20° and 15°. The bound holds
     /// except next to the midpoints that split wall-to-wall edges ([`Bridges::Midpoints`]).

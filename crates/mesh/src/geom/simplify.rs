@@ -4,8 +4,9 @@
 //! what geo's `Simplify` does with a closed `LineString`, and the same vertices are kept
 //! (the farthest vertex of a span is the last one at the largest distance; a span is cut when
 //! that distance exceeds the tolerance). It works on squared distances and on indices, with
-//! no allocation per span: on a traced map ring of a few hundred vertices it costs a fifth of
-//! geo's (`hypot` per vertex and a vector per level of recursion there).
+//! no allocation per span: on a traced map's rings it costs less than half of geo's (`hypot`
+//! per vertex and a vector per level of recursion there; tb3_sandbox's first plan: 0.09 M
+//! instructions against 0.19 M).
 
 use super::point_segment_dist2;
 use crate::Point;
