@@ -54,6 +54,7 @@ use harmonic_fem::SolveMethod;
 
 mod bits;
 mod cells;
+pub mod movingai;
 mod trace;
 
 use bits::BitGrid;
@@ -93,18 +94,31 @@ pub enum UnknownCells {
 }
 
 /// How [`OccupancyMap::planner`] meshes a map's free space.
+///
+/// Every choice plans on the same free space, the robot's clear cells; they differ in speed
+/// and in whether the planner is complete on every map. [`MapMesher::Auto`] (the default) is
+/// complete on every map and as fast as the traced mesher wherever that one is complete too.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MapMesher {
+    /// The traced mesher where its tracing margin changes nothing a path needs (the goal's
+    /// cell keeps the margin, every clear cell connected to the goal is within a lead-in of
+    /// the traced region, and the margin closes no loop of the free space: the same Euler
+    /// number), else the quadtree. The default.
+    #[default]
+    Auto,
     /// The robot's free configuration space on the map's own grid: the cells whose square
     /// keeps the robot radius from every blocked cell's square, exactly, with no margin
     /// (snapped to blocks on open floor, [`MapOptions::snap`]), meshed by a balanced
-    /// quadtree of right isosceles triangles ([`harmonic_mesh::quadtree`]): no tracing, no
-    /// polygon booleans, no refinement.
+    /// quadtree of right isosceles triangles ([`harmonic_mesh::quadtree`]) on half cells
+    /// that keeps a vertex off the walls in every passage, one-cell doors included: no
+    /// tracing, no polygon booleans, no refinement. Complete: every start on a clear cell
+    /// 4-connected to the goal's reaches the goal.
     Quadtree,
     /// The traced, simplified polygons of [`OccupancyMap::to_scene`], meshed by constrained
-    /// Delaunay refinement like any scene (the default: on Nav2's maps the faster first plan
-    /// on five of six, see the README's map table).
-    #[default]
+    /// Delaunay refinement like any scene: the fewest triangles and the fastest first plan,
+    /// but the tracing margin ([`MapPolygons::margin`], 1.25 cells at the default
+    /// simplification) closes passages narrower than about two margins and refuses goals
+    /// that close to a wall.
     Traced,
 }
 
@@ -165,7 +179,7 @@ impl Default for MapOptions {
     fn default() -> Self {
         MapOptions {
             unknown: UnknownCells::Obstacle,
-            mesher: MapMesher::Traced,
+            mesher: MapMesher::Auto,
             snap: Snap::OpenFloor,
             simplify_cells: 1.0,
             max_area: None,
@@ -319,6 +333,25 @@ pub enum MapError {
         /// The clearance the traced polygons add to the radius (the simplification tolerance
         /// and a quarter cell, see [`MapPolygons::margin`]); zero for the quadtree mesher.
         margin: f64,
+    },
+    /// The goal's cell is clear for the robot but none of its neighbours is: nothing outside
+    /// the cell can reach it.
+    #[error(
+        "goal ({x}, {y}) is enclosed in {file}: its cell (column {column}, row {row} from the bottom) keeps the robot radius {radius}, but no cell beside it does, so no start outside that cell can reach it; move it into open space"
+    )]
+    GoalEnclosed {
+        /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
+        file: String,
+        /// The goal's x, in world coordinates.
+        x: f64,
+        /// The goal's y, in world coordinates.
+        y: f64,
+        /// The column of the goal's cell, from the left.
+        column: usize,
+        /// The row of the goal's cell, from the bottom.
+        row: usize,
+        /// The robot radius.
+        radius: f64,
     },
     /// The map's free space could not be meshed or solved.
     #[error("{file}: {source}")]
@@ -913,9 +946,19 @@ impl OccupancyMap {
             file: self.source.clone(),
             source,
         };
-        match opts.mesher {
+        planner.stage(crate::planner::Stage::Meshing);
+        let checked = std::time::Instant::now();
+        let mesher = match opts.mesher {
+            MapMesher::Auto if self.traced_is_complete(goal, robot_radius, opts)? => {
+                MapMesher::Traced
+            }
+            MapMesher::Auto => MapMesher::Quadtree,
+            other => other,
+        };
+        let check_ms = checked.elapsed().as_secs_f64() * 1e3;
+        match mesher {
+            MapMesher::Auto => unreachable!("resolved above"),
             MapMesher::Traced => {
-                planner.stage(crate::planner::Stage::Meshing);
                 let t = std::time::Instant::now();
                 let goal_shape = harmonic_mesh::GoalShape::Point(Point::new(goal[0], goal[1]));
                 let (domain, mesh_options, entry) =
@@ -923,14 +966,13 @@ impl OccupancyMap {
                 let ms = t.elapsed().as_secs_f64() * 1e3;
                 Planner::from_domain(domain, &mesh_options, planner)
                     .map(|p| {
-                        p.with_mesh_time(ms)
+                        p.with_mesh_time(check_ms + ms)
                             .with_entry(Arc::new(entry))
                             .with_trace_tolerance(self.trace_tolerance())
                     })
                     .map_err(plan_error)
             }
             MapMesher::Quadtree => {
-                planner.stage(crate::planner::Stage::Meshing);
                 let t = std::time::Instant::now();
                 let (mesh, entry) = self.cell_space(goal, robot_radius, opts)?;
                 let ms = t.elapsed().as_secs_f64() * 1e3;
@@ -946,13 +988,43 @@ impl OccupancyMap {
                 };
                 Planner::from_mesh(mesh, &planner)
                     .map(|p| {
-                        p.with_mesh_time(ms)
+                        p.with_mesh_time(check_ms + ms)
                             .with_entry(Arc::new(entry))
                             .with_trace_tolerance(self.trace_tolerance())
                     })
                     .map_err(plan_error)
             }
         }
+    }
+
+    /// Whether the traced mesher plans every start the exact clear cells connect to `goal`
+    /// (see [`MapMesher::Auto`]): the goal's cell keeps the radius plus the tracing margin,
+    /// every clear cell 4-connected to the goal's lies within a lead-in's reach of a cell
+    /// that keeps the margin too, and the margin closes no loop (same Euler number).
+    fn traced_is_complete(
+        &self,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+    ) -> Result<bool, MapError> {
+        check_radius_and_area(robot_radius, opts)?;
+        let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
+        let res = self.resolution;
+        let blocked = self.blocked(opts.unknown);
+        let margin = opts.simplify_cells + trace::CONTOUR_CUT + trace::JITTER;
+        let narrow = bits::clear_cells(&blocked, robot_radius / res + margin);
+        if !narrow.get(gc as isize, gr as isize) {
+            return Ok(false);
+        }
+        let exact = bits::clear_cells(&blocked, robot_radius / res);
+        let all = bits::component(&exact, gc, gr);
+        let kept = bits::component(&narrow, gc, gr);
+        // The lead-in searches margin + 4 cells around a start; a cell within margin + 1 of
+        // a kept cell is well inside that.
+        if !all.subset_of(&kept.dilated(margin.ceil() as usize + 1)) {
+            return Ok(false);
+        }
+        Ok(all.euler_number() == kept.euler_number())
     }
 
     /// The smooth tracer's local error per step on this map: [`TRACE_TOLERANCE_CELLS`] of a
@@ -1008,12 +1080,15 @@ impl OccupancyMap {
             domain,
             mesh_options,
         } = self.traced(goal, robot_radius, opts, goals)?;
+        let gc_gr = self.goal_cell(goal, opts.unknown)?;
         let entry = cells::CellEntry {
             blocked,
             radius: robot_radius / self.resolution,
             clear: None,
             frame: self.frame(),
             reach: (polygons.margin / self.resolution).ceil() as usize + 4,
+            goal: (!goals.is_empty()).then_some((gc_gr, goal)),
+            reachable: Default::default(),
         };
         Ok((domain, mesh_options, entry))
     }
@@ -1104,7 +1179,18 @@ impl OccupancyMap {
                 }
             }
         };
-        let clear_area = component.iter().filter(|&&c| c).count() as f64 * res * res;
+        let clear_count = component.iter().filter(|&&c| c).count();
+        if clear_count <= 1 {
+            return Err(MapError::GoalEnclosed {
+                file: self.source.clone(),
+                x: goal[0],
+                y: goal[1],
+                column: gc,
+                row: gr,
+                radius: robot_radius,
+            });
+        }
+        let clear_area = clear_count as f64 * res * res;
         // The goal's cell is a hole of the mesh (its sides the goal boundary); the rest of the
         // component is meshed.
         let labels: Vec<Block> = component
@@ -1122,6 +1208,8 @@ impl OccupancyMap {
             clear: Some(clear_bits),
             frame: self.frame(),
             reach: 4 * block,
+            goal: Some(((gc, gr), goal)),
+            reachable: Default::default(),
         };
         // The largest leaf: triangles of at most max_area (a leaf is two of them), else
         // about four robot radii across, else (a point robot) the scene default's size.
@@ -1130,17 +1218,30 @@ impl OccupancyMap {
             None if robot_radius > 0.0 => 4.0 * robot_radius,
             None => (2.0 * clear_area / 20_000.0).sqrt(),
         };
-        let mut max_level = 0u8;
-        while max_level < 15 && (2usize << max_level) as f64 * res <= leaf {
+        // Blocks of half a cell, and leaves that keep the interior joined through vertices
+        // off the boundary: a cell with no such corner is split into its half cells around
+        // a centre vertex, so a door or corridor one cell wide carries the flow (see
+        // `QuadtreeOptions::interior_vertices`).
+        let mut max_level = 1u8;
+        while max_level < 15 && (1usize << max_level) as f64 * res <= leaf {
             max_level += 1;
         }
         let mesh_error = |e: harmonic_mesh::MeshError| MapError::Plan {
             file: self.source.clone(),
             source: e.into(),
         };
-        let grid = BlockGrid::new(w, h, labels).map_err(mesh_error)?;
-        let mesh = quadtree_mesh(&grid, &QuadtreeOptions { max_level }, |x, y| {
-            let p = self.grid_to_world([x, y]);
+        let halves: Vec<Block> = (0..2 * h)
+            .flat_map(|j| (0..2 * w).map(move |i| (i, j)))
+            .map(|(i, j)| labels[(j / 2) * w + i / 2])
+            .collect();
+        drop(labels);
+        let grid = BlockGrid::new(2 * w, 2 * h, halves).map_err(mesh_error)?;
+        let quadtree = QuadtreeOptions {
+            max_level,
+            interior_vertices: true,
+        };
+        let mesh = quadtree_mesh(&grid, &quadtree, |x, y| {
+            let p = self.grid_to_world([0.5 * x, 0.5 * y]);
             Point::new(p[0], p[1])
         })
         .map_err(mesh_error)?;

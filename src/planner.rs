@@ -266,11 +266,34 @@ pub struct Planner {
 
 /// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
 /// (on a map: clear cells beside the meshed blocks, see [`crate::map`]).
+///
+/// It also knows the goal as its source gave it: a path that reaches the goal's boundary
+/// goes on to the goal's point ([`StartEntry::goal_point`]), a start that already shares the
+/// goal's safe neighbourhood goes there straight ([`StartEntry::direct`]), and a start that
+/// can be neither planned nor led in is told why ([`StartEntry::refusal`]).
 pub trait StartEntry: Send + Sync {
     /// A polyline from `start` to a point inside the mesh (`in_mesh` tells which points
     /// are) along which the robot keeps its radius from every obstacle, or `None` when there
     /// is none.
     fn lead_in(&self, start: Point, in_mesh: &dyn Fn(Point) -> bool) -> Option<Vec<Point>>;
+
+    /// The point a path that reached goal `j` ends on, when the goal is a point that its
+    /// boundary surrounds convexly (a map's goal cell): the last straight step from the
+    /// boundary to it keeps the robot safe.
+    fn goal_point(&self, _j: u32) -> Option<Point> {
+        None
+    }
+
+    /// For a start that lies where a straight segment to the goal keeps the robot safe (in
+    /// the goal's own cell), that segment.
+    fn direct(&self, _start: Point) -> Option<[Point; 2]> {
+        None
+    }
+
+    /// Why a start outside the mesh that [`StartEntry::lead_in`] cannot lead in has no path.
+    fn refusal(&self, _start: Point) -> TraceStatus {
+        TraceStatus::OutsideWorkspace
+    }
 }
 
 impl std::fmt::Debug for Planner {
@@ -862,14 +885,18 @@ impl Planner {
     /// robot radius but lies outside the meshed free space, so it counts as clearance 0
     /// (`plan` is told so, with [`Clearance::Zero`], and need not measure it).
     fn entered(&self, start: Point, plan: impl Fn(Point, Clearance) -> PlannedPath) -> PlannedPath {
-        let lead = match &self.entry {
-            Some(entry) if self.mesh.locate(start, None).is_none() => {
-                entry.lead_in(start, &|p| self.mesh.locate(p, None).is_some())
-            }
-            _ => None,
-        };
-        let Some(lead) = lead.filter(|l| l.len() >= 2) else {
+        let Some(entry) = &self.entry else {
             return plan(start, Clearance::Measure);
+        };
+        if let Some([from, to]) = entry.direct(start) {
+            return self.unplanned(start, TraceStatus::ReachedGoal(0), vec![from, to]);
+        }
+        if self.mesh.locate(start, None).is_some() {
+            return plan(start, Clearance::Measure);
+        }
+        let lead = entry.lead_in(start, &|p| self.mesh.locate(p, None).is_some());
+        let Some(lead) = lead.filter(|l| l.len() >= 2) else {
+            return self.unplanned(start, entry.refusal(start), vec![start]);
         };
         let inside = lead[lead.len() - 1];
         let mut path = plan(inside, Clearance::Zero);
@@ -880,6 +907,28 @@ impl Planner {
         points.append(&mut path.points);
         path.points = points;
         path
+    }
+
+    /// A path that needed no tracer: `points` straight, or a start with no path (`status`
+    /// says why, `points` holds the start alone).
+    fn unplanned(&self, start: Point, status: TraceStatus, points: Vec<Point>) -> PlannedPath {
+        let min_clearance = match status {
+            TraceStatus::ReachedGoal(_) => self.domain.polyline_clearance(&points),
+            _ => 0.0,
+        };
+        PlannedPath {
+            start: [start.x, start.y],
+            status,
+            goal: match status {
+                TraceStatus::ReachedGoal(j) => Some(j),
+                _ => None,
+            },
+            tracer: Tracer::Straight,
+            length: polyline_length(&points),
+            min_clearance: finite_or_zero(min_clearance),
+            min_gradient: 0.0,
+            points: points.iter().map(|p| [p.x, p.y]).collect(),
+        }
     }
 
     /// Plans from every start (points or `[x, y]` arrays), in parallel.
@@ -901,6 +950,14 @@ impl Planner {
             Clearance::Measure => self.domain.polyline_clearance(&path.points),
             Clearance::Zero => 0.0,
         };
+        // The last step, inside the goal's boundary, to the goal's point (its clearance is
+        // the goal's own, not measured against the goal's boundary).
+        if let (TraceStatus::ReachedGoal(j), Some(entry)) = (path.status, &self.entry)
+            && let Some(end) = entry.goal_point(j)
+            && path.points.last() != Some(&end)
+        {
+            path.points.push(end);
+        }
         PlannedPath {
             start: [start.x, start.y],
             status: path.status,

@@ -962,7 +962,7 @@ proptest::proptest! {
         let map = OccupancyMap::from_cells(w, h, res, [-1.0, 2.0, 0.3], random_cells(seed, w, h))
             .expect("map");
         let radius = radius_cells * res;
-        let opts = MapOptions { simplify_cells, ..MapOptions::default() };
+        let opts = MapOptions { simplify_cells, mesher: MapMesher::Traced, ..MapOptions::default() };
         let mut rng = Lcg(seed ^ 0x9e37_79b9);
         let free: Vec<(usize, usize)> = (0..h)
             .flat_map(|j| (0..w).map(move |i| (i, j)))

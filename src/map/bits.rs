@@ -208,6 +208,77 @@ impl BitGrid {
     }
 }
 
+impl BitGrid {
+    /// The cells within `by` cells of a set cell, Chebyshev (a square of side 2·by + 1):
+    /// each row grown sideways, then each row the union of the `by` rows either side.
+    pub(crate) fn dilated(&self, by: usize) -> BitGrid {
+        let mask = self.last_mask();
+        let mut wide = self.clone();
+        let mut tmp = vec![0u64; self.stride];
+        for j in 0..self.height {
+            grow_row(wide.row_mut(j), &mut tmp, by, mask);
+        }
+        let mut out = BitGrid::new(self.width, self.height);
+        for j in 0..self.height {
+            let rows = j.saturating_sub(by)..(j + by + 1).min(self.height);
+            let dst = &mut out.words[j * self.stride..(j + 1) * self.stride];
+            for r in rows {
+                for (d, s) in dst.iter_mut().zip(wide.row(r)) {
+                    *d |= s;
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether every set cell of this grid is set in `other` (of the same size).
+    pub(crate) fn subset_of(&self, other: &BitGrid) -> bool {
+        self.words
+            .iter()
+            .zip(&other.words)
+            .all(|(a, b)| a & !b == 0)
+    }
+
+    /// The Euler number (components − holes) of the set cells, 4-connected: Gray's bit-quad
+    /// count `(n₁ − n₃ + 2 n_d) / 4` over every 2 × 2 window of the grid padded by one unset
+    /// cell, 64 windows a word (n₁, n₃: windows holding one or three set cells, n_d: two
+    /// diagonal ones).
+    pub(crate) fn euler_number(&self) -> i64 {
+        let mask = self.last_mask();
+        let n = self.stride;
+        let word = |j: Option<usize>, k: usize| -> u64 {
+            match j {
+                Some(j) if k < n => {
+                    let w = self.words[j * n + k];
+                    if k + 1 == n { w & mask } else { w }
+                }
+                _ => 0,
+            }
+        };
+        let (mut n1, mut n3, mut nd) = (0i64, 0i64, 0i64);
+        for j in 0..=self.height {
+            let below = j.checked_sub(1);
+            let above = (j < self.height).then_some(j);
+            // Window p spans cells p − 1 and p of the rows below and above; its bit is p.
+            for k in 0..=n {
+                let a1 = word(below, k);
+                let b1 = word(above, k);
+                let carry = |row: Option<usize>| if k > 0 { word(row, k - 1) >> 63 } else { 0 };
+                let a0 = a1 << 1 | carry(below);
+                let b0 = b1 << 1 | carry(above);
+                let (s1, c1, s2, c2) = (a0 ^ a1, a0 & a1, b0 ^ b1, b0 & b1);
+                let one = (s1 & !s2 & !c2) | (s2 & !s1 & !c1);
+                let three = (c1 & s2) | (c2 & s1);
+                let diagonal = (a0 & b1 & !a1 & !b0) | (a1 & b0 & !a0 & !b1);
+                n1 += i64::from(one.count_ones());
+                n3 += i64::from(three.count_ones());
+                nd += i64::from(diagonal.count_ones());
+            }
+        }
+        (n1 - n3 + 2 * nd) / 4
+    }
+}
+
 /// `dst |= src` shifted `s` cells towards higher columns (`up`) or lower ones, within a row
 /// of `mask`-padded words.
 fn or_shifted(dst: &mut [u64], src: &[u64], s: usize, up: bool) {
@@ -568,6 +639,38 @@ mod tests {
                 best >= radius
             })
             .collect()
+    }
+
+    #[test]
+    fn euler_numbers_and_dilation_match_the_cell_by_cell_ones() {
+        // Widths across word boundaries (63, 64, 65, 130), sparse and dense grids.
+        for (w, h, seed, one_in) in [
+            (63, 9, 1u64, 2),
+            (64, 12, 2, 3),
+            (65, 7, 3, 5),
+            (130, 20, 4, 2),
+        ] {
+            let mut rng = harmonic_fixtures::Rng(seed);
+            let set: Vec<bool> = (0..w * h).map(|_| rng.below(one_in) == 0).collect();
+            let grid = bits(&set, w, h);
+            assert_eq!(
+                grid.euler_number(),
+                super::super::cells::euler_number(&set, w, h),
+                "{w} × {h}"
+            );
+            for by in [0usize, 1, 3] {
+                let near = grid.dilated(by).to_bools();
+                for j in 0..h {
+                    for i in 0..w {
+                        let brute = (j.saturating_sub(by)..(j + by + 1).min(h)).any(|b| {
+                            (i.saturating_sub(by)..(i + by + 1).min(w)).any(|a| set[b * w + a])
+                        });
+                        assert_eq!(near[j * w + i], brute, "{w} × {h}, by {by}, ({i}, {j})");
+                    }
+                }
+                assert!(grid.subset_of(&grid.dilated(by)));
+            }
+        }
     }
 
     #[test]

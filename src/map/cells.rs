@@ -212,9 +212,89 @@ pub(super) struct CellEntry {
     /// The longest walk searched, in cells (the mesh lies within a few cells of every clear
     /// cell it left out).
     pub(super) reach: usize,
+    /// The goal's cell and point (world coordinates), for a planner towards one point goal.
+    pub(super) goal: Option<((usize, usize), [f64; 2])>,
+    /// The cells clear for `radius` that are 4-connected to the goal's cell, found at the
+    /// first start that needs them (to tell an unreachable start from a blocked one).
+    pub(super) reachable: std::sync::OnceLock<BitGrid>,
+}
+
+/// Why a start on a map has no path: what [`CellEntry::refusal`] finds.
+impl CellEntry {
+    /// The cell of a world point, if it is on the grid.
+    fn cell_of(&self, p: harmonic_mesh::Point) -> Option<(usize, usize)> {
+        let g = self.frame.world_to_grid([p.x, p.y]);
+        let (w, h) = (self.blocked.width() as f64, self.blocked.height() as f64);
+        (g[0] >= 0.0 && g[1] >= 0.0 && g[0] < w && g[1] < h).then(|| (g[0] as usize, g[1] as usize))
+    }
+
+    /// The clear cells (exactly, for the radius) 4-connected to the goal's cell.
+    fn reachable(&self) -> Option<&BitGrid> {
+        let ((gi, gj), _) = self.goal?;
+        Some(self.reachable.get_or_init(|| {
+            let clear = match &self.clear {
+                Some(c) => std::borrow::Cow::Borrowed(c),
+                None => {
+                    std::borrow::Cow::Owned(super::bits::clear_cells(&self.blocked, self.radius))
+                }
+            };
+            super::bits::component(&clear, gi, gj)
+        }))
+    }
 }
 
 impl crate::planner::StartEntry for CellEntry {
+    fn goal_point(&self, j: u32) -> Option<harmonic_mesh::Point> {
+        let (_, g) = self.goal.filter(|_| j == 0)?;
+        Some(harmonic_mesh::Point::new(g[0], g[1]))
+    }
+
+    fn direct(&self, start: harmonic_mesh::Point) -> Option<[harmonic_mesh::Point; 2]> {
+        let (cell, g) = self.goal?;
+        // The goal's cell is clear for the radius (the planner was built), and so is every
+        // point of its square: the segment inside it keeps the radius.
+        (self.cell_of(start) == Some(cell)).then(|| [start, harmonic_mesh::Point::new(g[0], g[1])])
+    }
+
+    fn refusal(&self, start: harmonic_mesh::Point) -> harmonic_trajectory::TraceStatus {
+        use harmonic_trajectory::TraceStatus;
+        let Some((i, j)) = self
+            .cell_of(start)
+            .filter(|_| start.x.is_finite() && start.y.is_finite())
+        else {
+            return TraceStatus::OutsideWorkspace;
+        };
+        if self.blocked.get(i as isize, j as isize) {
+            return TraceStatus::StartInObstacle;
+        }
+        let clear = match &self.clear {
+            Some(c) => c.get(i as isize, j as isize),
+            None => super::bits::clear_cells(
+                &self.blocked.window(
+                    i as isize - self.radius.ceil() as isize - 2,
+                    j as isize - self.radius.ceil() as isize - 2,
+                    2 * self.radius.ceil() as usize + 5,
+                    2 * self.radius.ceil() as usize + 5,
+                    true,
+                ),
+                self.radius,
+            )
+            .get(
+                self.radius.ceil() as isize + 2,
+                self.radius.ceil() as isize + 2,
+            ),
+        };
+        if !clear {
+            // Too close to a blocked cell for the radius: the robot would touch it.
+            return TraceStatus::StartInObstacle;
+        }
+        match self.reachable() {
+            Some(r) if !r.get(i as isize, j as isize) => TraceStatus::Unreachable,
+            // Connected, yet no way in was found: the lead-in's reach fell short.
+            _ => TraceStatus::Stalled { at: start },
+        }
+    }
+
     fn lead_in(
         &self,
         start: harmonic_mesh::Point,
@@ -226,6 +306,9 @@ impl crate::planner::StartEntry for CellEntry {
             return None;
         }
         let (si, sj) = (g[0] as usize, g[1] as usize);
+        if self.blocked.get(si as isize, sj as isize) {
+            return None; // in an occupied (or unknown) cell: no way in, whatever the radius
+        }
         // The clear cells: the mesher's, or those of a window around the start that holds
         // every walk searched and the blocked cells within the radius of it (the window's
         // edge counts as blocked, which only takes clear cells away near it).

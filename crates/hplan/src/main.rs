@@ -17,7 +17,7 @@ mod progress;
 
 use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
-use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap};
+use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, movingai};
 use harmonic_planner::{
     AnyScene, CarParams, ConfigPlanner, ConfigScene, Planner, PlannerOptions, Point, Scene,
     SvgOptions, VolumePlanner, VolumeScene, Workspace,
@@ -42,8 +42,19 @@ struct Cli {
 /// `hplan plan --map --mesher`.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum MesherArg {
+    Auto,
     Traced,
     Quadtree,
+}
+
+impl From<MesherArg> for MapMesher {
+    fn from(m: MesherArg) -> MapMesher {
+        match m {
+            MesherArg::Auto => MapMesher::Auto,
+            MesherArg::Quadtree => MapMesher::Quadtree,
+            MesherArg::Traced => MapMesher::Traced,
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -74,12 +85,17 @@ enum Command {
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
-        /// On a map: how to mesh it. `traced` (default): the robot's clear cells, with a
-        /// tracing margin of about a cell, traced to polygons and meshed by Delaunay
-        /// refinement (always so with several goals); `quadtree`: the clear cells themselves
-        /// (no margin), by a balanced quadtree. Either way the radius is kept exactly.
-        #[arg(long, value_enum, default_value_t = MesherArg::Traced, requires = "map")]
+        /// On a map: how to mesh it, a speed choice. `auto` (default): `traced` where its
+        /// margin changes nothing a path needs, else `quadtree`; `traced`: the robot's clear
+        /// cells, with a tracing margin of about a cell, traced to polygons and meshed by
+        /// Delaunay refinement (fastest; the margin closes passages narrower than about
+        /// three cells); `quadtree`: the clear cells themselves (no margin), by a balanced
+        /// quadtree, complete on every map. Either way the radius is kept exactly.
+        #[arg(long, value_enum, default_value_t = MesherArg::Auto, requires = "map")]
         mesher: MesherArg,
+        /// On a MovingAI `.map` file: metres per cell.
+        #[arg(long, value_name = "M", default_value_t = 1.0, requires = "map")]
+        resolution: f64,
         /// Plan in a Triangle .poly file's free space (its outer boundary the workspace, the
         /// regions around its hole points obstacles, its other segments mesh constraints);
         /// needs --goal X,Y.
@@ -129,6 +145,28 @@ enum Command {
             allow_negative_numbers = true
         )]
         max_steer: f64,
+    },
+    /// Run every scenario of a MovingAI `.scen` file (version 1) on its `.map` (a point
+    /// robot, 1 m cells unless --resolution): per bucket, solved / attempted, the path length
+    /// over the file's optimal length (median, worst), and times.
+    Bench {
+        /// The scenario file; each line's map is looked for beside it.
+        scen: PathBuf,
+        /// The map, if not the one the scenarios name (beside the .scen file).
+        #[arg(long, value_name = "FILE.map")]
+        map: Option<PathBuf>,
+        /// Metres per cell.
+        #[arg(long, value_name = "M", default_value_t = 1.0)]
+        resolution: f64,
+        /// The mesher (as `plan --mesher`).
+        #[arg(long, value_enum, default_value_t = MesherArg::Auto)]
+        mesher: MesherArg,
+        /// At most this many scenarios (the first ones), 0 for all.
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        limit: usize,
+        /// Print one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
     },
     /// Write the mesh and the potential for outside tools.
     Export {
@@ -412,6 +450,7 @@ fn plan_config(
 /// `hplan plan --map` with one goal: the map's own planner ([`OccupancyMap::planner`]).
 fn plan_map(
     map: &Path,
+    resolution: f64,
     goal: [f64; 2],
     robot_radius: f64,
     opts: &MapOptions,
@@ -422,11 +461,166 @@ fn plan_map(
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
-    let planner = OccupancyMap::load(map)
-        .and_then(|m| m.planner(goal, robot_radius, opts, &planner_opts))
+    let planner = load_map(map, resolution)?
+        .planner(goal, robot_radius, opts, &planner_opts)
         .map_err(|e| e.to_string())?;
     let starts = starts_of::<2>(starts, "X,Y on a map")?;
     report_plan(&planner, &starts, common)
+}
+
+/// A map_server YAML (and its image), or a MovingAI `.map` of `resolution` metres per cell.
+fn load_map(path: &Path, resolution: f64) -> Result<OccupancyMap, String> {
+    if path.extension().is_some_and(|e| e == "map") {
+        movingai::load_map(path, resolution).map_err(|e| e.to_string())
+    } else {
+        OccupancyMap::load(path).map_err(|e| e.to_string())
+    }
+}
+
+/// One bucket's figures in `hplan bench`.
+struct BenchBucket {
+    bucket: u32,
+    attempted: usize,
+    solved: usize,
+    ratio_median: f64,
+    ratio_worst: f64,
+    build_ms_median: f64,
+    query_ms_median: f64,
+    whole_s: f64,
+}
+
+/// `hplan bench FILE.scen`: every scenario planned from a fresh planner towards its goal.
+fn bench(
+    scen: &Path,
+    map: Option<&Path>,
+    resolution: f64,
+    mesher: MapMesher,
+    limit: usize,
+    json: bool,
+) -> Result<(), String> {
+    let mut scenarios = movingai::load_scen(scen).map_err(|e| e.to_string())?;
+    if limit > 0 {
+        scenarios.truncate(limit);
+    }
+    let dir = scen.parent().unwrap_or(Path::new("."));
+    let mut maps: std::collections::HashMap<PathBuf, OccupancyMap> = Default::default();
+    let opts = MapOptions {
+        mesher,
+        ..MapOptions::default()
+    };
+    let planner_opts = PlannerOptions::default();
+    // Per bucket: (attempted, solved, ratios, build ms, query ms, whole s).
+    type Rows = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>, f64);
+    let mut buckets: std::collections::BTreeMap<u32, Rows> = Default::default();
+    for (k, s) in scenarios.iter().enumerate() {
+        let file = match map {
+            Some(m) => m.to_path_buf(),
+            None => {
+                let named = dir.join(&s.map);
+                let base = Path::new(&s.map).file_name().map(|b| dir.join(b));
+                match base {
+                    Some(b) if !named.exists() && b.exists() => b,
+                    _ => named,
+                }
+            }
+        };
+        if !maps.contains_key(&file) {
+            let m = movingai::load_map(&file, resolution).map_err(|e| e.to_string())?;
+            maps.insert(file.clone(), m);
+        }
+        let grid = &maps[&file];
+        s.check_against(grid)
+            .map_err(|e| format!("{}: scenario {}: {e}", scen.display(), k + 1))?;
+        let goal = grid.cell_center(s.goal.0, s.goal.1);
+        let start = grid.cell_center(s.start.0, s.start.1);
+        let t = std::time::Instant::now();
+        let planner = grid.planner(goal, 0.0, &opts, &planner_opts);
+        let build = t.elapsed().as_secs_f64() * 1e3;
+        let t = std::time::Instant::now();
+        let path = planner.as_ref().ok().map(|p| p.plan(start));
+        let query = t.elapsed().as_secs_f64() * 1e3;
+        let row = buckets.entry(s.bucket).or_default();
+        row.0 += 1;
+        row.5 += (build + query) / 1e3;
+        row.3.push(build);
+        let Some(path) = path else { continue };
+        row.4.push(query);
+        let ends = path
+            .points
+            .last()
+            .is_some_and(|p| (p[0] - goal[0]).hypot(p[1] - goal[1]) <= 1e-9);
+        if path.status.reached_goal() && ends {
+            row.1 += 1;
+            if s.optimal > 0.0 {
+                row.2.push(path.length / resolution / s.optimal);
+            }
+        }
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+    };
+    let rows: Vec<BenchBucket> = buckets
+        .into_iter()
+        .map(
+            |(bucket, (attempted, solved, mut r, mut b, mut q, whole_s))| BenchBucket {
+                bucket,
+                attempted,
+                solved,
+                ratio_worst: r.iter().copied().fold(f64::NAN, f64::max),
+                ratio_median: median(&mut r),
+                build_ms_median: median(&mut b),
+                query_ms_median: median(&mut q),
+                whole_s,
+            },
+        )
+        .collect();
+    if json {
+        let buckets: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "bucket": r.bucket,
+                    "attempted": r.attempted,
+                    "solved": r.solved,
+                    "ratio_median": r.ratio_median,
+                    "ratio_worst": r.ratio_worst,
+                    "build_ms_median": r.build_ms_median,
+                    "query_ms_median": r.query_ms_median,
+                    "whole_s": r.whole_s,
+                })
+            })
+            .collect();
+        let text = serde_json::to_string(&serde_json::json!({
+            "scen": scen.display().to_string(),
+            "buckets": buckets,
+        }))
+        .map_err(|e| e.to_string())?;
+        return print_out(&format!("{text}\n"));
+    }
+    let mut out = format!(
+        "{}: {} scenarios\nbucket  solved  length/optimal median  worst  build ms  query ms  whole s\n",
+        scen.display(),
+        scenarios.len()
+    );
+    for r in &rows {
+        out += &format!(
+            "{:>6}  {:>3}/{:<3} {:>21.3}  {:>5.3}  {:>8.2}  {:>8.3}  {:>7.3}\n",
+            r.bucket,
+            r.solved,
+            r.attempted,
+            r.ratio_median,
+            r.ratio_worst,
+            r.build_ms_median,
+            r.query_ms_median,
+            r.whole_s
+        );
+    }
+    let (solved, attempted) = rows
+        .iter()
+        .fold((0, 0), |a, r| (a.0 + r.solved, a.1 + r.attempted));
+    out += &format!("solved {solved} of {attempted}\n");
+    print_out(&out)
 }
 
 fn write_file(path: &Path, text: &str) -> Result<(), String> {
@@ -660,6 +854,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             goal,
             robot_radius,
             mesher,
+            resolution,
             poly,
             mesh_in,
             goal_tag,
@@ -675,16 +870,21 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 (_, Some(map), Some(&first)) => {
                     let opts = MapOptions {
                         max_area: common.max_area,
-                        mesher: match mesher {
-                            MesherArg::Quadtree => MapMesher::Quadtree,
-                            MesherArg::Traced => MapMesher::Traced,
-                        },
+                        mesher: mesher.into(),
                         ..MapOptions::default()
                     };
                     if goal.len() == 1 {
-                        return plan_map(map, first, robot_radius, &opts, &common, &starts);
+                        return plan_map(
+                            map,
+                            resolution,
+                            first,
+                            robot_radius,
+                            &opts,
+                            &common,
+                            &starts,
+                        );
                     }
-                    let grid = OccupancyMap::load(map).map_err(|e| e.to_string())?;
+                    let grid = load_map(map, resolution)?;
                     let all_starts = starts_of::<2>(&starts, "X,Y on a map")?;
                     let goals = order.starts_per_goal(&goal, &all_starts, &[]);
                     let around = Point::new(first[0], first[1]);
@@ -786,6 +986,23 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             } else {
                 print_out(&report.summary())?;
             }
+        }
+        Command::Bench {
+            scen,
+            map,
+            resolution,
+            mesher,
+            limit,
+            json,
+        } => {
+            bench(
+                &scen,
+                map.as_deref(),
+                resolution,
+                mesher.into(),
+                limit,
+                json,
+            )?;
         }
         Command::Export {
             scene: path,

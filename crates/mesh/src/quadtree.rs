@@ -110,6 +110,15 @@ impl BlockGrid {
         self.blocks[j * self.width + i]
     }
 
+    /// Whether the lattice point `(x, y)` touches only free blocks (so a vertex there is
+    /// not on the boundary).
+    fn interior_corner(&self, x: usize, y: usize) -> bool {
+        let (x, y) = (x as isize, y as isize);
+        [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)]
+            .into_iter()
+            .all(|(i, j)| self.outside(i, j) == Block::Free)
+    }
+
     /// What lies outside a side: the block there, or `Blocked` past the grid's edge.
     fn outside(&self, i: isize, j: isize) -> Block {
         if i >= 0 && j >= 0 && (i as usize) < self.width && (j as usize) < self.height {
@@ -125,11 +134,30 @@ impl BlockGrid {
 pub struct QuadtreeOptions {
     /// The largest leaf is 2^`max_level` blocks on a side (at most 15).
     pub max_level: u8,
+    /// Keep the free space's interior connected through vertices off the boundary, so that
+    /// a passage one block wide is not sealed by the Dirichlet values of its walls. A node
+    /// larger than one block is a leaf only if (besides the rule above) the corners of it
+    /// that touch no block that is not free are there and joined along its sides (not just
+    /// two opposite ones), no side of it that faces free blocks has both ends on the
+    /// boundary, and it does not touch a goal block. A leaf cut in two whose only such
+    /// corner is one is cut through that corner.
+    ///
+    /// With blocks of half a cell (every cell of a grid given as 2 × 2 blocks) every free
+    /// cell is then either a leaf of one or more cells with such corners, or split into its
+    /// four half cells around a centre vertex with midpoints on its sides: the vertices off
+    /// the boundary are joined, from any free cell to any 4-neighbouring free cell, by edges
+    /// of positive weight, and every triangle has at least one of them. The discrete
+    /// potential is then positive below the walls' value on every free cell 4-connected to
+    /// the goal, and a descent from any point of the mesh reaches the goal.
+    pub interior_vertices: bool,
 }
 
 impl Default for QuadtreeOptions {
     fn default() -> Self {
-        QuadtreeOptions { max_level: 3 }
+        QuadtreeOptions {
+            max_level: 3,
+            interior_vertices: false,
+        }
     }
 }
 
@@ -188,13 +216,48 @@ fn strips(n: Node) -> [impl Iterator<Item = (isize, isize)>; 4] {
 /// Whether a node may be a leaf: its blocks are all free and each strip outside its sides is
 /// all free, all blocked (or past the grid's edge) or all goal, so a side facing the
 /// boundary is one boundary edge with one tag.
-fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node) -> bool {
-    pyramid.all_free(n.k, n.i as usize, n.j as usize)
-        && strips(n).into_iter().all(|mut strip| {
-            let (x, y) = strip.next().expect("a strip has at least one block");
-            let first = grid.outside(x, y);
-            strip.all(|(x, y)| grid.outside(x, y) == first)
-        })
+///
+/// With `interior_vertices` a node of more than one block must also keep its interior
+/// joined (see [`QuadtreeOptions::interior_vertices`]).
+fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node, interior_vertices: bool) -> bool {
+    if !pyramid.all_free(n.k, n.i as usize, n.j as usize) {
+        return false;
+    }
+    let uniform = strips(n).into_iter().all(|mut strip| {
+        let (x, y) = strip.next().expect("a strip has at least one block");
+        let first = grid.outside(x, y);
+        strip.all(|(x, y)| grid.outside(x, y) == first)
+    });
+    if !uniform || !interior_vertices || n.k == 0 {
+        return uniform;
+    }
+    let (x0, y0) = n.origin();
+    let s = 1usize << n.k;
+    let corners = [(x0, y0), (x0 + s, y0), (x0 + s, y0 + s), (x0, y0 + s)];
+    let ring = [
+        (x0 as isize - 1, y0 as isize - 1),
+        ((x0 + s) as isize, y0 as isize - 1),
+        (x0 as isize - 1, (y0 + s) as isize),
+        ((x0 + s) as isize, (y0 + s) as isize),
+    ];
+    let touches_goal = ring
+        .into_iter()
+        .chain(strips(n).into_iter().flatten())
+        .any(|(x, y)| grid.outside(x, y) == Block::Goal);
+    if touches_goal {
+        return false;
+    }
+    let inner = corners.map(|(x, y)| grid.interior_corner(x, y));
+    let joined = !matches!(
+        inner,
+        [false, false, false, false] | [true, false, true, false] | [false, true, false, true]
+    );
+    // Side q runs from corner q to corner q + 1 (bottom, right, top, left, as `strips`).
+    let sealed_side = strips(n).into_iter().enumerate().any(|(q, mut strip)| {
+        let (x, y) = strip.next().expect("a strip has at least one block");
+        grid.outside(x, y) == Block::Free && !inner[q] && !inner[(q + 1) % 4]
+    });
+    joined && !sealed_side
 }
 
 /// The leaves: the level of the leaf holding each block ([`NOT_FREE`] for blocks that are
@@ -206,7 +269,13 @@ struct Leaves<'a> {
 
 impl<'a> Leaves<'a> {
     /// The largest eligible nodes, top-down from `max_level`; every leaf is pushed on `todo`.
-    fn new(grid: &'a BlockGrid, pyramid: &Pyramid, max_level: u8, todo: &mut Vec<Node>) -> Self {
+    fn new(
+        grid: &'a BlockGrid,
+        pyramid: &Pyramid,
+        opts: &QuadtreeOptions,
+        todo: &mut Vec<Node>,
+    ) -> Self {
+        let max_level = opts.max_level;
         let mut leaves = Leaves {
             grid,
             level: vec![NOT_FREE; grid.width * grid.height],
@@ -230,7 +299,7 @@ impl<'a> Leaves<'a> {
                             leaves.level[bj * grid.width + bi] = 0;
                             todo.push(n);
                         }
-                    } else if eligible(grid, pyramid, n) {
+                    } else if eligible(grid, pyramid, n, opts.interior_vertices) {
                         leaves.fill(n, n.k);
                         todo.push(n);
                     } else {
@@ -368,7 +437,7 @@ pub fn quadtree_mesh(
     }
     let pyramid = Pyramid::new(grid, opts.max_level);
     let mut todo = Vec::new();
-    let mut leaves = Leaves::new(grid, &pyramid, opts.max_level, &mut todo);
+    let mut leaves = Leaves::new(grid, &pyramid, opts, &mut todo);
     drop(pyramid);
     leaves.balance(&mut todo);
 
@@ -415,8 +484,16 @@ pub fn quadtree_mesh(
                 finer(xi - 1, yi) || finer(xi - 1, yi + hi),
             ];
             if !mid_at.contains(&true) {
-                // Alternate the diagonal so open floor is cut symmetrically.
-                if ((x >> k) + (y >> k)).is_multiple_of(2) {
+                // Alternate the diagonal so open floor is cut symmetrically; with interior
+                // vertices kept, a leaf with one corner off the boundary is cut through it,
+                // so neither triangle has all its vertices on the boundary.
+                let inner = corners.map(|(a, b)| grid.interior_corner(a, b));
+                let through_02 = match (opts.interior_vertices, inner) {
+                    (true, [true, false, false, false] | [false, false, true, false]) => true,
+                    (true, [false, true, false, false] | [false, false, false, true]) => false,
+                    _ => ((x >> k) + (y >> k)).is_multiple_of(2),
+                };
+                if through_02 {
                     triangles.push([c[0], c[1], c[2]]);
                     triangles.push([c[0], c[2], c[3]]);
                 } else {
@@ -463,10 +540,13 @@ mod tests {
     #[test]
     fn leaves_are_balanced_and_cover_the_free_blocks() {
         let grid = room(77, 53, &[(10, 10), (11, 10), (30, 2)], (3, 20));
-        let opts = QuadtreeOptions { max_level: 4 };
+        let opts = QuadtreeOptions {
+            max_level: 4,
+            ..Default::default()
+        };
         let pyramid = Pyramid::new(&grid, opts.max_level);
         let mut todo = Vec::new();
-        let mut leaves = Leaves::new(&grid, &pyramid, opts.max_level, &mut todo);
+        let mut leaves = Leaves::new(&grid, &pyramid, &opts, &mut todo);
         leaves.balance(&mut todo);
         let (w, h) = (grid.width as isize, grid.height as isize);
         let mut coarse = false;
@@ -510,7 +590,11 @@ mod tests {
     fn mesh_is_conforming_non_obtuse_and_exact() {
         let blocked: Vec<(usize, usize)> = (0..12).map(|j| (20, j)).collect();
         let grid = room(40, 30, &blocked, (35, 5));
-        let mesh = quadtree_mesh(&grid, &QuadtreeOptions { max_level: 4 }, |x, y| {
+        let opts = QuadtreeOptions {
+            max_level: 4,
+            ..Default::default()
+        };
+        let mesh = quadtree_mesh(&grid, &opts, |x, y| {
             // A rotated, shifted, scaled frame, as a map's origin gives.
             let (s, c) = 0.3f64.sin_cos();
             Point::new(-7.0 + 0.05 * (c * x - s * y), 3.0 + 0.05 * (s * x + c * y))
@@ -546,7 +630,10 @@ mod tests {
             .expect_err("nothing to mesh");
         assert!(e.to_string().contains("no free block"), "{e}");
         let grid = room(4, 4, &[], (0, 0));
-        let opts = QuadtreeOptions { max_level: 16 };
+        let opts = QuadtreeOptions {
+            max_level: 16,
+            ..Default::default()
+        };
         assert!(quadtree_mesh(&grid, &opts, Point::new).is_err());
     }
 }

@@ -1,0 +1,312 @@
+//! Completeness on occupancy grids nobody tuned: seeded maps of every family (rooms joined by
+//! one- to three-cell doors, mazes of one- and two-cell corridors, random blocks, street
+//! grids, a one-cell spiral, walls of unknown cells, an office at 5 cm for a 0.22 m robot),
+//! start/goal pairs drawn on the robot's clear cells with a third of them against walls.
+//!
+//! Every pair a grid search connects must reach the goal point exactly, and every path must
+//! stay on the clear cells, checked on the grid by code that knows nothing of the planner
+//! (`harmonic_fixtures::occupancy`: exact segment-against-cell-square tests, an 8-connected
+//! A* without corner cutting). Lengths are reported against A*'s optimum.
+
+use harmonic_fixtures::occupancy::{
+    self, CellIj, OFFICE_RESOLUTION, OFFICE_ROBOT_RADIUS, Occ, OccGrid, astar8, clear_cells,
+    polyline_on_clear_cells, random_pairs, reachable,
+};
+use harmonic_planner::PlannerOptions;
+use harmonic_planner::map::{Cell, MapError, MapMesher, MapOptions, OccupancyMap};
+
+/// A generated grid as a map of `resolution` metres per cell at the origin.
+fn map_of(grid: &OccGrid, resolution: f64) -> OccupancyMap {
+    let cells = grid
+        .cells
+        .iter()
+        .map(|c| match c {
+            Occ::Free => Cell::Free,
+            Occ::Occupied => Cell::Occupied,
+            Occ::Unknown => Cell::Unknown,
+        })
+        .collect();
+    OccupancyMap::from_cells(grid.width, grid.height, resolution, [0.0; 3], cells).expect("map")
+}
+
+/// What one family's pairs did.
+#[derive(Debug, Default)]
+struct Tally {
+    pairs: usize,
+    reached: usize,
+    ratios: Vec<f64>,
+}
+
+impl Tally {
+    fn median_ratio(&self) -> f64 {
+        let mut r = self.ratios.clone();
+        r.sort_by(f64::total_cmp);
+        r.get(r.len() / 2).copied().unwrap_or(1.0)
+    }
+}
+
+/// Plans every pair on `grid` (goal and start at cell centres, and a second start at a
+/// random point of its cell) and checks each path on the grid.
+fn check_family(
+    name: &str,
+    grid: &OccGrid,
+    resolution: f64,
+    radius: f64,
+    pairs: &[(CellIj, CellIj)],
+    mesher: MapMesher,
+) -> Tally {
+    let (w, h) = (grid.width, grid.height);
+    let clear = clear_cells(grid, radius / resolution);
+    let map = map_of(grid, resolution);
+    let opts = MapOptions {
+        mesher,
+        ..MapOptions::default()
+    };
+    let mut tally = Tally::default();
+    let mut rng = harmonic_fixtures::Rng(0x5eed ^ pairs.len() as u64);
+    for &(start, goal) in pairs {
+        assert!(
+            reachable(&clear, w, h, start, goal),
+            "{name}: pairs are connected"
+        );
+        let optimum = astar8(&clear, w, h, start, goal).expect("connected pairs have a path");
+        let goal_xy = map.cell_center(goal.0, goal.1);
+        let planner = map
+            .planner(goal_xy, radius, &opts, &PlannerOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: goal {goal:?} on a clear cell refused: {e}"));
+        let off_centre = [
+            (start.0 as f64 + 0.05 + 0.9 * rng.next_f64()) * resolution,
+            (start.1 as f64 + 0.05 + 0.9 * rng.next_f64()) * resolution,
+        ];
+        for s in [map.cell_center(start.0, start.1), off_centre] {
+            tally.pairs += 1;
+            let path = planner.plan(s);
+            let last = *path.points.last().expect("a path has its start");
+            let in_cells: Vec<[f64; 2]> = path
+                .points
+                .iter()
+                .map(|p| [p[0] / resolution, p[1] / resolution])
+                .collect();
+            if let Err(off) = polyline_on_clear_cells(&clear, w, h, &in_cells) {
+                panic!("{name}: path {start:?} → {goal:?} leaves the clear cells: {off}");
+            }
+            if !path.status.reached_goal() {
+                eprintln!(
+                    "{name}: {start:?} → {goal:?} ({s:?}): {} at {last:?}",
+                    path.status
+                );
+                continue;
+            }
+            let miss = (last[0] - goal_xy[0]).hypot(last[1] - goal_xy[1]);
+            assert!(
+                miss <= 1e-9,
+                "{name}: {start:?} → {goal:?} ends {miss} from the goal"
+            );
+            tally.reached += 1;
+            if optimum > 2.0 {
+                tally.ratios.push(path.length / resolution / optimum);
+            }
+        }
+    }
+    eprintln!(
+        "{name}: {}/{} reached, length / A* median {:.3}",
+        tally.reached,
+        tally.pairs,
+        tally.median_ratio()
+    );
+    tally
+}
+
+/// One family's map: `(name, grid, resolution, robot radius, start/goal pairs)`.
+type Family = (String, OccGrid, f64, f64, Vec<(CellIj, CellIj)>);
+
+/// Every family, its maps and pairs.
+fn families() -> Vec<Family> {
+    let mut out = Vec::new();
+    let mut add = |name: String, grid: OccGrid, res: f64, radius: f64, seed: u64, n: usize| {
+        let clear = clear_cells(&grid, radius / res);
+        let pairs = random_pairs(seed, &clear, grid.width, grid.height, n, 3.0);
+        assert!(!pairs.is_empty(), "{name}: pairs drawn");
+        out.push((name, grid, res, radius, pairs));
+    };
+    for door in 1..=3 {
+        add(
+            format!("rooms, {door}-cell doors"),
+            occupancy::rooms(11 + door as u64, 48, 40, door),
+            1.0,
+            0.0,
+            door as u64,
+            6,
+        );
+    }
+    for corridor in 1..=2 {
+        add(
+            format!("maze, {corridor}-cell corridors"),
+            occupancy::maze(21 + corridor as u64, 41, 37, corridor),
+            1.0,
+            0.0,
+            corridor as u64,
+            6,
+        );
+    }
+    add(
+        "random blocks 30 %".into(),
+        occupancy::random_blocks(31, 48, 48, 0.3),
+        1.0,
+        0.0,
+        3,
+        6,
+    );
+    add(
+        "streets".into(),
+        occupancy::streets(41, 64, 64),
+        1.0,
+        0.0,
+        4,
+        6,
+    );
+    add(
+        "one-cell spiral".into(),
+        occupancy::spiral(400),
+        1.0,
+        0.0,
+        5,
+        3,
+    );
+    add(
+        "unknown-cell walls".into(),
+        occupancy::unknown_walls(51, 48, 40),
+        1.0,
+        0.0,
+        6,
+        6,
+    );
+    add(
+        "office 5 cm, 0.22 m robot".into(),
+        occupancy::office(61),
+        OFFICE_RESOLUTION,
+        OFFICE_ROBOT_RADIUS,
+        7,
+        5,
+    );
+    out
+}
+
+#[test]
+fn every_connected_pair_reaches_the_goal_point_on_clear_cells() {
+    let mut all = Vec::new();
+    for (name, grid, res, radius, pairs) in families() {
+        let tally = check_family(&name, &grid, res, radius, &pairs, MapMesher::Auto);
+        assert_eq!(
+            tally.reached, tally.pairs,
+            "{name}: every connected pair reaches the goal"
+        );
+        all.extend(tally.ratios);
+    }
+    all.sort_by(f64::total_cmp);
+    let median = all[all.len() / 2];
+    eprintln!("all families: length / A* median {median:.3}");
+    assert!(
+        median <= 1.15,
+        "median length over the 8-connected optimum {median}"
+    );
+}
+
+#[test]
+fn the_quadtree_alone_is_complete_too() {
+    for (name, grid, res, radius, pairs) in families().into_iter().step_by(2) {
+        let tally = check_family(&name, &grid, res, radius, &pairs, MapMesher::Quadtree);
+        assert_eq!(tally.reached, tally.pairs, "{name}: quadtree");
+    }
+}
+
+#[test]
+fn a_start_in_the_goal_cell_goes_straight_and_a_cut_off_one_is_unreachable() {
+    // Two 5 × 5 rooms joined by a one-cell door, and a closed closet.
+    let mut grid = OccGrid::new(19, 7, Occ::Occupied);
+    grid.fill(1..6, 1..6, Occ::Free);
+    grid.fill(7..12, 1..6, Occ::Free);
+    grid.set(6, 3, Occ::Free);
+    grid.fill(14..18, 1..6, Occ::Free);
+    let map = map_of(&grid, 1.0);
+    let goal = [10.3, 5.6];
+    let planner = map
+        .planner(
+            goal,
+            0.0,
+            &MapOptions::default(),
+            &PlannerOptions::default(),
+        )
+        .expect("a goal one cell from the wall plans");
+    let same_cell = planner.plan([10.9, 5.1]);
+    assert!(same_cell.status.reached_goal());
+    assert_eq!(same_cell.points, vec![[10.9, 5.1], goal]);
+    let through_door = planner.plan([1.5, 1.5]);
+    assert!(through_door.status.reached_goal());
+    assert_eq!(through_door.points.last(), Some(&goal));
+    assert_eq!(planner.plan([15.5, 3.5]).status.as_str(), "unreachable");
+    assert_eq!(
+        planner.plan([6.5, 5.5]).status.as_str(),
+        "start_in_obstacle"
+    );
+    assert_eq!(
+        planner.plan([-3.0, 2.0]).status.as_str(),
+        "outside_workspace"
+    );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 24,
+        failure_persistence: None,
+        ..Default::default()
+    })]
+
+    /// Random grids (0–40 % blocked, random robot radius): a start reaches the goal exactly
+    /// when the clear cells connect them.
+    #[test]
+    fn reached_exactly_when_a_grid_search_connects(
+        seed in 1u64..u64::MAX,
+        density in 0.0f64..0.4,
+        radius_cells in 0.0f64..1.6,
+    ) {
+        let (w, h) = (24, 20);
+        let grid = occupancy::random_blocks(seed, w, h, density);
+        let clear = clear_cells(&grid, radius_cells);
+        let cells: Vec<CellIj> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .filter(|&(i, j)| clear[j * w + i])
+            .collect();
+        proptest::prop_assume!(cells.len() >= 2);
+        let mut rng = harmonic_fixtures::Rng(seed | 1);
+        let goal = cells[rng.below(cells.len())];
+        let map = map_of(&grid, 1.0);
+        let goal_xy = map.cell_center(goal.0, goal.1);
+        let planner = match map.planner(goal_xy, radius_cells, &MapOptions::default(), &PlannerOptions::default()) {
+            Ok(p) => p,
+            Err(MapError::GoalEnclosed { .. }) => {
+                // Only when no clear cell lies beside the goal's.
+                let alone = cells.iter().all(|&c| c == goal || !reachable(&clear, w, h, c, goal));
+                proptest::prop_assert!(alone, "an enclosed goal has clear neighbours");
+                return Ok(());
+            }
+            Err(e) => return Err(proptest::test_runner::TestCaseError::fail(e.to_string())),
+        };
+        for _ in 0..6 {
+            let start = cells[rng.below(cells.len())];
+            let path = planner.plan(map.cell_center(start.0, start.1));
+            let connected = reachable(&clear, w, h, start, goal);
+            proptest::prop_assert_eq!(
+                path.status.reached_goal(),
+                connected,
+                "{:?} → {:?}: {}",
+                start,
+                goal,
+                path.status
+            );
+            if !connected {
+                proptest::prop_assert_eq!(path.status.as_str(), "unreachable");
+            }
+        }
+    }
+}
