@@ -35,6 +35,14 @@ struct Tally {
     pairs: usize,
     reached: usize,
     ratios: Vec<f64>,
+    /// First plans (build and trace) and later starts, in ms: reported, not asserted.
+    first_ms: Vec<f64>,
+    later_ms: Vec<f64>,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 impl Tally {
@@ -71,16 +79,28 @@ fn check_family(
         );
         let optimum = astar8(&clear, w, h, start, goal).expect("connected pairs have a path");
         let goal_xy = map.cell_center(goal.0, goal.1);
+        let t = std::time::Instant::now();
         let planner = map
             .planner(goal_xy, radius, &opts, &PlannerOptions::default())
             .unwrap_or_else(|e| panic!("{name}: goal {goal:?} on a clear cell refused: {e}"));
+        let build_ms = t.elapsed().as_secs_f64() * 1e3;
         let off_centre = [
             (start.0 as f64 + 0.05 + 0.9 * rng.next_f64()) * resolution,
             (start.1 as f64 + 0.05 + 0.9 * rng.next_f64()) * resolution,
         ];
-        for s in [map.cell_center(start.0, start.1), off_centre] {
+        for (k, s) in [map.cell_center(start.0, start.1), off_centre]
+            .into_iter()
+            .enumerate()
+        {
             tally.pairs += 1;
+            let t = std::time::Instant::now();
             let path = planner.plan(s);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            if k == 0 {
+                tally.first_ms.push(build_ms + ms);
+            } else {
+                tally.later_ms.push(ms);
+            }
             let last = *path.points.last().expect("a path has its start");
             let in_cells: Vec<[f64; 2]> = path
                 .points
@@ -109,10 +129,12 @@ fn check_family(
         }
     }
     eprintln!(
-        "{name}: {}/{} reached, length / A* median {:.3}",
+        "{name} ({w} × {h}): {}/{} reached, length / A* median {:.3}, first plan {:.1} ms, later start {:.2} ms (medians)",
         tally.reached,
         tally.pairs,
-        tally.median_ratio()
+        tally.median_ratio(),
+        median(&mut tally.first_ms),
+        median(&mut tally.later_ms),
     );
     tally
 }

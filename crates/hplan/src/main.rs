@@ -560,6 +560,13 @@ fn bench(
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
     };
+    // Every scenario's ratio, build and query time, for the line under the buckets.
+    let mut all: (Vec<f64>, Vec<f64>, Vec<f64>) = Default::default();
+    for (_, _, r, b, q, _) in buckets.values() {
+        all.0.extend(r);
+        all.1.extend(b);
+        all.2.extend(q);
+    }
     let rows: Vec<BenchBucket> = buckets
         .into_iter()
         .map(
@@ -619,7 +626,14 @@ fn bench(
     let (solved, attempted) = rows
         .iter()
         .fold((0, 0), |a, r| (a.0 + r.solved, a.1 + r.attempted));
-    out += &format!("solved {solved} of {attempted}\n");
+    let whole: f64 = rows.iter().map(|r| r.whole_s).sum();
+    out += &format!(
+        "   all  {solved:>3}/{attempted:<3} {:>21.3}  {:>5.3}  {:>8.2}  {:>8.3}  {whole:>7.3}\n",
+        median(&mut all.0),
+        all.0.iter().copied().fold(f64::NAN, f64::max),
+        median(&mut all.1),
+        median(&mut all.2),
+    );
     print_out(&out)
 }
 
