@@ -924,7 +924,8 @@ impl Planner {
                 _ => None,
             },
             tracer: Tracer::Straight,
-            length: polyline_length(&points),
+            // (+0, not the −0 an empty sum gives, for a start alone.)
+            length: polyline_length(&points).max(0.0),
             min_clearance: finite_or_zero(min_clearance),
             min_gradient: 0.0,
             points: points.iter().map(|p| [p.x, p.y]).collect(),

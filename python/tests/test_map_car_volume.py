@@ -60,9 +60,10 @@ def test_from_map(warehouse):
         # Checked against the map's own cells: the disc of radius 0.2 stays off every occupied
         # or unknown cell (exactly: the cells were cleared on the grid; to rounding here).
         assert distance_to_cells(path.points, cells, res).min() >= 0.2 - 1e-9
-    # The closed closet and the patch seen through a window: no way to the goal.
-    for start in ([16.4, 11.8], [0.25, -1.3]):
-        assert warehouse.plan(start).status in ("unreachable", "outside_workspace")
+    # The closed closet: clear cells with no way to the goal.
+    assert warehouse.plan([16.4, 11.8]).status == "unreachable"
+    # The patch seen through a window: too close to its walls for the radius.
+    assert warehouse.plan([0.25, -1.3]).status == "start_in_obstacle"
     assert set(warehouse.timings) == {"mesh", "assemble", "solve"}
 
 
