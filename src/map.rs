@@ -4,8 +4,10 @@
 //! `free_thresh`, `negate`, `mode`) naming a PGM or PNG image. Each pixel becomes a free,
 //! occupied or unknown cell by the `map_server` rules.
 //!
-//! The default mesher ([`MapMesher::Traced`]) works in the robot's free configuration space
-//! from the start, on the grid: the cells whose squares keep the robot radius (plus a small
+//! Both meshers work in the robot's free configuration space on the grid; the default,
+//! [`MapMesher::Auto`], takes the traced one wherever its margin changes nothing a path needs
+//! and the quadtree (complete on every grid, one-cell doors included) elsewhere. The traced
+//! mesher ([`MapMesher::Traced`]) works from the start on the grid: the cells whose squares keep the robot radius (plus a small
 //! tracing margin, [`MapPolygons::margin`]) from every blocked cell are found exactly, 64
 //! cells a word; the goal's 4-connected component of them is traced by marching squares and
 //! simplified by Douglas–Peucker ([`MapOptions::simplify_cells`], about a cell) without
@@ -827,7 +829,9 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<MapPolygons, MapError> {
-        Ok(self.traced(goal, robot_radius, opts, &[])?.polygons)
+        Ok(self
+            .traced(goal, robot_radius, opts, &[], Known::default())?
+            .polygons)
     }
 
     /// [`OccupancyMap::polygons`], the blocked cells they were traced from, and the domain
@@ -840,6 +844,7 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
         goals: &[harmonic_mesh::GoalShape],
+        known: Known,
     ) -> Result<TracedDomain, MapError> {
         check_radius_and_area(robot_radius, opts)?;
         if !(opts.simplify_cells.is_finite()
@@ -862,7 +867,9 @@ impl OccupancyMap {
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
         let eps = opts.simplify_cells;
         let margin = (eps + trace::CONTOUR_CUT + trace::JITTER) * self.resolution;
-        let clear = bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution);
+        let clear = known.narrow.unwrap_or_else(|| {
+            bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution)
+        });
         let too_close = || MapError::GoalTooClose {
             file: self.source.clone(),
             x: goal[0],
@@ -948,21 +955,18 @@ impl OccupancyMap {
         };
         planner.stage(crate::planner::Stage::Meshing);
         let checked = std::time::Instant::now();
-        let mesher = match opts.mesher {
-            MapMesher::Auto if self.traced_is_complete(goal, robot_radius, opts)? => {
-                MapMesher::Traced
-            }
-            MapMesher::Auto => MapMesher::Quadtree,
-            other => other,
+        let (traced, known) = match opts.mesher {
+            MapMesher::Traced => (true, Known::default()),
+            MapMesher::Quadtree => (false, Known::default()),
+            MapMesher::Auto => self.traced_is_complete(goal, robot_radius, opts)?,
         };
         let check_ms = checked.elapsed().as_secs_f64() * 1e3;
-        match mesher {
-            MapMesher::Auto => unreachable!("resolved above"),
-            MapMesher::Traced => {
+        match traced {
+            true => {
                 let t = std::time::Instant::now();
                 let goal_shape = harmonic_mesh::GoalShape::Point(Point::new(goal[0], goal[1]));
                 let (domain, mesh_options, entry) =
-                    self.traced_domain(goal, robot_radius, opts, &[goal_shape])?;
+                    self.traced_domain(goal, robot_radius, opts, &[goal_shape], known)?;
                 let ms = t.elapsed().as_secs_f64() * 1e3;
                 Planner::from_domain(domain, &mesh_options, planner)
                     .map(|p| {
@@ -972,9 +976,9 @@ impl OccupancyMap {
                     })
                     .map_err(plan_error)
             }
-            MapMesher::Quadtree => {
+            false => {
                 let t = std::time::Instant::now();
-                let (mesh, entry) = self.cell_space(goal, robot_radius, opts)?;
+                let (mesh, entry) = self.cell_space(goal, robot_radius, opts, known)?;
                 let ms = t.elapsed().as_secs_f64() * 1e3;
                 // A quadtree mesh always gives an M-matrix, and on a map ψ spans many orders
                 // of magnitude (it decays exponentially into dead ends), where `Auto` would
@@ -1001,30 +1005,34 @@ impl OccupancyMap {
     /// (see [`MapMesher::Auto`]): the goal's cell keeps the radius plus the tracing margin,
     /// every clear cell 4-connected to the goal's lies within a lead-in's reach of a cell
     /// that keeps the margin too, and the margin closes no loop (same Euler number).
+    /// What it found is handed on, so the chosen mesher does not find it again.
     fn traced_is_complete(
         &self,
         goal: [f64; 2],
         robot_radius: f64,
         opts: &MapOptions,
-    ) -> Result<bool, MapError> {
+    ) -> Result<(bool, Known), MapError> {
         check_radius_and_area(robot_radius, opts)?;
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
         let res = self.resolution;
         let blocked = self.blocked(opts.unknown);
-        let margin = opts.simplify_cells + trace::CONTOUR_CUT + trace::JITTER;
-        let narrow = bits::clear_cells(&blocked, robot_radius / res + margin);
-        if !narrow.get(gc as isize, gr as isize) {
-            return Ok(false);
-        }
         let exact = bits::clear_cells(&blocked, robot_radius / res);
         let all = bits::component(&exact, gc, gr);
-        let kept = bits::component(&narrow, gc, gr);
-        // The lead-in searches margin + 4 cells around a start; a cell within margin + 1 of
-        // a kept cell is well inside that.
-        if !all.subset_of(&kept.dilated(margin.ceil() as usize + 1)) {
-            return Ok(false);
-        }
-        Ok(all.euler_number() == kept.euler_number())
+        let margin = opts.simplify_cells + trace::CONTOUR_CUT + trace::JITTER;
+        let narrow = bits::clear_cells(&blocked, robot_radius / res + margin);
+        let complete = narrow.get(gc as isize, gr as isize) && {
+            let kept = bits::component(&narrow, gc, gr);
+            // The lead-in searches margin + 4 cells around a start; a cell within
+            // margin + 1 of a kept cell is well inside that.
+            all.subset_of(&kept.dilated(margin.ceil() as usize + 1))
+                && all.euler_number() == kept.euler_number()
+        };
+        let known = Known {
+            narrow: Some(narrow),
+            exact: Some(exact),
+            reachable: Some(all),
+        };
+        Ok((complete, known))
     }
 
     /// The smooth tracer's local error per step on this map: [`TRACE_TOLERANCE_CELLS`] of a
@@ -1053,7 +1061,8 @@ impl OccupancyMap {
         };
         planner.stage(crate::planner::Stage::Meshing);
         let t = std::time::Instant::now();
-        let (domain, mesh_options, entry) = self.traced_domain(around, robot_radius, opts, &[])?;
+        let (domain, mesh_options, entry) =
+            self.traced_domain(around, robot_radius, opts, &[], Known::default())?;
         let meshed =
             crate::planner::Meshed::of_domain(domain, &mesh_options, t).map_err(plan_error)?;
         Workspace::factored(meshed, &Default::default(), planner)
@@ -1073,22 +1082,25 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
         goals: &[harmonic_mesh::GoalShape],
+        mut known: Known,
     ) -> Result<(harmonic_mesh::Domain, MeshOptions, cells::CellEntry), MapError> {
+        let reachable = known.reachable.take();
+        let exact = known.exact.take();
         let TracedDomain {
             polygons,
             blocked,
             domain,
             mesh_options,
-        } = self.traced(goal, robot_radius, opts, goals)?;
+        } = self.traced(goal, robot_radius, opts, goals, known)?;
         let gc_gr = self.goal_cell(goal, opts.unknown)?;
         let entry = cells::CellEntry {
             blocked,
             radius: robot_radius / self.resolution,
-            clear: None,
+            clear: exact,
             frame: self.frame(),
             reach: (polygons.margin / self.resolution).ceil() as usize + 4,
             goal: (!goals.is_empty()).then_some((gc_gr, goal)),
-            reachable: Default::default(),
+            reachable: reachable.map(Into::into).unwrap_or_default(),
         };
         Ok((domain, mesh_options, entry))
     }
@@ -1106,7 +1118,9 @@ impl OccupancyMap {
         robot_radius: f64,
         opts: &MapOptions,
     ) -> Result<harmonic_mesh::Mesh, MapError> {
-        Ok(self.cell_space(goal, robot_radius, opts)?.0)
+        Ok(self
+            .cell_space(goal, robot_radius, opts, Known::default())?
+            .0)
     }
 
     /// [`OccupancyMap::cell_mesh`] and the lead-in from clear cells the blocks left out (or
@@ -1116,6 +1130,7 @@ impl OccupancyMap {
         goal: [f64; 2],
         robot_radius: f64,
         opts: &MapOptions,
+        known: Known,
     ) -> Result<(harmonic_mesh::Mesh, cells::CellEntry), MapError> {
         check_radius_and_area(robot_radius, opts)?;
         let res = self.resolution;
@@ -1130,7 +1145,9 @@ impl OccupancyMap {
         let (w, h) = (self.width, self.height);
         let (gc, gr) = self.goal_cell(goal, opts.unknown)?;
         let blocked = self.blocked(opts.unknown);
-        let clear_bits = bits::clear_cells(&blocked, robot_radius / res);
+        let clear_bits = known
+            .exact
+            .unwrap_or_else(|| bits::clear_cells(&blocked, robot_radius / res));
         let clear = clear_bits.to_bools();
         let too_close = || MapError::GoalTooClose {
             file: self.source.clone(),
@@ -1209,7 +1226,7 @@ impl OccupancyMap {
             frame: self.frame(),
             reach: 4 * block,
             goal: Some(((gc, gr), goal)),
-            reachable: Default::default(),
+            reachable: known.reachable.map(Into::into).unwrap_or_default(),
         };
         // The largest leaf: triangles of at most max_area (a leaf is two of them), else
         // about four robot radii across, else (a point robot) the scene default's size.
@@ -1358,6 +1375,18 @@ fn check_radius_and_area(robot_radius: f64, opts: &MapOptions) -> Result<(), Map
         });
     }
     Ok(())
+}
+
+/// Grids [`MapMesher::Auto`]'s check found, handed to the mesher it chose so that it does
+/// not find them again; `None` where not known.
+#[derive(Default)]
+struct Known {
+    /// The cells clear for the radius plus the tracing margin.
+    narrow: Option<BitGrid>,
+    /// The cells clear for the radius, exactly.
+    exact: Option<BitGrid>,
+    /// Of those, the ones 4-connected to the goal's cell.
+    reachable: Option<BitGrid>,
 }
 
 /// What [`OccupancyMap::traced`] makes: the polygons, the blocked cells they were traced

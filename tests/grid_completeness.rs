@@ -144,74 +144,58 @@ type Family = (String, OccGrid, f64, f64, Vec<(CellIj, CellIj)>);
 
 /// Every family, its maps and pairs.
 fn families() -> Vec<Family> {
-    let mut out = Vec::new();
-    let mut add = |name: String, grid: OccGrid, res: f64, radius: f64, seed: u64, n: usize| {
-        let clear = clear_cells(&grid, radius / res);
-        let pairs = random_pairs(seed, &clear, grid.width, grid.height, n, 3.0);
-        assert!(!pairs.is_empty(), "{name}: pairs drawn");
-        out.push((name, grid, res, radius, pairs));
+    // (name, grid, resolution, robot radius, seed of the pairs, pairs)
+    let point = |name: &str, grid: OccGrid, seed: u64, n: usize| {
+        (name.to_string(), grid, 1.0, 0.0, seed, n)
     };
-    for door in 1..=3 {
-        add(
-            format!("rooms, {door}-cell doors"),
-            occupancy::rooms(11 + door as u64, 48, 40, door),
-            1.0,
-            0.0,
-            door as u64,
+    let grids = [
+        point("rooms, 1-cell doors", occupancy::rooms(12, 48, 40, 1), 1, 6),
+        point("rooms, 2-cell doors", occupancy::rooms(13, 48, 40, 2), 2, 6),
+        point("rooms, 3-cell doors", occupancy::rooms(14, 48, 40, 3), 3, 6),
+        point(
+            "maze, 1-cell corridors",
+            occupancy::maze(22, 41, 37, 1),
+            1,
             6,
-        );
-    }
-    for corridor in 1..=2 {
-        add(
-            format!("maze, {corridor}-cell corridors"),
-            occupancy::maze(21 + corridor as u64, 41, 37, corridor),
-            1.0,
-            0.0,
-            corridor as u64,
+        ),
+        point(
+            "maze, 2-cell corridors",
+            occupancy::maze(23, 41, 37, 2),
+            2,
             6,
-        );
-    }
-    add(
-        "random blocks 30 %".into(),
-        occupancy::random_blocks(31, 48, 48, 0.3),
-        1.0,
-        0.0,
-        3,
-        6,
-    );
-    add(
-        "streets".into(),
-        occupancy::streets(41, 64, 64),
-        1.0,
-        0.0,
-        4,
-        6,
-    );
-    add(
-        "one-cell spiral".into(),
-        occupancy::spiral(400),
-        1.0,
-        0.0,
-        5,
-        3,
-    );
-    add(
-        "unknown-cell walls".into(),
-        occupancy::unknown_walls(51, 48, 40),
-        1.0,
-        0.0,
-        6,
-        6,
-    );
-    add(
-        "office 5 cm, 0.22 m robot".into(),
-        occupancy::office(61),
-        OFFICE_RESOLUTION,
-        OFFICE_ROBOT_RADIUS,
-        7,
-        5,
-    );
-    out
+        ),
+        point(
+            "random blocks 30 %",
+            occupancy::random_blocks(31, 48, 48, 0.3),
+            3,
+            6,
+        ),
+        point("streets", occupancy::streets(41, 64, 64), 4, 6),
+        point("one-cell spiral", occupancy::spiral(400), 5, 3),
+        point(
+            "unknown-cell walls",
+            occupancy::unknown_walls(51, 48, 40),
+            6,
+            6,
+        ),
+        (
+            "office 5 cm, 0.22 m robot".to_string(),
+            occupancy::office(61),
+            OFFICE_RESOLUTION,
+            OFFICE_ROBOT_RADIUS,
+            7,
+            5,
+        ),
+    ];
+    grids
+        .into_iter()
+        .map(|(name, grid, res, radius, seed, n)| {
+            let clear = clear_cells(&grid, radius / res);
+            let pairs = random_pairs(seed, &clear, grid.width, grid.height, n, 3.0);
+            assert!(!pairs.is_empty(), "{name}: pairs drawn");
+            (name, grid, res, radius, pairs)
+        })
+        .collect()
 }
 
 #[test]

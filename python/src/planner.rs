@@ -143,8 +143,8 @@ impl PyPlanner {
 
     /// A planner on a ROS map_server occupancy map (`map.yaml` with its PGM/PNG image)
     /// towards `goal` (world coordinates) for a disc robot of `robot_radius`, as
-    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (traced polygons,
-    /// the map's default mesher).
+    /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (the map's default
+    /// mesher, `auto`).
     /// Occupied cells (and unknown ones) are obstacles. The GIL is released while the map is
     /// read and the planner built.
     #[staticmethod]

@@ -219,13 +219,36 @@ pub(super) struct CellEntry {
     pub(super) reachable: std::sync::OnceLock<BitGrid>,
 }
 
-/// Why a start on a map has no path: what [`CellEntry::refusal`] finds.
 impl CellEntry {
-    /// The cell of a world point, if it is on the grid.
+    /// The cell of a world point, if it is on the grid (not for NaN or infinite points).
     fn cell_of(&self, p: harmonic_mesh::Point) -> Option<(usize, usize)> {
         let g = self.frame.world_to_grid([p.x, p.y]);
         let (w, h) = (self.blocked.width() as f64, self.blocked.height() as f64);
         (g[0] >= 0.0 && g[1] >= 0.0 && g[0] < w && g[1] < h).then(|| (g[0] as usize, g[1] as usize))
+    }
+
+    /// The clear cells around cell `(i, j)`: the mesher's, or those of a window `half` cells
+    /// either side of it with the blocked cells within the radius of it (the window's edge
+    /// counts as blocked, which only takes clear cells away near it).
+    fn clear_around(&self, i: usize, j: usize, half: usize) -> ClearWindow<'_> {
+        match &self.clear {
+            Some(c) => ClearWindow {
+                cells: std::borrow::Cow::Borrowed(c),
+                i0: 0,
+                j0: 0,
+            },
+            None => {
+                let half = half as isize;
+                let (i0, j0) = (i as isize - half, j as isize - half);
+                let size = 2 * half as usize + 1;
+                let blocked = self.blocked.window(i0, j0, size, size, true);
+                ClearWindow {
+                    cells: std::borrow::Cow::Owned(super::bits::clear_cells(&blocked, self.radius)),
+                    i0,
+                    j0,
+                }
+            }
+        }
     }
 
     /// The clear cells (exactly, for the radius) 4-connected to the goal's cell.
@@ -258,33 +281,14 @@ impl crate::planner::StartEntry for CellEntry {
 
     fn refusal(&self, start: harmonic_mesh::Point) -> harmonic_trajectory::TraceStatus {
         use harmonic_trajectory::TraceStatus;
-        let Some((i, j)) = self
-            .cell_of(start)
-            .filter(|_| start.x.is_finite() && start.y.is_finite())
-        else {
+        let Some((i, j)) = self.cell_of(start) else {
             return TraceStatus::OutsideWorkspace;
         };
         if self.blocked.get(i as isize, j as isize) {
             return TraceStatus::StartInObstacle;
         }
-        let clear = match &self.clear {
-            Some(c) => c.get(i as isize, j as isize),
-            None => super::bits::clear_cells(
-                &self.blocked.window(
-                    i as isize - self.radius.ceil() as isize - 2,
-                    j as isize - self.radius.ceil() as isize - 2,
-                    2 * self.radius.ceil() as usize + 5,
-                    2 * self.radius.ceil() as usize + 5,
-                    true,
-                ),
-                self.radius,
-            )
-            .get(
-                self.radius.ceil() as isize + 2,
-                self.radius.ceil() as isize + 2,
-            ),
-        };
-        if !clear {
+        let near = self.radius.ceil() as usize + 2;
+        if !self.clear_around(i, j, near).get(i as isize, j as isize) {
             // Too close to a blocked cell for the radius: the robot would touch it.
             return TraceStatus::StartInObstacle;
         }
@@ -302,32 +306,12 @@ impl crate::planner::StartEntry for CellEntry {
     ) -> Option<Vec<harmonic_mesh::Point>> {
         let (w, h) = (self.blocked.width(), self.blocked.height());
         let g = self.frame.world_to_grid([start.x, start.y]);
-        if !(g[0] >= 0.0 && g[1] >= 0.0 && g[0] < w as f64 && g[1] < h as f64) {
-            return None;
-        }
-        let (si, sj) = (g[0] as usize, g[1] as usize);
+        let (si, sj) = self.cell_of(start)?;
         if self.blocked.get(si as isize, sj as isize) {
             return None; // in an occupied (or unknown) cell: no way in, whatever the radius
         }
-        // The clear cells: the mesher's, or those of a window around the start that holds
-        // every walk searched and the blocked cells within the radius of it (the window's
-        // edge counts as blocked, which only takes clear cells away near it).
-        let (window, i0, j0) = match &self.clear {
-            Some(c) => (std::borrow::Cow::Borrowed(c), 0, 0),
-            None => {
-                let half = (self.reach + 4 + self.radius.ceil() as usize + 2) as isize;
-                let (i0, j0) = (si as isize - half, sj as isize - half);
-                let size = 2 * half as usize + 1;
-                let blocked = self.blocked.window(i0, j0, size, size, true);
-                let clear = super::bits::clear_cells(&blocked, self.radius);
-                (std::borrow::Cow::Owned(clear), i0, j0)
-            }
-        };
-        let clear = ClearWindow {
-            cells: &window,
-            i0,
-            j0,
-        };
+        // The clear cells: every walk searched, and the blocked cells within the radius of it.
+        let clear = self.clear_around(si, sj, self.reach + 4 + self.radius.ceil() as usize + 2);
         let centre = |(i, j): (usize, usize)| {
             let p = self.frame.grid_to_world([i as f64 + 0.5, j as f64 + 0.5]);
             harmonic_mesh::Point::new(p[0], p[1])
@@ -391,7 +375,7 @@ impl crate::planner::StartEntry for CellEntry {
 
 /// Clear cells of a window of the map, addressed by the map's columns and rows.
 struct ClearWindow<'a> {
-    cells: &'a BitGrid,
+    cells: std::borrow::Cow<'a, BitGrid>,
     i0: isize,
     j0: isize,
 }

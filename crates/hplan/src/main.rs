@@ -543,7 +543,12 @@ fn bench(
         row.0 += 1;
         row.5 += (build + query) / 1e3;
         row.3.push(build);
-        let Some(path) = path else { continue };
+        let Some(path) = path else {
+            if let Err(e) = &planner {
+                eprintln!("{}: scenario {}: {e}", scen.display(), k + 1);
+            }
+            continue;
+        };
         row.4.push(query);
         let ends = path
             .points

@@ -622,6 +622,131 @@ mod tests {
         assert_eq!(goal_edges, 4);
     }
 
+    /// Cells of a `w × h` grid (row by row, `true` free, the goal at `goal`) as half-cell
+    /// blocks, meshed with `interior_vertices`, as the map planner does.
+    fn half_cell_mesh(w: usize, h: usize, free: &[bool], goal: (usize, usize)) -> Mesh {
+        let blocks = (0..2 * h)
+            .flat_map(|j| (0..2 * w).map(move |i| (i / 2, j / 2)))
+            .map(|(i, j)| match ((i, j) == goal, free[j * w + i]) {
+                (true, _) => Block::Goal,
+                (false, true) => Block::Free,
+                (false, false) => Block::Blocked,
+            })
+            .collect();
+        let grid = BlockGrid::new(2 * w, 2 * h, blocks).expect("sizes match");
+        let opts = QuadtreeOptions {
+            max_level: 4,
+            interior_vertices: true,
+        };
+        quadtree_mesh(&grid, &opts, |x, y| Point::new(0.5 * x, 0.5 * y)).expect("meshes")
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            cases: 64,
+            failure_persistence: None,
+            ..Default::default()
+        })]
+
+        /// With `interior_vertices`, on random grids: no obtuse angle, every triangle has a
+        /// vertex off the boundary, and every vertex off the boundary in a free cell that
+        /// free cells join (4-connected) to the goal's cell is joined to a goal vertex by
+        /// edges of positive weight (legs of the right triangles) through vertices off the
+        /// boundary: no passage is sealed.
+        #[test]
+        fn interior_vertices_join_every_free_cell_to_the_goal(
+            (w, h) in (3usize..14, 3usize..14),
+            seed in proptest::prelude::any::<u64>(),
+            blocked_in in 2u64..5,
+        ) {
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                state
+            };
+            let free: Vec<bool> = (0..w * h).map(|_| next() % blocked_in != 0).collect();
+            let goal = ((next() % w as u64) as usize, (next() % h as u64) as usize);
+            let cell_free = |i: isize, j: isize| {
+                i >= 0 && j >= 0 && (i as usize) < w && (j as usize) < h
+                    && free[j as usize * w + i as usize]
+                    && (i as usize, j as usize) != goal
+            };
+            proptest::prop_assume!((0..w * h).any(|k| cell_free((k % w) as isize, (k / w) as isize)));
+            let mesh = half_cell_mesh(w, h, &free, goal);
+            proptest::prop_assert!(mesh.quality().max_angle_deg <= 90.0 + 1e-9);
+            let nv = mesh.vertices().len();
+            let (mut wall, mut at_goal) = (vec![false; nv], vec![false; nv]);
+            for e in mesh.boundary_edges() {
+                for v in e.vertices {
+                    match e.tag {
+                        BoundaryTag::Goal(_) => at_goal[v as usize] = true,
+                        _ => wall[v as usize] = true,
+                    }
+                }
+            }
+            let inside = |v: u32| !wall[v as usize] && !at_goal[v as usize];
+            for t in mesh.triangles() {
+                proptest::prop_assert!(t.iter().any(|&v| inside(v)), "a triangle {t:?} on the boundary");
+            }
+            // Union-find over vertices, joined along legs between vertices off the walls.
+            let mut parent: Vec<usize> = (0..nv).collect();
+            fn root(p: &mut [usize], mut v: usize) -> usize {
+                while p[v] != v {
+                    p[v] = p[p[v]];
+                    v = p[v];
+                }
+                v
+            }
+            let pts = mesh.vertices();
+            for t in mesh.triangles() {
+                for k in 0..3 {
+                    let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+                    // Edge a–b is a leg unless the right angle is at c.
+                    let (u, v) = (pts[a as usize] - pts[c as usize], pts[b as usize] - pts[c as usize]);
+                    let right_at_c = (u.x * v.x + u.y * v.y).abs() < 1e-12;
+                    if !right_at_c && !wall[a as usize] && !wall[b as usize] {
+                        let (ra, rb) = (root(&mut parent, a as usize), root(&mut parent, b as usize));
+                        parent[ra] = rb;
+                    }
+                }
+            }
+            let mut goal_roots = std::collections::HashSet::new();
+            for v in 0..nv {
+                if at_goal[v] && !wall[v] {
+                    goal_roots.insert(root(&mut parent, v));
+                }
+            }
+            // Free cells 4-connected to the goal's cell.
+            let mut joined = vec![false; w * h];
+            let mut stack: Vec<(isize, isize)> = [(0, 1), (1, 0), (0, -1), (-1, 0)]
+                .iter()
+                .map(|(di, dj)| (goal.0 as isize + di, goal.1 as isize + dj))
+                .collect();
+            while let Some((i, j)) = stack.pop() {
+                if cell_free(i, j) && !joined[j as usize * w + i as usize] {
+                    joined[j as usize * w + i as usize] = true;
+                    stack.extend([(i + 1, j), (i - 1, j), (i, j + 1), (i, j - 1)]);
+                }
+            }
+            for (v, p) in pts.iter().enumerate() {
+                if !inside(v as u32) {
+                    continue;
+                }
+                // A vertex off the boundary touches only free blocks: its cell is free.
+                let (i, j) = (p.x.floor() as usize, p.y.floor() as usize);
+                let (i, j) = (i.min(w - 1), j.min(h - 1));
+                if joined[j * w + i] {
+                    proptest::prop_assert!(
+                        goal_roots.contains(&root(&mut parent, v)),
+                        "vertex {:?} in cell ({i}, {j}) is cut off from the goal", p
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn bad_grids_are_refused() {
         assert!(BlockGrid::new(3, 3, vec![Block::Free; 8]).is_err());
