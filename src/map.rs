@@ -318,10 +318,18 @@ pub enum MapError {
         what: &'static str,
     },
     /// The goal's cell is free but closer than the robot radius (plus the tracing margin of
-    /// the traced mesher) to a blocked cell.
+    /// the traced mesher) to a blocked cell or the map's edge.
     #[error(
-        "goal ({x}, {y}) is closer than the robot radius {radius}{} to an occupied or unknown cell of {file} (or to the map's edge); move it into open space",
-        if *margin > 0.0 { format!(" plus the tracing margin {margin}") } else { String::new() }
+        "goal ({x}, {y}) is closer than the robot radius {radius}{} to {} of {file}: {distance:.3} away; {}",
+        if *margin > 0.0 { format!(" plus the tracing margin {margin:.3} of the traced mesher") } else { String::new() },
+        match blocker {
+            Some((c, r, what)) => format!("{what} cell (column {c}, row {r} from the bottom)"),
+            None => "the map's edge".to_string(),
+        },
+        match nearest_clear {
+            Some((c, r, d)) => format!("the nearest cell that keeps it is column {c}, row {r}, {d:.3} away: move the goal there or into open space"),
+            None => "no cell of the map keeps it".to_string(),
+        }
     )]
     GoalTooClose {
         /// The map's source: its YAML file, or `map` for [`OccupancyMap::from_cells`].
@@ -335,6 +343,14 @@ pub enum MapError {
         /// The clearance the traced polygons add to the radius (the simplification tolerance
         /// and a quarter cell, see [`MapPolygons::margin`]); zero for the quadtree mesher.
         margin: f64,
+        /// The nearest blocked cell, `(column, row, "an occupied" or "an unknown")`, or
+        /// `None` when the map's edge is nearer.
+        blocker: Option<(u32, u32, &'static str)>,
+        /// How far the goal is from it, in world units.
+        distance: f64,
+        /// The nearest cell that keeps the radius (and margin), `(column, row, distance from
+        /// the goal to its centre)`, if any.
+        nearest_clear: Option<(u32, u32, f64)>,
     },
     /// The goal's cell is clear for the robot but none of its neighbours is: nothing outside
     /// the cell can reach it.
@@ -870,13 +886,7 @@ impl OccupancyMap {
         let clear = known.narrow.unwrap_or_else(|| {
             bits::clear_cells(&blocked, (robot_radius + margin) / self.resolution)
         });
-        let too_close = || MapError::GoalTooClose {
-            file: self.source.clone(),
-            x: goal[0],
-            y: goal[1],
-            radius: robot_radius,
-            margin,
-        };
+        let too_close = || self.goal_too_close(goal, robot_radius, margin, &clear, &blocked);
         if !clear.get(gc as isize, gr as isize) {
             return Err(too_close());
         }
@@ -1149,13 +1159,7 @@ impl OccupancyMap {
             .exact
             .unwrap_or_else(|| bits::clear_cells(&blocked, robot_radius / res));
         let clear = clear_bits.to_bools();
-        let too_close = || MapError::GoalTooClose {
-            file: self.source.clone(),
-            x: goal[0],
-            y: goal[1],
-            radius: robot_radius,
-            margin: 0.0,
-        };
+        let too_close = || self.goal_too_close(goal, robot_radius, 0.0, &clear_bits, &blocked);
         // The 4-connected component of `cells` holding the goal's cell.
         let fill = |cells: &[bool]| {
             bits::component(&BitGrid::from_fn(w, h, |i, j| cells[j * w + i]), gc, gr).to_bools()
@@ -1314,6 +1318,78 @@ impl OccupancyMap {
                 simplify: None,
             },
             robot: RobotSpec { radius: 0.0 },
+        }
+    }
+
+    /// [`MapError::GoalTooClose`] for `goal`: the nearest blocked cell (or the map's edge)
+    /// and the nearest cell of `clear` (those that keep `radius + margin`).
+    fn goal_too_close(
+        &self,
+        goal: [f64; 2],
+        radius: f64,
+        margin: f64,
+        clear: &BitGrid,
+        blocked: &BitGrid,
+    ) -> MapError {
+        let g = self.world_to_grid(goal);
+        let (w, h) = (self.width as isize, self.height as isize);
+        // Distance (cells) from the goal to cell (i, j)'s square.
+        let to_square = |i: isize, j: isize| {
+            let dx = (i as f64 - g[0]).max(g[0] - (i + 1) as f64).max(0.0);
+            let dy = (j as f64 - g[1]).max(g[1] - (j + 1) as f64).max(0.0);
+            dx.hypot(dy)
+        };
+        let edge = g[0].min(g[1]).min(w as f64 - g[0]).min(h as f64 - g[1]);
+        let reach = ((radius + margin) / self.resolution).ceil() as isize + 2;
+        let (gi, gj) = (g[0].floor() as isize, g[1].floor() as isize);
+        let mut blocker = None;
+        let mut distance = edge;
+        for j in (gj - reach).max(0)..(gj + reach + 1).min(h) {
+            for i in (gi - reach).max(0)..(gi + reach + 1).min(w) {
+                let d = to_square(i, j);
+                if blocked.get(i, j) && d < distance {
+                    let what = match self.cell(i as usize, j as usize) {
+                        Cell::Occupied => "an occupied",
+                        _ => "an unknown",
+                    };
+                    blocker = Some((i as u32, j as u32, what));
+                    distance = d;
+                }
+            }
+        }
+        // The nearest clear cell by its centre, ring by ring around the goal's cell.
+        let mut nearest: Option<(usize, usize, f64)> = None;
+        for k in 0..w.max(h) {
+            if nearest.is_some_and(|(_, _, d)| (k as f64 - 1.0) > d) {
+                break;
+            }
+            for j in (gj - k).max(0)..(gj + k + 1).min(h) {
+                let step = if j == gj - k || j == gj + k {
+                    1
+                } else {
+                    (2 * k).max(1)
+                };
+                let mut i = gi - k;
+                while i <= gi + k {
+                    if i >= 0 && i < w && clear.get(i, j) {
+                        let d = (i as f64 + 0.5 - g[0]).hypot(j as f64 + 0.5 - g[1]);
+                        if nearest.is_none_or(|(_, _, b)| d < b) {
+                            nearest = Some((i as usize, j as usize, d));
+                        }
+                    }
+                    i += step;
+                }
+            }
+        }
+        MapError::GoalTooClose {
+            file: self.source.clone(),
+            x: goal[0],
+            y: goal[1],
+            radius,
+            margin,
+            blocker,
+            distance: distance * self.resolution,
+            nearest_clear: nearest.map(|(c, r, d)| (c as u32, r as u32, d * self.resolution)),
         }
     }
 

@@ -316,3 +316,35 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn a_goal_too_close_names_the_blocking_cell_and_the_nearest_clear_one() {
+    // A 20 × 10 room with a two-cell block in it; a robot of radius 1 cell.
+    let mut grid = OccGrid::new(20, 10, Occ::Free);
+    grid.fill(9..11, 5..6, Occ::Occupied);
+    let map = map_of(&grid, 1.0);
+    let opts = MapOptions::default();
+    let err = |goal: [f64; 2]| match map.planner(goal, 1.0, &opts, &PlannerOptions::default()) {
+        Err(e) => e,
+        Ok(_) => panic!("{goal:?} is too close for radius 1"),
+    };
+    match err([9.5, 6.5]) {
+        MapError::GoalTooClose {
+            blocker,
+            distance,
+            nearest_clear,
+            ..
+        } => {
+            assert_eq!(blocker, Some((9, 5, "an occupied")));
+            assert!((distance - 0.5).abs() < 1e-12, "{distance}");
+            assert_eq!(nearest_clear, Some((9, 7, 1.0)));
+        }
+        other => panic!("{other}"),
+    }
+    let edge = err([0.3, 4.5]).to_string();
+    assert!(edge.contains("to the map's edge"), "{edge}");
+    assert!(
+        edge.contains("nearest cell that keeps it is column 1, row 4"),
+        "{edge}"
+    );
+}

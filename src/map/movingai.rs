@@ -199,9 +199,9 @@ pub enum MovingAiError {
     Map {
         /// The `.map` file.
         file: String,
-        /// What the map refused.
+        /// What the map refused (boxed: the map's errors are large).
         #[source]
-        source: MapError,
+        source: Box<MapError>,
     },
     /// The `.scen` file does not start with a `version` line (version 0 files, which have
     /// none, are not supported).
@@ -598,7 +598,7 @@ pub fn read_map(text: &str, name: &str, resolution: f64) -> Result<OccupancyMap,
         OccupancyMap::from_cells(w, h, resolution, [0.0; 3], cells).map_err(|source| {
             MovingAiError::Map {
                 file: file(),
-                source,
+                source: Box::new(source),
             }
         })?;
     map.source = file();

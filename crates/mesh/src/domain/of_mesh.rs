@@ -10,11 +10,22 @@ use crate::{BoundaryTag, Frame, Mesh, MeshError, Point};
 /// a vertex a loop turns the sharpest way, so every loop is a simple ring.
 fn loops(mesh: &Mesh) -> Vec<(Vec<u32>, Vec<BoundaryTag>)> {
     let v = mesh.vertices();
-    let mut leaving: std::collections::HashMap<u32, Vec<usize>> = Default::default();
-    for (i, e) in mesh.boundary_edges().iter().enumerate() {
-        leaving.entry(e.vertices[0]).or_default().push(i);
-    }
     let edges = mesh.boundary_edges();
+    // The boundary edges leaving each vertex, `from[a]..from[a + 1]` of `leaving`.
+    let mut from = vec![0usize; v.len() + 1];
+    for e in edges {
+        from[e.vertices[0] as usize + 1] += 1;
+    }
+    for a in 0..v.len() {
+        from[a + 1] += from[a];
+    }
+    let mut leaving = vec![0usize; edges.len()];
+    let mut fill = from.clone();
+    for (i, e) in edges.iter().enumerate() {
+        let a = e.vertices[0] as usize;
+        leaving[fill[a]] = i;
+        fill[a] += 1;
+    }
     let mut used = vec![false; edges.len()];
     let mut out = Vec::new();
     for first in 0..edges.len() {
@@ -41,12 +52,11 @@ fn loops(mesh: &Mesh) -> Vec<(Vec<u32>, Vec<BoundaryTag>)> {
                     c
                 }
             };
-            let next = leaving.get(&b).and_then(|ks| {
-                ks.iter()
-                    .copied()
-                    .filter(|&k| !used[k])
-                    .min_by(|&x, &y| turn(x).total_cmp(&turn(y)))
-            });
+            let next = leaving[from[b as usize]..from[b as usize + 1]]
+                .iter()
+                .copied()
+                .filter(|&k| !used[k])
+                .min_by(|&x, &y| turn(x).total_cmp(&turn(y)));
             match next {
                 Some(k) => e = k,
                 None => break,
