@@ -147,7 +147,7 @@ enum Command {
         max_steer: f64,
     },
     /// Run every scenario of a MovingAI `.scen` file (version 1) on its `.map` (a point
-    /// robot, 1 m cells unless --resolution): per bucket, solved / attempted, the path length
+    /// robot unless --robot-radius, 1 m cells unless --resolution): per bucket, solved / attempted, the path length
     /// over the file's optimal length (median, worst), and times.
     Bench {
         /// The scenario file; each line's map is looked for beside it.
@@ -158,6 +158,9 @@ enum Command {
         /// Metres per cell.
         #[arg(long, value_name = "M", default_value_t = 1.0)]
         resolution: f64,
+        /// Radius of a disc robot (default 0: a point).
+        #[arg(long, value_name = "R", default_value_t = 0.0)]
+        robot_radius: f64,
         /// The mesher (as `plan --mesher`).
         #[arg(long, value_enum, default_value_t = MesherArg::Auto)]
         mesher: MesherArg,
@@ -447,6 +450,72 @@ fn plan_config(
     }
 }
 
+/// `hplan plan --map` with several goals: a planner per goal, each as complete as one goal's,
+/// and each goal on its own: a goal that is refused reports its error in its entry and fails
+/// none of the others. The call fails only when every goal is refused.
+fn plan_map_goals(
+    map: &OccupancyMap,
+    robot_radius: f64,
+    opts: &MapOptions,
+    common: &Common,
+    goals: &[(Point, Vec<[f64; 2]>)],
+) -> Result<(), String> {
+    let planner_opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+        ..PlannerOptions::default()
+    };
+    let mut entries = Vec::new();
+    let mut text = String::new();
+    let mut drawn: Option<(Planner, Vec<Vec<[f64; 2]>>)> = None;
+    let mut refused = Vec::new();
+    for (k, (goal, starts)) in goals.iter().enumerate() {
+        let at = [goal.x, goal.y];
+        match map.planner(at, robot_radius, opts, &planner_opts) {
+            Ok(planner) => {
+                let report = planner.plan_report(starts);
+                let mut entry = serde_json::to_value(&report).map_err(|e| e.to_string())?;
+                entry["goal"] = serde_json::json!(at);
+                entries.push(entry);
+                text += &format!("goal {k} ({}, {}):\n{}", at[0], at[1], report.summary());
+                let paths = report.paths.iter().map(|p| p.points.clone());
+                match &mut drawn {
+                    Some((_, all)) => all.extend(paths),
+                    None => drawn = Some((planner, paths.collect())),
+                }
+            }
+            Err(e) => {
+                entries.push(serde_json::json!({"goal": at, "error": e.to_string(), "paths": []}));
+                text += &format!("goal {k} ({}, {}): refused: {e}\n", at[0], at[1]);
+                refused.push(format!("goal {k}: {e}"));
+            }
+        }
+    }
+    if refused.len() == goals.len() {
+        return Err(refused.join("; "));
+    }
+    if let (Some(svg), Some((planner, paths))) = (&common.svg, &drawn) {
+        let opts = SvgOptions {
+            show_mesh: common.mesh,
+            title: Some(format!(
+                "{} goals; isolines of the first planned goal's potential",
+                goals.len()
+            )),
+            ..SvgOptions::default()
+        };
+        write_file(svg, &planner.svg(paths, &[], &opts))?;
+    }
+    if let (Some(vtk), Some((planner, _))) = (&common.vtk, &drawn) {
+        write_file(vtk, &planner.vtu())?;
+    }
+    if common.json {
+        let json = serde_json::to_string(&serde_json::json!({ "goals": entries }))
+            .map_err(|e| e.to_string())?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&text)
+    }
+}
+
 /// `hplan plan --map` with one goal: the map's own planner ([`OccupancyMap::planner`]).
 fn plan_map(
     map: &Path,
@@ -494,6 +563,7 @@ fn bench(
     scen: &Path,
     map: Option<&Path>,
     resolution: f64,
+    robot_radius: f64,
     mesher: MapMesher,
     limit: usize,
     json: bool,
@@ -534,7 +604,7 @@ fn bench(
         let goal = grid.cell_center(s.goal.0, s.goal.1);
         let start = grid.cell_center(s.start.0, s.start.1);
         let t = std::time::Instant::now();
-        let planner = grid.planner(goal, 0.0, &opts, &planner_opts);
+        let planner = grid.planner(goal, robot_radius, &opts, &planner_opts);
         let build = t.elapsed().as_secs_f64() * 1e3;
         let t = std::time::Instant::now();
         let path = planner.as_ref().ok().map(|p| p.plan(start));
@@ -810,16 +880,10 @@ fn plan_mesh_in(
     report_plan(&planner, &starts, common)
 }
 
-/// `hplan plan` with several goals: one workspace, one factorisation, one result per goal.
-/// How a multi-goal workspace is made: from a scene file, or from a map (traced around its
-/// first goal, with the map's lead-in for starts the tracing margin leaves out).
-enum WorkspaceSource<'a> {
-    Scene(&'a Scene),
-    Map(&'a OccupancyMap, Point, f64, &'a MapOptions),
-}
-
+/// `hplan plan SCENE` with several goals: one workspace, one factorisation, one result per
+/// goal.
 fn plan_goals(
-    source: WorkspaceSource<'_>,
+    scene: &Scene,
     path: &Path,
     common: &Common,
     goals: &[(Point, Vec<[f64; 2]>)],
@@ -828,14 +892,8 @@ fn plan_goals(
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
-    let workspace = match source {
-        WorkspaceSource::Scene(scene) => {
-            Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?
-        }
-        WorkspaceSource::Map(map, around, radius, map_opts) => map
-            .workspace([around.x, around.y], radius, map_opts, &opts)
-            .map_err(|e| e.to_string())?,
-    };
+    let workspace =
+        Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
     let (report, planners) = workspace.report(goals).map_err(|e| e.to_string())?;
     if let (Some(svg), Some(first)) = (&common.svg, planners.first()) {
         let paths: Vec<_> = report
@@ -906,9 +964,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     let grid = load_map(map, resolution)?;
                     let all_starts = starts_of::<2>(&starts, "X,Y on a map")?;
                     let goals = order.starts_per_goal(&goal, &all_starts, &[]);
-                    let around = Point::new(first[0], first[1]);
-                    let source = WorkspaceSource::Map(&grid, around, robot_radius, &opts);
-                    return plan_goals(source, map, &common, &goals);
+                    return plan_map_goals(&grid, robot_radius, &opts, &common, &goals);
                 }
                 (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),
@@ -948,7 +1004,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     );
                 }
                 let goals = order.starts_per_goal(&goal, &all_starts, &scene.starts);
-                return plan_goals(WorkspaceSource::Scene(&scene), &path, &common, &goals);
+                return plan_goals(&scene, &path, &common, &goals);
             }
             if let (Some(&g), None) = (goal.first(), &map) {
                 // One goal for a scene file: it replaces the scene's goal(s).
@@ -1010,6 +1066,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             scen,
             map,
             resolution,
+            robot_radius,
             mesher,
             limit,
             json,
@@ -1018,6 +1075,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 &scen,
                 map.as_deref(),
                 resolution,
+                robot_radius,
                 mesher.into(),
                 limit,
                 json,

@@ -80,6 +80,45 @@ fn several_goals_on_a_map_and_one_goal_on_a_scene_file() {
         goals[1]
     );
 
+    // Goals are independent: one off the map reports its error and fails none of the others,
+    // one in the closed closet plans (its own free space), and a start outside that is
+    // unreachable from it.
+    let report = run_json(&[
+        "plan",
+        "--map",
+        map.to_str().expect("utf-8"),
+        "--robot-radius",
+        "0.2",
+        "--goal",
+        "100,100",
+        "--start",
+        "3.0,4.0",
+        "--goal",
+        "16.4,11.8",
+        "--start",
+        "3.0,4.0",
+        "--goal",
+        "3.0,4.0",
+        "--start",
+        "16.5,1.5",
+        "--json",
+    ]);
+    let goals = report["goals"].as_array().expect("goals");
+    assert_eq!(goals.len(), 3);
+    let error = goals[0]["error"]
+        .as_str()
+        .expect("the refused goal's error");
+    assert!(error.contains("outside the map"), "{error}");
+    assert_eq!(
+        goals[1]["paths"][0]["status"], "unreachable",
+        "{}",
+        goals[1]
+    );
+    let path = &goals[2]["paths"][0];
+    assert_eq!(path["status"], "reached_goal", "{path}");
+    let pts = path["points"].as_array().expect("points");
+    assert_eq!(point(pts.last().expect("end")), [3.0, 4.0]);
+
     // One --goal on a scene file replaces the scene's goal: an ordinary report.
     let scene = mesh_file("reference.json");
     let one = run_json(&[
