@@ -49,7 +49,7 @@ pub use harmonic_solver as solver;
 pub use harmonic_trajectory as trajectory;
 pub use planner::{
     CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
-    PlannerOptions, Report, Stage, StartEntry, SvgOptions, Timings,
+    PlannerOptions, Report, Stage, StartEntry, SvgOptions, Timings, poses_along,
 };
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};

@@ -347,6 +347,61 @@ pub struct PlannedPath {
     pub points: Vec<[f64; 2]>,
 }
 
+impl PlannedPath {
+    /// The path as poses `[x, y, θ]`: each point with the heading of the path there (see
+    /// [`poses_along`]); `start_heading` for the first pose if given, and on reaching the
+    /// goal `goal_heading` for the last (a pose goal).
+    pub fn poses(&self, start_heading: Option<f64>, goal_heading: Option<f64>) -> Vec<[f64; 3]> {
+        let goal_heading = goal_heading.filter(|_| self.status.reached_goal());
+        poses_along(&self.points, start_heading, goal_heading)
+    }
+}
+
+/// Poses `[x, y, θ]` along a polyline: each point carries the heading of the segment that
+/// leaves it (radians from +x; a zero-length segment takes the next one's), the last point
+/// that of the segment arriving at it; `first` and `last`, where given, replace the headings
+/// of the first and the last pose (a start's and a pose goal's heading). A single point
+/// takes `first`, else `last`, else 0.
+///
+/// ```
+/// use harmonic_planner::poses_along;
+/// let poses = poses_along(&[[0.0, 0.0], [1.0, 0.0], [1.0, 2.0]], None, Some(3.0));
+/// assert_eq!(poses[0], [0.0, 0.0, 0.0]);
+/// assert_eq!(poses[1], [1.0, 0.0, std::f64::consts::FRAC_PI_2]);
+/// assert_eq!(poses[2], [1.0, 2.0, 3.0]);
+/// ```
+pub fn poses_along(points: &[[f64; 2]], first: Option<f64>, last: Option<f64>) -> Vec<[f64; 3]> {
+    let n = points.len();
+    // The heading of the first non-zero segment from point i on, else of the last one before.
+    let mut ahead: Vec<Option<f64>> = vec![None; n];
+    for i in (0..n.saturating_sub(1)).rev() {
+        let (a, b) = (points[i], points[i + 1]);
+        ahead[i] = if a == b {
+            ahead[i + 1]
+        } else {
+            Some((b[1] - a[1]).atan2(b[0] - a[0]))
+        };
+    }
+    let mut behind = None;
+    let mut poses: Vec<[f64; 3]> = Vec::with_capacity(n);
+    for (i, p) in points.iter().enumerate() {
+        let theta = ahead[i].or(behind).or(first).or(last).unwrap_or(0.0);
+        if ahead[i].is_some() {
+            behind = ahead[i];
+        }
+        poses.push([p[0], p[1], theta]);
+    }
+    if let (Some(pose), Some(t)) = (poses.last_mut(), last) {
+        pose[2] = t;
+    }
+    if let (Some(pose), Some(t)) = (poses.first_mut(), first)
+        && (n > 1 || last.is_none())
+    {
+        pose[2] = t;
+    }
+    poses
+}
+
 /// One car run, as `hplan car --json` prints it.
 #[derive(Clone, Debug, Serialize)]
 pub struct CarRun {

@@ -80,6 +80,11 @@ class Path:
     def min_clearance(self) -> float: ...
     @property
     def min_gradient(self) -> float: ...
+    def poses(
+        self, start_heading: Optional[float] = None, goal_heading: Optional[float] = None
+    ) -> FloatArray:
+        """Shape (n, 3) of [x, y, theta]: headings along the path; ``start_heading`` for the
+        first pose and, on reaching the goal, ``goal_heading`` for the last (a pose goal)."""
     def __len__(self) -> int: ...
 
 class CarRun:

@@ -119,6 +119,28 @@ impl PyPath {
     fn min_gradient(&self) -> f64 {
         self.min_gradient
     }
+    /// A plane path as poses, a new float64 array of shape (n, 3) of [x, y, theta]: each
+    /// point with the heading of the segment leaving it (the last, of the one arriving);
+    /// `start_heading` replaces the first's and, on reaching the goal, `goal_heading` the
+    /// last's (a pose goal). ValueError on a volume path.
+    #[pyo3(signature = (start_heading=None, goal_heading=None))]
+    fn poses<'py>(
+        &self,
+        py: Python<'py>,
+        start_heading: Option<f64>,
+        goal_heading: Option<f64>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if self.dimension != 2 {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "poses are for plane paths; this path is a volume's",
+            ));
+        }
+        let points: Vec<[f64; 2]> = self.points.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+        let goal_heading = goal_heading.filter(|_| self.status == "reached_goal");
+        let poses = harmonic_planner::poses_along(&points, start_heading, goal_heading);
+        let flat: Vec<f64> = poses.iter().flatten().copied().collect();
+        Ok(rows(py, &flat, 3))
+    }
     fn __len__(&self) -> usize {
         self.points.len() / self.dimension
     }

@@ -149,3 +149,16 @@ def test_builds_release_the_gil(reference_path):
         thread.join()
     # With the GIL held for the whole build the other thread could not count at all.
     assert during > 1000
+
+
+def test_pose_goal_headings(warehouse):
+    path = warehouse.plan([3.0, 4.0])
+    poses = path.poses(start_heading=-0.5, goal_heading=1.25)
+    assert poses.shape == (len(path), 3)
+    np.testing.assert_array_equal(poses[:, :2], path.points)
+    assert poses[0, 2] == -0.5 and poses[-1, 2] == 1.25
+    # In between, each pose heads along the segment leaving it.
+    d = np.diff(path.points, axis=0)
+    along = np.arctan2(d[:, 1], d[:, 0])
+    moving = np.hypot(d[:, 0], d[:, 1]) > 1e-12
+    np.testing.assert_allclose(poses[1:-1, 2][moving[1:]], along[1:][moving[1:]], atol=1e-12)

@@ -19,8 +19,8 @@ use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, S
 use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
 use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, movingai};
 use harmonic_planner::{
-    AnyScene, CarParams, ConfigPlanner, ConfigScene, Planner, PlannerOptions, Point, Scene,
-    SvgOptions, VolumePlanner, VolumeScene, Workspace,
+    AnyScene, CarParams, ConfigPlanner, ConfigScene, PlanReport, Planner, PlannerOptions, Point,
+    Scene, SvgOptions, VolumePlanner, VolumeScene, Workspace,
 };
 
 #[derive(Parser)]
@@ -79,9 +79,10 @@ enum Command {
         /// The goal (on a map: in its world coordinates; on a scene file it replaces the
         /// scene's goal). Repeat it for several goals on one mesh and one factorisation: each
         /// goal's starts are the --start options after it (those before the first --goal go
-        /// to every goal).
-        #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
-        goal: Vec<[f64; 2]>,
+        /// to every goal). On a map X,Y,THETA is a pose goal: every path gets `poses`
+        /// [x, y, θ] (headings along the path) whose last carries THETA.
+        #[arg(long, value_name = "X,Y[,THETA]", value_parser = parse_goal, allow_hyphen_values = true)]
+        goal: Vec<Vec<f64>>,
         /// Radius of a disc robot on the map.
         #[arg(long, value_name = "R", default_value_t = 0.0, requires = "map")]
         robot_radius: f64,
@@ -249,8 +250,12 @@ fn starts_of<const N: usize>(starts: &[Vec<f64>], what: &str) -> Result<Vec<[f64
         .collect()
 }
 
-fn parse_point(s: &str) -> Result<[f64; 2], String> {
-    parse_numbers::<2>(s, "X,Y")
+/// A goal: X,Y, or on a map X,Y,THETA (a pose goal).
+fn parse_goal(s: &str) -> Result<Vec<f64>, String> {
+    match s.split(',').count() {
+        3 => parse_numbers::<3>(s, "X,Y,THETA").map(|p| p.to_vec()),
+        _ => parse_numbers::<2>(s, "X,Y or X,Y,THETA").map(|p| p.to_vec()),
+    }
 }
 
 fn parse_pose(s: &str) -> Result<[f64; 3], String> {
@@ -455,6 +460,7 @@ fn plan_config(
 /// none of the others. The call fails only when every goal is refused.
 fn plan_map_goals(
     map: &OccupancyMap,
+    headings: &Headings,
     robot_radius: f64,
     opts: &MapOptions,
     common: &Common,
@@ -473,10 +479,16 @@ fn plan_map_goals(
         match map.planner(at, robot_radius, opts, &planner_opts) {
             Ok(planner) => {
                 let report = planner.plan_report(starts);
-                let mut entry = serde_json::to_value(&report).map_err(|e| e.to_string())?;
+                let mut entry = match headings.wanted() {
+                    true => headings.report_json(&report, at)?,
+                    false => serde_json::to_value(&report).map_err(|e| e.to_string())?,
+                };
                 entry["goal"] = serde_json::json!(at);
                 entries.push(entry);
                 text += &format!("goal {k} ({}, {}):\n{}", at[0], at[1], report.summary());
+                if headings.wanted() {
+                    text += &headings.end_poses(&report, at);
+                }
                 let paths = report.paths.iter().map(|p| p.points.clone());
                 match &mut drawn {
                     Some((_, all)) => all.extend(paths),
@@ -518,23 +530,118 @@ fn plan_map_goals(
 
 /// `hplan plan --map` with one goal: the map's own planner ([`OccupancyMap::planner`]).
 fn plan_map(
-    map: &Path,
-    resolution: f64,
+    map: &OccupancyMap,
     goal: [f64; 2],
+    headings: &Headings,
     robot_radius: f64,
     opts: &MapOptions,
     common: &Common,
-    starts: &[Vec<f64>],
+    starts: &[[f64; 2]],
 ) -> Result<(), String> {
     let planner_opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
-    let planner = load_map(map, resolution)?
+    let planner = map
         .planner(goal, robot_radius, opts, &planner_opts)
         .map_err(|e| e.to_string())?;
-    let starts = starts_of::<2>(starts, "X,Y on a map")?;
-    report_plan(&planner, &starts, common)
+    if !headings.wanted() {
+        return report_plan(&planner, starts, common);
+    }
+    let report = planner.plan_report(starts);
+    draw(&planner, &report, common)?;
+    if common.json {
+        let json = headings.report_json(&report, goal)?;
+        print_out(&format!("{json}\n"))
+    } else {
+        print_out(&(report.summary() + &headings.end_poses(&report, goal)))
+    }
+}
+
+/// The headings of `hplan plan --map` with pose goals (`--goal X,Y,THETA`) or pose starts
+/// (`--start X,Y,THETA`): when there are any, paths are given as poses too.
+#[derive(Default)]
+struct Headings {
+    /// Each pose goal's heading, by its point's bits.
+    goals: std::collections::HashMap<[u64; 2], f64>,
+    /// Each pose start's heading, by its point's bits.
+    starts: std::collections::HashMap<[u64; 2], f64>,
+}
+
+impl Headings {
+    fn key(p: [f64; 2]) -> [u64; 2] {
+        [p[0].to_bits(), p[1].to_bits()]
+    }
+
+    /// The starts as points, with the headings of goals and starts given as poses.
+    fn of(goals: &[Vec<f64>], starts: &[Vec<f64>]) -> Result<(Headings, Vec<[f64; 2]>), String> {
+        let mut h = Headings::default();
+        for g in goals {
+            if let [x, y, theta] = g[..] {
+                h.goals.insert(Self::key([x, y]), theta);
+            }
+        }
+        let mut points = Vec::with_capacity(starts.len());
+        for s in starts {
+            match s[..] {
+                [x, y] => points.push([x, y]),
+                [x, y, theta] => {
+                    h.starts.insert(Self::key([x, y]), theta);
+                    points.push([x, y]);
+                }
+                _ => return Err(format!("--start {s:?}: expected X,Y or X,Y,THETA on a map")),
+            }
+        }
+        Ok((h, points))
+    }
+
+    fn wanted(&self) -> bool {
+        !(self.goals.is_empty() && self.starts.is_empty())
+    }
+
+    fn poses(&self, path: &harmonic_planner::PlannedPath, goal: [f64; 2]) -> Vec<[f64; 3]> {
+        let start = self.starts.get(&Self::key(path.start)).copied();
+        path.poses(start, self.goals.get(&Self::key(goal)).copied())
+    }
+
+    /// A map report's JSON with each path's `poses`.
+    fn report_json(
+        &self,
+        report: &PlanReport,
+        goal: [f64; 2],
+    ) -> Result<serde_json::Value, String> {
+        let mut json = serde_json::to_value(report).map_err(|e| e.to_string())?;
+        for (k, path) in report.paths.iter().enumerate() {
+            json["paths"][k]["poses"] = serde_json::json!(self.poses(path, goal));
+        }
+        Ok(json)
+    }
+
+    /// A line per path with its last pose, for the summary.
+    fn end_poses(&self, report: &PlanReport, goal: [f64; 2]) -> String {
+        report
+            .paths
+            .iter()
+            .filter_map(|p| self.poses(p, goal).last().copied())
+            .map(|[x, y, t]| format!("  ends at ({x:.3}, {y:.3}), heading {t:.4}\n"))
+            .collect()
+    }
+}
+
+/// The SVG and VTU files a plan report asks for.
+fn draw(planner: &Planner, report: &PlanReport, common: &Common) -> Result<(), String> {
+    if let Some(svg) = &common.svg {
+        let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
+        let opts = SvgOptions {
+            show_mesh: common.mesh,
+            ..SvgOptions::default()
+        };
+        write_file(svg, &planner.svg(&paths, &[], &opts))?;
+    }
+    if let Some(vtk) = &common.vtk {
+        write_file(vtk, &planner.vtu())?;
+    }
+    Ok(())
 }
 
 /// A map_server YAML (and its image), or a MovingAI `.map` of `resolution` metres per cell.
@@ -797,17 +904,7 @@ fn given_starts(starts: &[Vec<f64>], input: &str) -> Result<Vec<[f64; 2]>, Strin
 /// Plans from `starts` on `planner` and writes what `common` asks for.
 fn report_plan(planner: &Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), String> {
     let report = planner.plan_report(starts);
-    if let Some(svg) = &common.svg {
-        let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
-        let opts = SvgOptions {
-            show_mesh: common.mesh,
-            ..SvgOptions::default()
-        };
-        write_file(svg, &planner.svg(&paths, &[], &opts))?;
-    }
-    if let Some(vtk) = &common.vtk {
-        write_file(vtk, &planner.vtu())?;
-    }
+    draw(planner, &report, common)?;
     if common.json {
         let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
         print_out(&format!("{json}\n"))
@@ -937,6 +1034,11 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             goal_tag,
             multigrid,
         } => {
+            let pose_goals = goal.clone();
+            let goal: Vec<[f64; 2]> = goal.iter().map(|g| [g[0], g[1]]).collect();
+            if map.is_none() && pose_goals.iter().any(|g| g.len() == 3) {
+                return Err("--goal X,Y,THETA (a pose goal) is for maps; give X,Y".into());
+            }
             if let Some(poly) = &poly {
                 return plan_poly(poly, &common, &goal, &starts);
             }
@@ -950,21 +1052,21 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                         mesher: mesher.into(),
                         ..MapOptions::default()
                     };
+                    let grid = load_map(map, resolution)?;
+                    let (headings, all_starts) = Headings::of(&pose_goals, &starts)?;
                     if goal.len() == 1 {
                         return plan_map(
-                            map,
-                            resolution,
+                            &grid,
                             first,
+                            &headings,
                             robot_radius,
                             &opts,
                             &common,
-                            &starts,
+                            &all_starts,
                         );
                     }
-                    let grid = load_map(map, resolution)?;
-                    let all_starts = starts_of::<2>(&starts, "X,Y on a map")?;
                     let goals = order.starts_per_goal(&goal, &all_starts, &[]);
-                    return plan_map_goals(&grid, robot_radius, &opts, &common, &goals);
+                    return plan_map_goals(&grid, &headings, robot_radius, &opts, &common, &goals);
                 }
                 (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),

@@ -160,3 +160,56 @@ fn a_goal_in_an_obstacle_is_one_line_naming_it() {
     assert!(err.contains("(2.5, 5) is not in the free space"), "{err}");
     assert!(out.stdout.is_empty());
 }
+
+#[test]
+fn a_pose_goal_on_a_map_gives_poses_whose_last_carries_its_heading() {
+    let map = mesh_file("warehouse_map.yaml");
+    let report = run_json(&[
+        "plan",
+        "--map",
+        map.to_str().expect("utf-8"),
+        "--robot-radius",
+        "0.2",
+        "--goal",
+        "16.5,1.5,1.25",
+        "--start",
+        "3.0,4.0,-0.5",
+        "--start",
+        "7.0,12.0",
+        "--json",
+    ]);
+    for (k, path) in report["paths"]
+        .as_array()
+        .expect("paths")
+        .iter()
+        .enumerate()
+    {
+        assert_eq!(path["status"], "reached_goal", "{path}");
+        let points = path["points"].as_array().expect("points");
+        let poses = path["poses"].as_array().expect("poses");
+        assert_eq!(points.len(), poses.len());
+        let pose = |v: &Value| -> [f64; 3] { [0, 1, 2].map(|i| v[i].as_f64().expect("a number")) };
+        let last = pose(poses.last().expect("a pose"));
+        assert_eq!(last, [16.5, 1.5, 1.25]);
+        let first = pose(&poses[0]);
+        if k == 0 {
+            assert_eq!(first[2], -0.5, "the start's heading");
+        }
+        // In between, each pose heads along the segment that leaves it.
+        for w in poses.windows(2).skip(1).take(poses.len().saturating_sub(3)) {
+            let (a, b) = (pose(&w[0]), pose(&w[1]));
+            if (b[0] - a[0]).hypot(b[1] - a[1]) > 1e-12 {
+                let along = (b[1] - a[1]).atan2(b[0] - a[0]);
+                assert!((along - a[2]).abs() < 1e-12, "{a:?} → {b:?}");
+            }
+        }
+    }
+    // A pose goal is for maps.
+    let out = hplan()
+        .args(["plan", mesh_file("reference.json").to_str().expect("utf-8")])
+        .args(["--goal", "1,1,0"])
+        .output()
+        .expect("runs");
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("a pose goal) is for maps"));
+}
