@@ -3,14 +3,91 @@
 //! one path), and a later start on the built planner (a trace only). NavFn recomputes its
 //! navigation function on every request; its times are printed beside ours.
 //!
-//! `HARMONIC_NAV2_MAPS=DIR cargo bench --bench maps` (skipped with a message without the maps)
+//! `HARMONIC_NAV2_MAPS=DIR cargo bench --bench maps` (the Nav2 part skipped with a message
+//! without the maps). The `grids` group needs nothing: generated maps of every family a
+//! grid-search user brings (a 255² maze of one-cell corridors, 256² rooms joined by one-cell
+//! doors, 256² streets, 30 % random blocks, the 400-cell one-cell spiral, an office at 5 cm
+//! for a 0.22 m robot), a point robot (the office: 0.22 m) between two far cells.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use harmonic_fixtures::occupancy::{self, Occ, OccGrid, clear_cells, random_pairs};
 use harmonic_fixtures::{NAVFN_REQUESTS, NAVFN_ROBOT_RADIUS, nav2_maps_dir};
 use harmonic_planner::PlannerOptions;
-use harmonic_planner::map::{MapOptions, OccupancyMap};
+use harmonic_planner::map::{Cell, MapOptions, OccupancyMap};
+
+/// First plan and later start on generated maps of every family.
+fn grids(c: &mut Criterion) {
+    let mut group = c.benchmark_group("grids");
+    group.sample_size(10);
+    let families = [
+        ("maze_255", occupancy::maze(7, 255, 255, 1), 1.0, 0.0),
+        ("rooms_256", occupancy::rooms(8, 256, 256, 1), 1.0, 0.0),
+        ("streets_256", occupancy::streets(9, 256, 256), 1.0, 0.0),
+        (
+            "random_30_128",
+            occupancy::random_blocks(10, 128, 128, 0.3),
+            1.0,
+            0.0,
+        ),
+        ("spiral_400", occupancy::spiral(400), 1.0, 0.0),
+        (
+            "office_5cm",
+            occupancy::office(11),
+            occupancy::OFFICE_RESOLUTION,
+            occupancy::OFFICE_ROBOT_RADIUS,
+        ),
+    ];
+    for (name, grid, res, radius) in families {
+        let map = map_of(&grid, res);
+        let clear = clear_cells(&grid, radius / res);
+        let Some(&(s, g)) = random_pairs(1, &clear, grid.width, grid.height, 1, 8.0).first() else {
+            eprintln!("{name}: no pair drawn");
+            continue;
+        };
+        let (start, goal) = (map.cell_center(s.0, s.1), map.cell_center(g.0, g.1));
+        let first = || {
+            let planner = map
+                .planner(
+                    goal,
+                    radius,
+                    &MapOptions::default(),
+                    &PlannerOptions::default(),
+                )
+                .expect("planner");
+            let path = planner.plan(start);
+            (planner, path)
+        };
+        let (planner, path) = first();
+        eprintln!(
+            "{name}: {} triangles, {} {:.2}",
+            planner.mesh().triangles().len(),
+            path.status,
+            path.length
+        );
+        group.bench_function(format!("first_plan/{name}"), |b| {
+            b.iter(|| black_box(first()))
+        });
+        group.bench_function(format!("later_start/{name}"), |b| {
+            b.iter(|| black_box(planner.plan(start)))
+        });
+    }
+    group.finish();
+}
+
+fn map_of(grid: &OccGrid, resolution: f64) -> OccupancyMap {
+    let cells = grid
+        .cells
+        .iter()
+        .map(|c| match c {
+            Occ::Free => Cell::Free,
+            Occ::Occupied => Cell::Occupied,
+            Occ::Unknown => Cell::Unknown,
+        })
+        .collect();
+    OccupancyMap::from_cells(grid.width, grid.height, resolution, [0.0; 3], cells).expect("map")
+}
 
 fn maps(c: &mut Criterion) {
     let Some(dir) = nav2_maps_dir() else {
@@ -53,5 +130,5 @@ fn maps(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, maps);
+criterion_group!(benches, maps, grids);
 criterion_main!(benches);
