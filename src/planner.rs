@@ -179,14 +179,29 @@ impl Meshed {
     pub(crate) fn of_mesh(mesh: Mesh) -> Result<Meshed, PlanError> {
         let t = Instant::now();
         let domain = Domain::of_mesh(&mesh)?;
-        let quality = mesh.quality();
+        // The largest area and smallest angle in one pass (each triangle's smallest angle is
+        // the one opposite its shortest side); the full quality report (Delaunay checks,
+        // boundary loops) is made when a report asks for it.
+        let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
+        for t in mesh.triangles() {
+            let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
+            let sides = [(b, c, a), (c, a, b), (a, b, c)];
+            let (p, q, apex) = sides
+                .into_iter()
+                .min_by(|x, y| (x.1 - x.0).norm_squared().total_cmp(&(y.1 - y.0).norm_squared()))
+                .expect("three sides");
+            let (u, v) = (p - apex, q - apex);
+            let cross = u.x * v.y - u.y * v.x;
+            max_area = max_area.max(0.5 * cross.abs());
+            min_angle = min_angle.min(cross.abs().atan2(u.dot(&v)));
+        }
         let report = MeshReport {
             refinement_complete: true,
             seam: None,
             input_vertices: mesh.vertices().len(),
             added_vertices: 0,
-            max_area: quality.max_triangle_area,
-            min_angle_deg: quality.min_angle_deg,
+            max_area,
+            min_angle_deg: min_angle.to_degrees(),
             estimated_triangles: mesh.triangles().len(),
             bridges_split: 0,
             bridges_remaining: 0,
@@ -197,7 +212,7 @@ impl Meshed {
             domain: Arc::new(domain),
             mesh: Arc::new(mesh),
             report,
-            quality: Arc::new(OnceLock::from(quality)),
+            quality: Arc::new(OnceLock::new()),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms: millis(t),
             hierarchy: None,
