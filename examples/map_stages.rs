@@ -1,8 +1,9 @@
 //! Nav2's maps beside NavFn, request by request: the first plan from the loaded occupancy
 //! grid (map → mesh → assemble → solve → trace, where "mesh" is everything before assembly:
 //! the clear cells and the quadtree, or the polygons, their booleans and the refined
-//! Delaunay mesh of the default mesher, or with `--quadtree` the clear cells' quadtree), where its time goes, and a later start on the same planner (a
-//! trace only). Times are medians of 5 in-process runs (`--runs N` for N; 25 matches the
+//! Delaunay mesh), by the default mesher (`auto`: traced where its margin changes nothing a
+//! path needs, else the quadtree; `--traced` or `--quadtree` to force one), where its time
+//! goes, and a later start on the same planner (a trace only). Times are medians of 5 in-process runs (`--runs N` for N; 25 matches the
 //! NavFn timings' protocol when NavFn is run beside it).
 //!
 //! Which solve each map gets: the planner's `SolveMethod::Auto` takes the accurate LDLᵀ up to
@@ -11,7 +12,7 @@
 //! Cholesky with rayon's pool as the planner runs it).
 //!
 //! ```text
-//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--quadtree [--snap off|CELLS]] [--runs N] [--json]
+//! HARMONIC_NAV2_MAPS=DIR cargo run --release --example map_stages -- [--traced | --quadtree [--snap off|CELLS]] [--runs N] [--json]
 //! ```
 
 use std::time::Instant;
@@ -64,7 +65,13 @@ fn solve_times(
     let method = match system.not_m_matrix() {
         Some(reason) => format!("Cholesky (not an M-matrix: {reason})"),
         // The map planner asks the quadtree's M-matrix for the accurate solve at any size.
-        None if mesher == MapMesher::Quadtree => "accurate".to_string(),
+        // (`Auto` took the quadtree where every angle is 45° or 90°.)
+        None if mesher == MapMesher::Quadtree
+            || (mesher == MapMesher::Auto
+                && (planner.mesh().quality().min_angle_deg - 45.0).abs() < 1e-9) =>
+        {
+            "accurate".to_string()
+        }
         None if n <= AUTO_ACCURATE_MAX_UNKNOWNS => "accurate".to_string(),
         None => "Cholesky, redone accurately if ψ spans over 1e12".to_string(),
     };
@@ -108,8 +115,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let opts = MapOptions {
         mesher: if std::env::args().any(|a| a == "--quadtree") {
             MapMesher::Quadtree
-        } else {
+        } else if std::env::args().any(|a| a == "--traced") {
             MapMesher::Traced
+        } else {
+            MapMesher::Auto
         },
         snap: match std::env::args().skip_while(|a| a != "--snap").nth(1) {
             None => Snap::OpenFloor,

@@ -188,7 +188,11 @@ impl Meshed {
             let sides = [(b, c, a), (c, a, b), (a, b, c)];
             let (p, q, apex) = sides
                 .into_iter()
-                .min_by(|x, y| (x.1 - x.0).norm_squared().total_cmp(&(y.1 - y.0).norm_squared()))
+                .min_by(|x, y| {
+                    (x.1 - x.0)
+                        .norm_squared()
+                        .total_cmp(&(y.1 - y.0).norm_squared())
+                })
                 .expect("three sides");
             let (u, v) = (p - apex, q - apex);
             let cross = u.x * v.y - u.y * v.x;
