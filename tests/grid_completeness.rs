@@ -348,3 +348,17 @@ fn a_goal_too_close_names_the_blocking_cell_and_the_nearest_clear_one() {
         "{edge}"
     );
 }
+
+/// The `movingai` fuzz target's own code, so CI replays its corpus as the fuzzer ran it.
+#[path = "../fuzz/src/movingai.rs"]
+mod fuzz_movingai;
+
+/// CI replays the `movingai` fuzz corpus (seeds, and what the fuzzer finds, kept as
+/// regressions): no `.map` or `.scen` input may panic or give a message of more than one line.
+#[test]
+fn the_movingai_fuzz_corpus_replays_without_a_panic() {
+    let files = harmonic_fixtures::fuzz_corpus("movingai");
+    assert!(files.len() >= 5, "seed corpus present: {}", files.len());
+    let (_, panicked) = harmonic_fixtures::replay(&files, fuzz_movingai::run_movingai);
+    assert!(panicked.is_empty(), "panicked:\n{}", panicked.join("\n"));
+}
