@@ -384,10 +384,24 @@ pub struct ConfigPlanReport {
     pub mesh: ConfigMeshSummary,
     /// Milliseconds per stage.
     pub timings_ms: Timings,
+    /// The potential on the slab.
+    pub potential: ConfigPotentialSummary,
     /// Interior local extrema of the potential on the slab.
     pub interior_local_extrema: usize,
     /// One entry per start.
     pub paths: Vec<ConfigPlannedPath>,
+}
+
+/// The potential part of a configuration-space report, as the contract names it.
+#[derive(Clone, Debug, Serialize)]
+pub struct ConfigPotentialSummary {
+    /// Smallest φ at a vertex of the slab.
+    pub min: f64,
+    /// Largest φ at a vertex of the slab.
+    pub max: f64,
+    /// Vertices off the boundary (the goal, walls, obstacles and the slab's seam excluded)
+    /// where φ is a strict local minimum.
+    pub interior_local_minima: usize,
 }
 
 /// A harmonic planner in a robot's configuration space: built once, queried many times.
@@ -483,8 +497,107 @@ impl ConfigPlanner {
         &self.report
     }
 
-    /// Plans from the configuration `start` (`[x, y, θ]` or the joint angles).
+    /// Plans from the configuration `start` (`[x, y, θ]` or the joint angles). A start that
+    /// touches an obstacle or a wall without overlapping it (closer than the safety margin,
+    /// as a robot parked against a wall is) is first led straight away from it, up the
+    /// exact clearance, until the margin is kept; a start that overlaps one is
+    /// `start_in_obstacle`.
     pub fn plan(&self, start: &[f64]) -> ConfigPlannedPath {
+        let Some(lead) = self.lead_out(start) else {
+            return self.trace_from(start);
+        };
+        let Some(from) = lead.last() else {
+            return self.trace_from(start);
+        };
+        let mut out = self.trace_from(from);
+        let scale = self.space.scale();
+        let mut length = 0.0;
+        let mut clearance = f64::INFINITY;
+        for w in lead.windows(2) {
+            length += (0..w[0].len())
+                .map(|a| ((w[1][a] - w[0][a]) * scale[a]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+        }
+        for q in &lead {
+            clearance = clearance.min(exact_clearance(self.space.robot(), self.space.world(), q));
+        }
+        out.start = start.to_vec();
+        out.length += length;
+        out.min_clearance = out.min_clearance.min(clearance.max(0.0));
+        let before = &lead[..lead.len() - 1];
+        if let Some(poses) = out.poses.as_mut() {
+            let mut all: Vec<[f64; 3]> = before.iter().map(|q| [q[0], q[1], q[2]]).collect();
+            all.append(poses);
+            *poses = all;
+        }
+        if let Some(joints) = out.joints.as_mut() {
+            let mut all = before.to_vec();
+            all.append(joints);
+            *joints = all;
+        }
+        out
+    }
+
+    /// The way out of the safety margin from a start that touches but does not overlap an
+    /// obstacle or wall: steps of a quarter margin up the exact clearance's gradient (central
+    /// differences in mesh units) until the clearance exceeds 1.5 margins; `None` when the
+    /// start keeps the margin, overlaps something, breaks a joint limit, or no way out is
+    /// found in 64 steps.
+    fn lead_out(&self, start: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let dof = self.space.dof();
+        if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        if self.space.classify(start) != ConfigClass::Collision {
+            return None;
+        }
+        let clear = |q: &[f64]| exact_clearance(self.space.robot(), self.space.world(), q);
+        if clear(start) < 0.0 {
+            return None;
+        }
+        let margin = self.space.margin().max(1e-9);
+        let scale = self.space.scale();
+        let delta = 1e-4 * self.report.spacing;
+        let mut q = start.to_vec();
+        let mut lead = vec![q.clone()];
+        for _ in 0..64 {
+            let grad: Vec<f64> = (0..dof)
+                .map(|a| {
+                    let h = delta / scale[a];
+                    let (mut up, mut down) = (q.clone(), q.clone());
+                    up[a] += h;
+                    down[a] -= h;
+                    (clear(&up) - clear(&down)) / (2.0 * delta)
+                })
+                .collect();
+            let norm = grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return None;
+            }
+            let step = 0.25 * margin;
+            let next: Vec<f64> = (0..dof)
+                .map(|a| q[a] + step * grad[a] / norm / scale[a])
+                .collect();
+            // The motion itself must not overlap anything.
+            if (1..=8).any(|k| {
+                let t = k as f64 / 8.0;
+                let m: Vec<f64> = (0..dof).map(|a| q[a] + t * (next[a] - q[a])).collect();
+                clear(&m) < 0.0
+            }) {
+                return None;
+            }
+            q = next;
+            lead.push(q.clone());
+            if clear(&q) > 1.5 * margin && self.space.classify(&q) == ConfigClass::Free {
+                return Some(lead);
+            }
+        }
+        None
+    }
+
+    /// Traces from `start` as it is.
+    fn trace_from(&self, start: &[f64]) -> ConfigPlannedPath {
         let dof = self.space.dof();
         if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
             return self.planned(start, None, Tracer::Exact);
@@ -610,6 +723,14 @@ impl ConfigPlanner {
                 clamped_edges: self.clamped_edges,
             },
             timings_ms: timings,
+            potential: {
+                let phi = self.potential.phi_at_vertices();
+                ConfigPotentialSummary {
+                    min: phi.iter().copied().fold(f64::INFINITY, f64::min),
+                    max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                    interior_local_minima: self.potential.interior_local_minima(),
+                }
+            },
             interior_local_extrema: self.potential.interior_local_extrema(),
             paths,
         }

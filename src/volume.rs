@@ -33,7 +33,7 @@ use harmonic_trajectory::volume::{
 use harmonic_trajectory::{Locate, TraceError, Tracer};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
-    MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
+    GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
     VolumeSceneSpec, quality,
 };
 use rayon::prelude::*;
@@ -135,6 +135,8 @@ pub struct VolumePotentialSummary {
     pub max: f64,
     /// Smallest ψ = φ_wall − φ at a vertex.
     pub min_psi: f64,
+    /// Interior vertices where φ is a strict local minimum (a path would stop there).
+    pub interior_local_minima: usize,
     /// Interior vertices where φ is a strict local minimum or maximum.
     pub interior_local_extrema: usize,
     /// Positive off-diagonals of the assembled (unclamped) matrix.
@@ -289,7 +291,17 @@ impl VolumePlanner {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: [f64; 3], path: VolumePath, tracer: Tracer) -> VolumePlannedPath {
+    fn planned(&self, start: [f64; 3], mut path: VolumePath, tracer: Tracer) -> VolumePlannedPath {
+        // A point goal is carved as a small free ball around it: the last straight step from
+        // the ball's face ends exactly on the point.
+        if let VolumeTraceStatus::ReachedGoal(j) = path.status
+            && let Some(GoalRegion::Point(g)) = self.domain.goals().get(j as usize)
+            && let Some(last) = path.points.last().copied()
+            && last != *g
+        {
+            path.length += (g - last).norm();
+            path.points.push(*g);
+        }
         let clearance = path
             .points
             .iter()
@@ -342,6 +354,7 @@ impl VolumePlanner {
                 min: phi.iter().copied().fold(f64::INFINITY, f64::min),
                 max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
                 min_psi: psi.iter().copied().fold(f64::INFINITY, f64::min),
+                interior_local_minima: self.potential.interior_local_minima(),
                 interior_local_extrema: self.potential.interior_local_extrema(),
                 positive_offdiagonals: self.positive_offdiagonals,
             },

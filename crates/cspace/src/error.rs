@@ -33,13 +33,33 @@ pub enum CspaceError {
         /// The spacing.
         spacing: f64,
     },
-    /// The goal region is too small for the lattice (or lies in collision).
+    /// The goal configuration collides.
     #[error(
-        "the goal region has no face in the mesh at spacing {spacing}: it lies in collision or is smaller than the lattice; widen goal.tolerance or lower mesh.spacing"
+        "the goal configuration collides with {with} (clearance {clearance:.4}, safety margin {margin}): move the goal into free space"
     )]
-    GoalNotMeshed {
-        /// The spacing.
-        spacing: f64,
+    GoalInCollision {
+        /// What it collides with.
+        with: String,
+        /// The robot's distance to it (≤ the margin).
+        clearance: f64,
+        /// The safety margin.
+        margin: f64,
+    },
+    /// The goal configuration is outside the joint limits.
+    #[error("the goal configuration is outside the joint limits")]
+    GoalOutsideLimits,
+    /// No free configuration within the goal's tolerance was found.
+    #[error(
+        "no free configuration lies within the goal's tolerance: every one collides or breaks a joint limit; move the goal or widen goal.tolerance"
+    )]
+    GoalUnreachableRegion,
+    /// Refinement toward the goal stopped at the budget.
+    #[error(
+        "the goal region could not be resolved within the budget of {budget} tetrahedra: raise mesh.max_tetrahedra or widen goal.tolerance"
+    )]
+    GoalNotResolved {
+        /// The budget.
+        budget: u64,
     },
     /// The volume mesher failed.
     #[error(transparent)]

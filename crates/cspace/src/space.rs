@@ -3,12 +3,18 @@
 //! nothing, stays within its joint limits and is outside the goal region; meshed by the
 //! periodic isosurface stuffing of `harmonic_volume`.
 //!
-//! **Coordinates.** The mesh lives in scaled coordinates `p = s ⊙ q` so that one unit of
+//! **Coordinates.** The mesh lives in scaled coordinates `p = s ⊙ (q − o)` so that one unit of
 //! every axis moves the robot about as much: a rigid robot's θ is scaled by its radius of
 //! gyration about the body origin (x and y by 1), an arm's joint `i` by its reach beyond the
 //! joint (the sum of the lengths of links `i…n`). A periodic axis's scale is then rounded so
 //! that a whole number `N` of lattice cells spans the turn (`2π·s = N·h`), which is what lets
-//! the lattice close on itself; the report gives the scales used.
+//! the lattice close on itself; the report gives the scales used. A periodic axis starts at
+//! `o`, half a turn from the goal's angle, so the goal lies mid-period, away from the seam
+//! where the slab's two ends are identified (and where the mesh is not refined).
+//!
+//! **Goals of any size** are left out of the stuffed function and carved from the mesh after
+//! grading it down to them (`harmonic_volume::carve_goals`): a tolerance of 0.05 rad in a
+//! lattice of 0.4 is resolved, not refused.
 //!
 //! **Which axes wrap.** θ always; an arm's joint when it has no limits (or limits spanning a
 //! full turn). Limited joints are walls of the configuration box. A two-link arm's
@@ -25,8 +31,8 @@ use std::f64::consts::{PI, TAU};
 
 use harmonic_mesh::BoundaryTag;
 use harmonic_volume::{
-    ImplicitDomain, PeriodicMesh, Point, StuffingOptions, periodic_lattice_tetrahedra,
-    stuff_periodic,
+    CarveReport, GoalHole, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point, StuffingOptions,
+    carve_goals, periodic_lattice_tetrahedra, stuff_periodic,
 };
 
 use crate::error::CspaceError;
@@ -117,6 +123,8 @@ pub struct ConfigSpace {
     spacing: f64,
     axes: [Axis; 3],
     scale: [f64; 3],
+    /// Per periodic axis, the angle at mesh coordinate 0.
+    origin: [f64; 3],
     cells: [Option<usize>; 3],
 }
 
@@ -133,6 +141,10 @@ pub struct CspaceMeshReport {
     pub lattice_tetrahedra: u64,
     /// Slab end faces identified across the period.
     pub seam_faces: usize,
+    /// Edges bisected to grade the mesh down to the goal region.
+    pub refined: usize,
+    /// Tetrahedra carved out of the goal region.
+    pub goal_tetrahedra: usize,
     /// Wall-clock seconds.
     pub seconds: f64,
 }
@@ -244,6 +256,21 @@ impl ConfigSpace {
                 }
             }
         }
+        // A periodic axis starts half a turn from the goal, so the goal lies mid-period, away
+        // from the slab's seam (where the mesh is not refined).
+        let mut origin = [0.0; 3];
+        for (a, o) in origin.iter_mut().enumerate() {
+            if axes[a] == Axis::Periodic {
+                let centre = match &goal {
+                    ConfigGoal::Pose { pose, .. } => Some(pose[a]),
+                    ConfigGoal::Joints { joints, .. } => joints.get(a).copied(),
+                    ConfigGoal::EndEffector { .. } => None,
+                };
+                if let Some(c) = centre {
+                    *o = c - PI;
+                }
+            }
+        }
         let mut cells = [None; 3];
         for a in 0..3 {
             if axes[a] == Axis::Periodic {
@@ -260,6 +287,7 @@ impl ConfigSpace {
             spacing,
             axes,
             scale,
+            origin,
             cells,
         })
     }
@@ -288,6 +316,11 @@ impl ConfigSpace {
     pub fn scale(&self) -> [f64; 3] {
         self.scale
     }
+    /// Per periodic axis, the angle at mesh coordinate 0 (half a turn from the goal's, so
+    /// the goal lies mid-period); 0 on the other axes.
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
     /// The robot's degrees of freedom.
     pub fn dof(&self) -> usize {
         self.robot.dof()
@@ -295,7 +328,9 @@ impl ConfigSpace {
 
     /// The configuration of a mesh point (the slab coordinate of a two-link arm dropped).
     pub fn config(&self, p: &Point) -> Vec<f64> {
-        (0..self.dof()).map(|a| p[a] / self.scale[a]).collect()
+        (0..self.dof())
+            .map(|a| p[a] / self.scale[a] + self.origin[a])
+            .collect()
     }
 
     /// The mesh point of `q` with its periodic coordinates brought into the first period,
@@ -307,8 +342,8 @@ impl ConfigSpace {
             match self.axes[a] {
                 Axis::Extruded { thickness } => p[a] = 0.5 * thickness,
                 Axis::Periodic => {
-                    let r = q[a].rem_euclid(TAU);
-                    shift[a] = q[a] - r;
+                    let r = (q[a] - self.origin[a]).rem_euclid(TAU);
+                    shift[a] = q[a] - self.origin[a] - r;
                     p[a] = r * self.scale[a];
                 }
                 _ => p[a] = q[a] * self.scale[a],
@@ -367,8 +402,9 @@ impl ConfigSpace {
         }
     }
 
-    /// The terms of the value and the boundary part of the largest.
-    fn terms(&self, p: &Point) -> (f64, BoundaryTag) {
+    /// The terms of the value and the boundary part of the largest; the goal's term only
+    /// `with_goal` (the goal is carved from the mesh, not stuffed, but names its faces).
+    fn terms(&self, p: &Point, with_goal: bool) -> (f64, BoundaryTag) {
         let q = self.config(p);
         let (d, nearest) = self.clearance(&q);
         let mut best = (
@@ -396,7 +432,9 @@ impl ConfigSpace {
                 _ => {}
             }
         }
-        raise(-self.goal_value(&q), BoundaryTag::Goal(0));
+        if with_goal {
+            raise(-self.goal_value(&q), BoundaryTag::Goal(0));
+        }
         best
     }
 
@@ -440,7 +478,7 @@ impl ConfigSpace {
                 spacing: self.spacing,
             });
         }
-        let stuffed = stuff_periodic(
+        let mut stuffed = stuff_periodic(
             self,
             &StuffingOptions {
                 spacing: self.spacing,
@@ -453,35 +491,138 @@ impl ConfigSpace {
                 spacing: self.spacing,
             });
         }
-        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.terms(p).1)?;
-        if !mesh
-            .slab
-            .boundary_faces()
-            .iter()
-            .any(|f| matches!(f.tag, BoundaryTag::Goal(_)))
-        {
-            return Err(CspaceError::GoalNotMeshed {
-                spacing: self.spacing,
-            });
+        let carved = self.carve_goal(&mut stuffed, max_tetrahedra);
+        if carved.carved.first().is_none_or(|&n| n == 0) {
+            return Err(self.goal_unmeshed(carved.refine.budget_reached, max_tetrahedra));
         }
+        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.terms(p, true).1)?;
         let report = CspaceMeshReport {
             spacing: self.spacing,
             scale: self.scale,
             cells: self.cells,
             lattice_tetrahedra: estimated,
             seam_faces: mesh.seam_faces,
+            refined: carved.refine.bisections,
+            goal_tetrahedra: carved.carved.first().copied().unwrap_or(0),
             seconds: start.elapsed().as_secs_f64(),
         };
         Ok((mesh, report))
     }
 }
 
+impl ConfigSpace {
+    /// The goal's function in mesh units and its Lipschitz constant there, and the size of
+    /// tetrahedra that fit in the goal region.
+    fn goal_geometry(&self) -> (f64, f64) {
+        let dof = self.dof();
+        match &self.goal {
+            ConfigGoal::Pose {
+                position, angle, ..
+            } => (1.0, 0.5 * position.min(angle * self.scale[2])),
+            ConfigGoal::Joints { tolerance, .. } => {
+                let s = self.scale[..dof]
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                (1.0, 0.5 * tolerance * s)
+            }
+            // A joint's scale is its reach, so the tip moves at most one unit per mesh unit
+            // along each axis.
+            ConfigGoal::EndEffector { tolerance, .. } => {
+                let l = (dof as f64).sqrt();
+                (l, 0.5 * tolerance / l)
+            }
+        }
+    }
+
+    /// Grades the stuffed slab down to the goal region and carves it out (see
+    /// `harmonic_volume::carve_goals`); seam vertices stay as they are, so the two ends of
+    /// the slab stay copies of each other.
+    fn carve_goal(&self, stuffed: &mut PeriodicStuffed, max_tetrahedra: u64) -> CarveReport {
+        let (lipschitz, size) = self.goal_geometry();
+        let mut members = vec![0u32; stuffed.orbit.len()];
+        for &o in &stuffed.orbit {
+            members[o as usize] += 1;
+        }
+        let orbit = &stuffed.orbit;
+        let frozen = |v: u32| {
+            orbit
+                .get(v as usize)
+                .is_some_and(|&o| members[o as usize] > 1)
+        };
+        let value = |p: &Point| self.goal_value(&self.config(p));
+        let holes = [GoalHole {
+            value: &value,
+            lipschitz,
+            size,
+        }];
+        let s = &mut stuffed.stuffed;
+        let before = s.vertices.len();
+        let budget = usize::try_from(max_tetrahedra).unwrap_or(usize::MAX);
+        let report = carve_goals(&mut s.vertices, &mut s.tetrahedra, &holes, &frozen, budget);
+        let classes = stuffed.orbit.iter().copied().max().map_or(0, |m| m + 1);
+        let (orbit, wrap): (Vec<u32>, Vec<[i32; 3]>) = report
+            .kept
+            .iter()
+            .map(|&v| {
+                let v = v as usize;
+                if v < before {
+                    (stuffed.orbit[v], stuffed.wrap[v])
+                } else {
+                    // A new vertex is off the seam: a class of its own.
+                    (classes + (v - before) as u32, [0; 3])
+                }
+            })
+            .unzip();
+        stuffed.orbit = orbit;
+        stuffed.wrap = wrap;
+        report
+    }
+
+    /// Why the goal kept no tetrahedron: the goal configuration collides or lies outside the
+    /// joint limits, or refinement stopped at the budget.
+    fn goal_unmeshed(&self, budget_reached: bool, budget: u64) -> CspaceError {
+        let centre = match &self.goal {
+            ConfigGoal::Pose { pose, .. } => Some(pose.to_vec()),
+            ConfigGoal::Joints { joints, .. } => Some(joints.clone()),
+            ConfigGoal::EndEffector { .. } => None,
+        };
+        if let Some(q) = centre {
+            match self.classify(&q) {
+                ConfigClass::Collision => {
+                    let (d, nearest) = self.clearance(&q);
+                    return CspaceError::GoalInCollision {
+                        with: nearest_name(nearest),
+                        clearance: d,
+                        margin: self.margin,
+                    };
+                }
+                ConfigClass::OutsideLimits => return CspaceError::GoalOutsideLimits,
+                _ => {}
+            }
+        }
+        if budget_reached {
+            CspaceError::GoalNotResolved { budget }
+        } else {
+            CspaceError::GoalUnreachableRegion
+        }
+    }
+}
+
+/// "obstacle i" or "the workspace boundary".
+fn nearest_name(n: Nearest) -> String {
+    match n {
+        Nearest::Wall => "the workspace boundary".into(),
+        Nearest::Obstacle(i) => format!("obstacle {i}"),
+    }
+}
+
 impl ImplicitDomain for ConfigSpace {
     fn value(&self, p: &Point) -> f64 {
-        self.terms(p).0
+        self.terms(p, false).0
     }
     fn tag(&self, p: &Point) -> BoundaryTag {
-        self.terms(p).1
+        self.terms(p, true).1
     }
     fn bounds(&self) -> (Point, Point) {
         let mut lo = Point::origin();

@@ -978,7 +978,17 @@ pub fn trace_smooth_volume<F: VolumeField>(
             if let Some(q) = rk(h) {
                 match field.segment(cell, &p, &q) {
                     Segment::Goal(j) => {
-                        points.push(q);
+                        // End on the goal face, not beyond it: the step's end may lie
+                        // past a goal region thinner than the step.
+                        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+                        for _ in 0..48 {
+                            let mid = 0.5 * (lo + hi);
+                            match field.segment(cell, &p, &(p + (q - p) * mid)) {
+                                Segment::Goal(_) => hi = mid,
+                                _ => lo = mid,
+                            }
+                        }
+                        points.push(p + (q - p) * hi);
                         return Ok(VolumePath::new(
                             points,
                             VolumeTraceStatus::ReachedGoal(j),

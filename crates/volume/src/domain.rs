@@ -158,6 +158,7 @@ impl VolumeDomain {
         DomainImplicit {
             domain: self,
             goals: self.goal_solids(point_goal_radius),
+            carved: vec![false; self.goals.len()],
             offsets: (0..self.obstacles.len())
                 .map(|i| self.robot_radius + obstacle_margins.get(i).copied().unwrap_or(0.0))
                 .collect(),
@@ -251,6 +252,8 @@ impl VolumeDomain {
 pub struct DomainImplicit<'a> {
     domain: &'a VolumeDomain,
     goals: Vec<Solid>,
+    /// Per goal: carved after meshing (left out of the value, kept in the tag).
+    carved: Vec<bool>,
     offsets: Vec<f64>,
     wall_offset: f64,
 }
@@ -258,6 +261,12 @@ pub struct DomainImplicit<'a> {
 impl DomainImplicit<'_> {
     /// The value and the tag of the part attaining it.
     pub fn value_and_tag(&self, p: &Point) -> (f64, BoundaryTag) {
+        self.value_and_tag_of(p, false)
+    }
+
+    /// As [`value_and_tag`](Self::value_and_tag), with the carved goals counted too when
+    /// `carved` is set (how faces of a carved goal get its tag).
+    fn value_and_tag_of(&self, p: &Point, carved: bool) -> (f64, BoundaryTag) {
         let mut best = self.domain.workspace.signed_distance(p) + self.wall_offset;
         let mut tag = BoundaryTag::Wall;
         for (i, (o, &offset)) in self.domain.obstacles.iter().zip(&self.offsets).enumerate() {
@@ -274,6 +283,9 @@ impl DomainImplicit<'_> {
             }
         }
         for (j, g) in self.goals.iter().enumerate() {
+            if self.carved[j] && !carved {
+                continue;
+            }
             let v = -g.signed_distance(p);
             if v > best {
                 best = v;
@@ -287,6 +299,15 @@ impl DomainImplicit<'_> {
     pub fn goal_solids(&self) -> &[Solid] {
         &self.goals
     }
+
+    /// Leaves goal `j` out of the value (when `carved[j]`): it is carved from the mesh after
+    /// stuffing ([`VolumeDomain::mesh`]) rather than stuffed, but still names its faces.
+    pub fn carving(mut self, carved: &[bool]) -> Self {
+        for (slot, &c) in self.carved.iter_mut().zip(carved) {
+            *slot = c;
+        }
+        self
+    }
 }
 
 impl ImplicitDomain for DomainImplicit<'_> {
@@ -294,7 +315,7 @@ impl ImplicitDomain for DomainImplicit<'_> {
         self.value_and_tag(p).0
     }
     fn tag(&self, p: &Point) -> BoundaryTag {
-        self.value_and_tag(p).1
+        self.value_and_tag_of(p, true).1
     }
     fn bounds(&self) -> (Point, Point) {
         let (lo, hi) = self.domain.workspace.bounds();

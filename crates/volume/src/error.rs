@@ -132,6 +132,39 @@ pub enum VolumeError {
         /// The robot radius.
         radius: f64,
     },
+    /// A goal lies in an obstacle grown by the robot's radius.
+    #[error(
+        "goal {goal} lies in obstacle {obstacle} (grown by the robot radius {radius}): move it into free space"
+    )]
+    GoalInObstacle {
+        /// The goal.
+        goal: usize,
+        /// The obstacle.
+        obstacle: usize,
+        /// The robot's radius.
+        radius: f64,
+    },
+    /// A goal lies outside the workspace shrunk by the robot's radius.
+    #[error(
+        "goal {goal} lies outside the workspace (shrunk by the robot radius {radius}): move it inside"
+    )]
+    GoalOutsideWorkspace {
+        /// The goal.
+        goal: usize,
+        /// The robot's radius.
+        radius: f64,
+    },
+    /// Refinement toward a goal stopped at the tetrahedron budget before the goal held a
+    /// whole tetrahedron.
+    #[error(
+        "goal {goal} could not be resolved within the budget of {budget} tetrahedra: raise mesh.max_tetrahedra or widen the goal"
+    )]
+    GoalNotResolved {
+        /// The goal.
+        goal: usize,
+        /// The tetrahedron budget.
+        budget: u64,
+    },
     /// No goal was given.
     #[error("the scene has no goal region")]
     NoGoal,
@@ -173,4 +206,26 @@ pub enum VolumeError {
         /// The underlying error.
         source: std::io::Error,
     },
+}
+
+impl VolumeError {
+    /// The same error about goal `j` (goal errors are built before the goal is known).
+    pub(crate) fn for_goal(self, j: usize) -> Self {
+        match self {
+            VolumeError::GoalInObstacle {
+                obstacle, radius, ..
+            } => VolumeError::GoalInObstacle {
+                goal: j,
+                obstacle,
+                radius,
+            },
+            VolumeError::GoalOutsideWorkspace { radius, .. } => {
+                VolumeError::GoalOutsideWorkspace { goal: j, radius }
+            }
+            VolumeError::GoalNotResolved { budget, .. } => {
+                VolumeError::GoalNotResolved { goal: j, budget }
+            }
+            e => e,
+        }
+    }
 }

@@ -52,6 +52,7 @@
 
 #![warn(missing_docs)]
 
+mod carve;
 mod domain;
 mod error;
 mod implicit;
@@ -61,10 +62,12 @@ mod mesh;
 mod mesher;
 mod periodic;
 mod quality;
+mod refine;
 mod solid;
 mod spec;
 mod stuffing;
 
+pub use carve::{CarveReport, GRADING, GoalHole, carve_goals};
 pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
 pub use error::{SolidRole, VolumeError};
 pub use implicit::ImplicitDomain;
@@ -74,6 +77,7 @@ pub use periodic::{
     PeriodicMesh, PeriodicStuffed, SEAM_PART, periodic_lattice_tetrahedra, stuff_periodic,
 };
 pub use quality::{EDGES, QualityReport, quality, tet_angles_and_weights};
+pub use refine::{RefineReport, longest_edge, refine_where};
 pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
 pub use spec::{
     BoundarySpec, BoxSpec, ConditionSpec, GoalSpec, GoalsSpec, ObstacleSpec, RobotSpec, SphereSpec,

@@ -15,10 +15,12 @@ use serde::Serialize;
 
 use harmonic_mesh::BoundaryTag;
 
-use crate::domain::VolumeDomain;
+use crate::carve::{GoalHole, carve_goals};
+use crate::domain::{GoalRegion, VolumeDomain};
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
 use crate::mesh::TetMesh;
+use crate::solid::{Point, Solid};
 use crate::stuffing::{StuffingOptions, lattice_tetrahedra, stuff};
 
 /// The default tetrahedron budget: meshes whose lattice would hold more are refused.
@@ -53,7 +55,7 @@ impl MeshOptions {
 }
 
 /// What meshing did.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MeshReport {
     /// The lattice spacing h.
     pub spacing: f64,
@@ -73,6 +75,10 @@ pub struct MeshReport {
     /// (≤ `clearance_tolerance` when conservative; `-inf` when there are no such faces;
     /// NaN when not checked).
     pub clearance_deficit: f64,
+    /// Edges bisected to grade the mesh down to goals smaller than the lattice.
+    pub refined: usize,
+    /// Per goal, the tetrahedra carved out of it (0 for a goal the stuffing resolved).
+    pub goal_tetrahedra: Vec<usize>,
     /// Wall-clock seconds spent.
     pub seconds: f64,
 }
@@ -99,14 +105,17 @@ impl VolumeDomain {
                 budget: opts.max_tetrahedra,
             });
         }
-        let goal_radius = h;
+        let goal_radius = self.point_goal_radius(h)?;
+        let mut carved = self.carved_goals(h);
         let mut margins = vec![0.0; self.obstacles().len()];
         let mut wall_margin = 0.0;
         let mut passes = 0;
         loop {
             passes += 1;
-            let implicit = self.implicit(goal_radius, &margins, wall_margin);
-            let stuffed = stuff(
+            let implicit = self
+                .implicit(goal_radius, &margins, wall_margin)
+                .carving(&carved);
+            let mut stuffed = stuff(
                 &implicit,
                 &StuffingOptions {
                     spacing: h,
@@ -121,7 +130,22 @@ impl VolumeDomain {
                 stuffed.warped,
                 stuffed.dropped_flat,
             );
+            let (refined, goal_tets) = self.carve(&mut stuffed, &carved, goal_radius, opts);
+            if let Some(j) = (0..carved.len()).find(|&j| carved[j] && goal_tets[j] == 0) {
+                return Err(self.goal_unmeshed(j, goal_radius, opts.max_tetrahedra));
+            }
             let mesh = TetMesh::new(stuffed.vertices, stuffed.tetrahedra, &|p| implicit.tag(p))?;
+            // A stuffed goal that an obstacle left too little of for the lattice: carve it.
+            let mut faced = vec![false; carved.len()];
+            for f in mesh.boundary_faces() {
+                if let BoundaryTag::Goal(j) = f.tag {
+                    faced[j as usize] = true;
+                }
+            }
+            if let Some(j) = (0..carved.len()).find(|&j| !carved[j] && !faced[j]) {
+                carved[j] = true;
+                continue;
+            }
             let (obstacle_deficits, wall_deficit) = if opts.conservative {
                 self.mesh_clearance_deficits(&mesh)
             } else {
@@ -142,6 +166,8 @@ impl VolumeDomain {
                     warped,
                     dropped_flat,
                     clearance_deficit: deficit,
+                    refined,
+                    goal_tetrahedra: goal_tets,
                     seconds: start.elapsed().as_secs_f64(),
                 };
                 return Ok((mesh, report));
@@ -155,6 +181,123 @@ impl VolumeDomain {
             if wall_deficit > tol {
                 wall_margin += 1.5 * wall_deficit + 1e-9 * h;
             }
+        }
+    }
+
+    /// The radius of the balls point goals are carved as: at most the spacing and half the
+    /// clearance of the nearest point goal, so the last straight step to the point is free.
+    fn point_goal_radius(&self, h: f64) -> Result<f64, VolumeError> {
+        let mut radius = h;
+        for (j, g) in self.goals().iter().enumerate() {
+            if let GoalRegion::Point(p) = g {
+                let clearance = self.free_clearance(p).map_err(|e| e.for_goal(j))?;
+                radius = radius.min(0.5 * clearance);
+            }
+        }
+        Ok(radius)
+    }
+
+    /// How far `p` is from the robot's inflated obstacles and walls, or which of them it is in.
+    fn free_clearance(&self, p: &Point) -> Result<f64, VolumeError> {
+        let r = self.robot_radius();
+        let wall = -self.workspace().signed_distance(p) - r;
+        if wall <= 0.0 {
+            return Err(VolumeError::GoalOutsideWorkspace { goal: 0, radius: r });
+        }
+        let mut clearance = wall;
+        for (i, o) in self.obstacles().iter().enumerate() {
+            let d = o.signed_distance(p) - r;
+            if d <= 0.0 {
+                return Err(VolumeError::GoalInObstacle {
+                    goal: 0,
+                    obstacle: i,
+                    radius: r,
+                });
+            }
+            clearance = clearance.min(d);
+        }
+        Ok(clearance)
+    }
+
+    /// Which goals are carved rather than stuffed: those too small for the lattice to resolve
+    /// (an inscribed ball narrower than the spacing: every point of space lies within 0.56 h
+    /// of a lattice vertex) and every point goal.
+    fn carved_goals(&self, h: f64) -> Vec<bool> {
+        self.goals()
+            .iter()
+            .map(|g| match g {
+                GoalRegion::Sphere(s) => s.radius < h,
+                GoalRegion::Box(b) => 0.5 * (b.max - b.min).min() < h,
+                GoalRegion::Point(_) => true,
+            })
+            .collect()
+    }
+
+    /// Grades the stuffed mesh down to the carved goals and carves them out; the edges
+    /// bisected and the tetrahedra carved per goal.
+    fn carve(
+        &self,
+        stuffed: &mut crate::stuffing::Stuffed,
+        carved: &[bool],
+        point_goal_radius: f64,
+        opts: &MeshOptions,
+    ) -> (usize, Vec<usize>) {
+        if !carved.contains(&true) {
+            return (0, vec![0; carved.len()]);
+        }
+        let solids = self.goal_solids(point_goal_radius);
+        let regions: Vec<(usize, &Solid, f64)> = solids
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| carved[j])
+            .map(|(j, s)| {
+                let size = match s {
+                    Solid::Sphere(b) => 0.5 * b.radius,
+                    Solid::Box(b) => 0.25 * (b.max - b.min).min(),
+                    Solid::Surface(_) => f64::INFINITY,
+                };
+                (j, s, size)
+            })
+            .collect();
+        let values: Vec<_> = regions
+            .iter()
+            .map(|&(_, s, _)| move |p: &Point| s.signed_distance(p))
+            .collect();
+        let holes: Vec<GoalHole<'_>> = regions
+            .iter()
+            .zip(&values)
+            .map(|(&(_, _, size), value)| GoalHole {
+                value,
+                lipschitz: 1.0,
+                size,
+            })
+            .collect();
+        let budget = usize::try_from(opts.max_tetrahedra).unwrap_or(usize::MAX);
+        let report = carve_goals(
+            &mut stuffed.vertices,
+            &mut stuffed.tetrahedra,
+            &holes,
+            &|_| false,
+            budget,
+        );
+        let mut per_goal = vec![0; carved.len()];
+        for (k, &(j, _, _)) in regions.iter().enumerate() {
+            per_goal[j] = report.carved[k];
+        }
+        (report.refine.bisections, per_goal)
+    }
+
+    /// Why carved goal `j` kept no tetrahedron: it lies in an obstacle or outside the
+    /// workspace (for the robot's radius), or the budget stopped refinement first.
+    fn goal_unmeshed(&self, j: usize, point_goal_radius: f64, budget: u64) -> VolumeError {
+        let centre = match self.goal_solids(point_goal_radius)[j] {
+            Solid::Sphere(s) => s.center,
+            Solid::Box(b) => nalgebra::center(&b.min, &b.max),
+            Solid::Surface(_) => return VolumeError::GoalNotResolved { goal: j, budget },
+        };
+        match self.free_clearance(&centre) {
+            Err(e) => e.for_goal(j),
+            Ok(_) => VolumeError::GoalNotResolved { goal: j, budget },
         }
     }
 

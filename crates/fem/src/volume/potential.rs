@@ -122,6 +122,18 @@ impl VolumePotential {
     /// The number of vertices off the boundary whose ψ is strictly above or strictly below
     /// every neighbour's: zero when the discrete maximum principle holds.
     pub fn interior_local_extrema(&self) -> usize {
+        self.count_interior(|psi, lo, hi| psi > hi || psi < lo)
+    }
+
+    /// The number of vertices off the boundary whose ψ is strictly above every
+    /// neighbour's — strict local minima of φ, where a path descending φ would stop short of
+    /// the goal (the contract's `interior_local_minima`).
+    pub fn interior_local_minima(&self) -> usize {
+        self.count_interior(|psi, _, hi| psi > hi)
+    }
+
+    /// Vertices off the boundary for which `strict(ψ, lowest neighbour, highest neighbour)`.
+    fn count_interior(&self, strict: impl Fn(f64, f64, f64) -> bool) -> usize {
         let nv = self.mesh.vertices().len();
         let mut lo = vec![f64::INFINITY; nv];
         let mut hi = vec![f64::NEG_INFINITY; nv];
@@ -138,7 +150,7 @@ impl VolumePotential {
             .filter(|&v| {
                 !self.mesh.is_boundary_vertex(v as u32)
                     && lo[v] <= hi[v]
-                    && (self.psi[v] > hi[v] || self.psi[v] < lo[v])
+                    && strict(self.psi[v], lo[v], hi[v])
             })
             .count()
     }

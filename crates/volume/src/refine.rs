@@ -1,0 +1,251 @@
+//! Local refinement of a conforming tetrahedral mesh by longest-edge bisection (Rivara's
+//! algorithm), which is how a mesh stuffed at one spacing is graded down to goal regions
+//! smaller than that spacing.
+//!
+//! A tetrahedron is refined by bisecting its longest edge: a new vertex at the edge's middle,
+//! and every tetrahedron around the edge cut in two through it, so the mesh stays conforming.
+//! Before that, a tetrahedron around the edge whose own longest edge is another one is
+//! bisected first (the longest-edge propagation path, followed on a stack). Edges are
+//! compared by length, then by a rank of their midpoint the caller gives (the distance to
+//! where refinement is wanted), then by their vertex numbers: a strict total order, so the
+//! path climbs strictly and ends, and where lengths tie (a lattice has many equal edges) it
+//! climbs towards the refined region instead of wandering across the lattice. Children keep their parent's orientation (a vertex replaced by
+//! a point on the segment towards the other keeps the sign of the volume), and the shapes
+//! stay within a few similarity classes of the parents' (Rivara & Levin 1992; for the
+//! body-centred cubic lattice's tetrahedron three bisections give the lattice at half the
+//! spacing), so dihedral angles stay bounded; they are measured anyway ([`crate::quality`]).
+//!
+//! Vertices the caller marks as frozen (a periodic slab's seam, whose two copies must stay
+//! identical) are never on a bisected edge's tetrahedra: a tetrahedron whose propagation
+//! path reaches one stays as it is.
+//!
+//! ```
+//! use harmonic_volume::{Point, refine_where, longest_edge, signed_volume};
+//! // One tetrahedron, refined until every edge is shorter than 0.3.
+//! let mut v = vec![
+//!     Point::new(0.0, 0.0, 0.0),
+//!     Point::new(1.0, 0.0, 0.0),
+//!     Point::new(0.0, 1.0, 0.0),
+//!     Point::new(0.0, 0.0, 1.0),
+//! ];
+//! let mut t = vec![[0, 1, 2, 3]];
+//! let report = refine_where(
+//!     &mut v,
+//!     &mut t,
+//!     &|_| false,
+//!     &|p| longest_edge(p) > 0.3,
+//!     &|_| 0.0,
+//!     1_000_000,
+//! );
+//! assert!(report.bisections > 0 && !report.budget_reached);
+//! let total: f64 = t
+//!     .iter()
+//!     .map(|k| signed_volume(&v[k[0] as usize], &v[k[1] as usize], &v[k[2] as usize], &v[k[3] as usize]))
+//!     .sum();
+//! assert!((total - 1.0 / 6.0).abs() < 1e-12);
+//! assert!(t.iter().all(|k| longest_edge(&k.map(|i| v[i as usize])) <= 0.3));
+//! ```
+
+use crate::solid::Point;
+
+/// What [`refine_where`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RefineReport {
+    /// Edges bisected.
+    pub bisections: usize,
+    /// Passes over the tetrahedra still asking for refinement.
+    pub passes: usize,
+    /// Tetrahedra left unrefined because their propagation path met a frozen vertex.
+    pub frozen: usize,
+    /// Whether refinement stopped at the tetrahedron budget.
+    pub budget_reached: bool,
+}
+
+/// The longest edge length of a tetrahedron.
+pub fn longest_edge(p: &[Point; 4]) -> f64 {
+    EDGES
+        .iter()
+        .map(|&(i, j)| (p[i] - p[j]).norm_squared())
+        .fold(0.0, f64::max)
+        .sqrt()
+}
+
+const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// Refines the mesh `(vertices, tets)` (conforming, positively oriented) by longest-edge
+/// bisection until no tetrahedron asks for it (`want` on its corners), no further than
+/// `max_tets` tetrahedra. New vertices are appended to `vertices` (at edge midpoints);
+/// `frozen` vertices are never touched (see the module docs). Among edges of equal length,
+/// the one whose midpoint has the smaller `rank` is bisected first: pass a distance to where
+/// refinement is wanted (or any constant) to keep propagation local.
+pub fn refine_where(
+    vertices: &mut Vec<Point>,
+    tets: &mut Vec<[u32; 4]>,
+    frozen: &dyn Fn(u32) -> bool,
+    want: &dyn Fn(&[Point; 4]) -> bool,
+    rank: &dyn Fn(&Point) -> f64,
+    max_tets: usize,
+) -> RefineReport {
+    let mut r = Refiner {
+        vertices,
+        tets,
+        around: Vec::new(),
+        frozen,
+        rank,
+        touched: Vec::new(),
+    };
+    let mut report = RefineReport::default();
+    let corners = |r: &Refiner, t: u32| r.tets[t as usize].map(|v| r.vertices[v as usize]);
+    let mut candidates: Vec<u32> = (0..r.tets.len() as u32)
+        .filter(|&t| want(&corners(&r, t)))
+        .collect();
+    if candidates.is_empty() {
+        return report;
+    }
+    r.index();
+    while !candidates.is_empty() {
+        report.passes += 1;
+        r.touched.clear();
+        for &t in &candidates {
+            if r.tets.len() >= max_tets {
+                report.budget_reached = true;
+                return report;
+            }
+            if !want(&corners(&r, t)) {
+                continue;
+            }
+            match r.bisect_longest(t) {
+                Some(n) => report.bisections += n,
+                None => report.frozen += 1,
+            }
+        }
+        let mut next = std::mem::take(&mut r.touched);
+        next.sort_unstable();
+        next.dedup();
+        next.retain(|&t| want(&corners(&r, t)));
+        candidates = next;
+    }
+    report
+}
+
+/// An edge's sort key: quantized squared length, midpoint rank, vertex numbers.
+type EdgeKey = (u64, f64, u32, u32);
+
+/// Whether `k` comes after `l` in the order of [`Refiner::key`].
+fn greater(k: EdgeKey, l: EdgeKey) -> bool {
+    if k.0 != l.0 {
+        return k.0 > l.0;
+    }
+    if k.1 != l.1 {
+        return k.1 < l.1;
+    }
+    (k.2, k.3) > (l.2, l.3)
+}
+
+struct Refiner<'a> {
+    vertices: &'a mut Vec<Point>,
+    tets: &'a mut Vec<[u32; 4]>,
+    /// Per vertex, the tetrahedra that have it.
+    around: Vec<Vec<u32>>,
+    frozen: &'a dyn Fn(u32) -> bool,
+    rank: &'a dyn Fn(&Point) -> f64,
+    /// Tetrahedra created or changed in this pass.
+    touched: Vec<u32>,
+}
+
+impl Refiner<'_> {
+    fn index(&mut self) {
+        self.around = vec![Vec::new(); self.vertices.len()];
+        for (t, tet) in self.tets.iter().enumerate() {
+            for &v in tet {
+                self.around[v as usize].push(t as u32);
+            }
+        }
+    }
+
+    /// The longest edge of `t` in the strict order of [`Refiner::key`].
+    fn longest(&self, t: u32) -> (u32, u32) {
+        let tet = self.tets[t as usize];
+        let mut best: Option<(EdgeKey, (u32, u32))> = None;
+        for &(i, j) in &EDGES {
+            let e = (tet[i].min(tet[j]), tet[i].max(tet[j]));
+            let k = self.key(e);
+            if best.is_none_or(|(b, _)| greater(k, b)) {
+                best = Some((k, e));
+            }
+        }
+        best.map_or((tet[0], tet[1]), |(_, e)| e)
+    }
+
+    /// An edge's place in the order that decides which edge of a tetrahedron is bisected:
+    /// its squared length with the last 20 bits of the mantissa dropped (so lengths equal
+    /// but for rounding, as in a lattice, tie), then the smaller `rank` of its midpoint,
+    /// then its vertex numbers. Ranking ties by the distance to where refinement is wanted
+    /// keeps the propagation path local: every step moves towards it, never across a
+    /// uniform lattice.
+    fn key(&self, (a, b): (u32, u32)) -> EdgeKey {
+        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
+        let len = (pa - pb).norm_squared().to_bits() >> 20;
+        (len, (self.rank)(&nalgebra::center(&pa, &pb)), a, b)
+    }
+
+    fn tets_around(&self, (a, b): (u32, u32)) -> Vec<u32> {
+        self.around[a as usize]
+            .iter()
+            .copied()
+            .filter(|&t| self.tets[t as usize].contains(&b))
+            .collect()
+    }
+
+    /// Bisects `t`'s longest edge after whatever its propagation path needs; the number of
+    /// bisections, or `None` where the path meets a frozen vertex.
+    fn bisect_longest(&mut self, t: u32) -> Option<usize> {
+        let mut stack = vec![t];
+        let mut done = 0;
+        while let Some(&u) = stack.last() {
+            let e = self.longest(u);
+            let around = self.tets_around(e);
+            if around
+                .iter()
+                .any(|&w| self.tets[w as usize].iter().any(|&v| (self.frozen)(v)))
+            {
+                return None;
+            }
+            if let Some(&w) = around.iter().find(|&&w| self.longest(w) != e) {
+                stack.push(w);
+                continue;
+            }
+            self.bisect(e, &around);
+            done += 1;
+            stack.pop();
+        }
+        Some(done)
+    }
+
+    fn bisect(&mut self, (a, b): (u32, u32), around: &[u32]) {
+        let m = self.vertices.len() as u32;
+        let mid = nalgebra::center(&self.vertices[a as usize], &self.vertices[b as usize]);
+        self.vertices.push(mid);
+        self.around.push(Vec::with_capacity(2 * around.len()));
+        for &t in around {
+            let tet = self.tets[t as usize];
+            let first = tet.map(|v| if v == b { m } else { v });
+            let second = tet.map(|v| if v == a { m } else { v });
+            let n = self.tets.len() as u32;
+            self.tets[t as usize] = first;
+            self.tets.push(second);
+            let list = &mut self.around[b as usize];
+            if let Some(k) = list.iter().position(|&x| x == t) {
+                list.swap_remove(k);
+            }
+            list.push(n);
+            for &v in &tet {
+                if v != a && v != b {
+                    self.around[v as usize].push(n);
+                }
+            }
+            self.around[m as usize].extend([t, n]);
+            self.touched.extend([t, n]);
+        }
+    }
+}
