@@ -5,7 +5,7 @@
 //! is reached when the planner's path ends in a goal ball.
 //!
 //! ```text
-//! cargo run --release --example volume_reach [-- CASES]
+//! cargo run --release --example volume_reach [-- CASES [FIRST_SEED]]
 //! ```
 
 use std::time::Instant;
@@ -15,16 +15,20 @@ use harmonic_planner::AnyScene;
 use harmonic_planner::volume::VolumePlanner;
 
 fn main() {
-    let cases: u64 = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(24);
+    let arg = |i: usize, default: u64| {
+        std::env::args()
+            .nth(i)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(default)
+    };
+    let cases = arg(1, 24);
+    let first = arg(2, 1);
     println!(
         "| seed | obstacles | goals | robot | tetrahedra | build ms | connected | reached | missed |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let (mut connected_all, mut reached_all) = (0, 0);
-    for seed in 1..=cases {
+    for seed in first..first + cases {
         let obstacles = 5 + (seed as usize * 7) % 36;
         let goals = 1 + seed.is_multiple_of(3) as usize;
         let robot = if seed.is_multiple_of(2) { 0.3 } else { 0.0 };

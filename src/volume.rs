@@ -255,9 +255,56 @@ impl VolumePlanner {
     }
 
     /// Plans from `start`: the smooth tracer, or the exact tet-to-tet tracer where the smooth
-    /// one stalls or runs out of steps.
+    /// one stalls or runs out of steps. A free start that the mesh does not reach (it keeps
+    /// a safety margin off curved and sharp obstacles) is first led straight to the nearest
+    /// point of the mesh, where that segment keeps the robot's radius from every solid.
     pub fn plan(&self, start: [f64; 3]) -> VolumePlannedPath {
         let p = Point::new(start[0], start[1], start[2]);
+        if let Some(entry) = self.lead_in(&p) {
+            let mut out = self.trace_from(entry);
+            out.start = start;
+            out.length += (entry - p).norm();
+            out.points.insert(0, start);
+            out.min_clearance = out.min_clearance.min(finite_or_zero(self.clearance(&p)));
+            return out;
+        }
+        self.trace_from(p)
+    }
+
+    /// The point just inside the mesh a free start off the mesh is led to (see
+    /// [`plan`](Self::plan)), or `None` when the start is on the mesh, not free, or the
+    /// straight way in is not clear.
+    fn lead_in(&self, p: &Point) -> Option<Point> {
+        if self.mesh.locate(p, None).is_some() {
+            return None;
+        }
+        let radius = self.domain.robot_radius();
+        if self.domain.classify(p, self.report.point_goal_radius) != PointClass::Free {
+            return None;
+        }
+        let (q, face) = self.mesh.nearest_boundary_point(p)?;
+        let tet = self.mesh.boundary_faces()[face].tet;
+        let inner = Point::from(
+            self.mesh
+                .tet_points(tet)
+                .iter()
+                .map(|v| v.coords)
+                .sum::<harmonic_volume::Vector>()
+                / 4.0,
+        );
+        let entry = q + (inner - q) * 1e-6;
+        self.mesh.locate(&entry, Some(tet))?;
+        let samples = 64;
+        let clear = (0..=samples).all(|k| {
+            let x = p + (entry - p) * (k as f64 / samples as f64);
+            self.clearance(&x) >= radius - 1e-12
+        });
+        clear.then_some(entry)
+    }
+
+    /// Traces from `start` as it is.
+    fn trace_from(&self, p: Point) -> VolumePlannedPath {
+        let start = [p.x, p.y, p.z];
         let goal_radius = self.report.point_goal_radius;
         let classify = |q: &Point| match self.domain.classify(q, goal_radius) {
             PointClass::Free => Locate::Inside(0),

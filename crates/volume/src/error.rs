@@ -165,6 +165,14 @@ pub enum VolumeError {
         /// The tetrahedron budget.
         budget: u64,
     },
+    /// The robot's radius leaves no free space (sampled on a 48³ grid).
+    #[error(
+        "robot.radius {radius} leaves no free space: the obstacles grown by it and the workspace shrunk by it cover everything; use a smaller robot or set mesh.max_volume to look closer"
+    )]
+    RobotTooBig {
+        /// The robot's radius.
+        radius: f64,
+    },
     /// No goal was given.
     #[error("the scene has no goal region")]
     NoGoal,

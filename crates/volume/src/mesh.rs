@@ -7,7 +7,7 @@ use harmonic_mesh::BoundaryTag;
 
 use crate::error::VolumeError;
 use crate::locate::Locator;
-use crate::solid::{Point, Vector};
+use crate::solid::{Point, Vector, pv};
 
 /// Marks "no tetrahedron across this face".
 pub const NO_NEIGHBOR: u32 = u32::MAX;
@@ -50,6 +50,33 @@ pub struct TetMesh {
 }
 
 impl TetMesh {
+    /// The point of the mesh's boundary nearest to `p`, and the boundary face (index into
+    /// [`boundary_faces`](Self::boundary_faces)) it lies on; `None` without boundary faces.
+    /// A linear scan: for the occasional start that lies off the mesh.
+    pub fn nearest_boundary_point(&self, p: &Point) -> Option<(Point, usize)> {
+        use parry3d_f64::query::PointQuery;
+        use parry3d_f64::shape::Triangle;
+        let mut best: Option<(f64, Point, usize)> = None;
+        for (i, f) in self.boundary.iter().enumerate() {
+            let [a, b, c] = f.vertices.map(|v| self.vertices[v as usize]);
+            // No closer than the distance to the face's bounding box.
+            let lo = a.inf(&b).inf(&c);
+            let hi = a.sup(&b).sup(&c);
+            let gap = (lo - p).sup(&(p - hi)).sup(&Vector::zeros()).norm_squared();
+            if best.is_some_and(|(d, _, _)| gap >= d) {
+                continue;
+            }
+            let t = Triangle::new(pv(&a), pv(&b), pv(&c));
+            let q = t.project_local_point(pv(p), true).point;
+            let q = Point::new(q.x, q.y, q.z);
+            let d = (q - p).norm_squared();
+            if best.is_none_or(|(bd, _, _)| d < bd) {
+                best = Some((d, q, i));
+            }
+        }
+        best.map(|(_, q, i)| (q, i))
+    }
+
     /// A mesh from its vertices and tetrahedra; boundary faces (faces of one tetrahedron only)
     /// are tagged by `tag(centroid of the face)`. Checks indices, finiteness, that every
     /// tetrahedron has positive volume and that no face is shared by more than two.

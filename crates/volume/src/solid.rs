@@ -53,7 +53,7 @@ impl std::fmt::Debug for TriSurface {
     }
 }
 
-fn pv(p: &Point) -> PVector {
+pub(crate) fn pv(p: &Point) -> PVector {
     PVector::new(p.x, p.y, p.z)
 }
 

@@ -279,7 +279,15 @@ impl VolumeSceneSpec {
     pub fn max_volume(&self, domain: &VolumeDomain) -> Result<f64, VolumeError> {
         let v = match self.mesh.max_volume {
             Some(v) => v,
-            None => domain.free_volume_estimate() / 200_000.0,
+            None => {
+                let free = domain.free_volume_estimate();
+                if free <= 0.0 {
+                    return Err(VolumeError::RobotTooBig {
+                        radius: domain.robot_radius(),
+                    });
+                }
+                free / 200_000.0
+            }
         };
         if v.is_finite() && v > 0.0 {
             Ok(v)
