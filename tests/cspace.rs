@@ -4,6 +4,8 @@
 //! is `unreachable`, angles come out continuous across the period, and bad input is refused
 //! with its JSON path.
 
+use harmonic_cspace::ConfigClass;
+use harmonic_cspace::check::exact_clearance;
 use harmonic_planner::cspace::{ConfigPlanError, ConfigPlanner, ConfigScene, parse_config_scene};
 use harmonic_planner::{AnyScene, SceneError};
 
@@ -221,4 +223,33 @@ fn an_oversized_lattice_is_refused_before_any_work() {
         path: String::new(),
         message: String::new(),
     };
+}
+
+#[test]
+fn an_arm_that_must_fold_through_itself_is_unreachable() {
+    // Links 2, 1.5 and 1.2; the elbow held between 2.4 and 2.7 rad keeps the second joint
+    // 0.64–1.01 above the first link, so the last link pointing down crosses the first: from
+    // q3 = −1 (pointing up) to q3 = 3.55 it must pass pointing down, through link 1.
+    let scene = parse_config_scene(
+        r#"{
+        "workspace": [[-5, -5], [5, -5], [5, 5], [-5, 5]],
+        "robot": {"arm": {"base": [0, 0], "links": [2.0, 1.5, 1.2], "width": 0.1,
+                          "joint_limits": [[-3.14159, 3.14159], [2.4, 2.7], [-2.0, 3.6]]}},
+        "goal": {"joints": [0.0, 2.55, 3.55], "tolerance": 0.05},
+        "starts": [[0.0, 2.55, -1.0]]
+    }"#,
+    )
+    .expect("parses");
+    let planner = ConfigPlanner::new(&scene).expect("plannable");
+    let space = planner.space();
+    // Link 3 pointing straight down crosses link 1: a collision with itself.
+    let folded = [0.0, 2.55, 3.0 * std::f64::consts::FRAC_PI_2 - 2.55];
+    assert_eq!(space.classify(&folded), ConfigClass::Collision);
+    assert_eq!(
+        exact_clearance(space.robot(), space.world(), &folded),
+        0.0,
+        "the checker sees the links cross"
+    );
+    let p = planner.plan(&[0.0, 2.55, -1.0]);
+    assert_eq!(p.status.as_str(), "unreachable", "{:?}", p.status);
 }

@@ -24,11 +24,36 @@ fn edges(outline: &[[f64; 2]]) -> Vec<([f64; 2], [f64; 2])> {
         .collect()
 }
 
-/// The exact distance from the robot at `q` to the nearest obstacle or wall; 0 when it
-/// touches or overlaps one or leaves the workspace.
+/// The exact distance between two outlines (segments or convex polygons): 0 when they
+/// cross or one holds a corner of the other.
+fn outline_distance(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let inside = |p: &[[f64; 2]], q: [f64; 2]| p.len() > 2 && polygon_contains(p, q);
+    if a.iter().any(|&p| inside(b, p)) || b.iter().any(|&p| inside(a, p)) {
+        return 0.0;
+    }
+    let mut best = f64::INFINITY;
+    for &(p, q) in &edges(a) {
+        for &(r, s) in &edges(b) {
+            best = best.min(segment_segment_distance(pt(p), pt(q), pt(r), pt(s)));
+        }
+    }
+    best
+}
+
+/// The exact distance from the robot at `q` to the nearest obstacle or wall, or between two
+/// of an arm's links that are not neighbours; 0 when it touches or overlaps one or leaves
+/// the workspace.
 pub fn exact_clearance(robot: &Robot, world: &World, q: &[f64]) -> f64 {
     let mut best = f64::INFINITY;
-    for outline in robot.outlines(q) {
+    let outlines = robot.outlines(q);
+    if matches!(robot, Robot::Arm(_)) {
+        for i in 0..outlines.len() {
+            for j in i + 2..outlines.len() {
+                best = best.min(outline_distance(&outlines[i], &outlines[j]));
+            }
+        }
+    }
+    for outline in outlines {
         let es = edges(&outline);
         let solid = outline.len() > 2;
         if outline

@@ -149,6 +149,8 @@ pub enum Nearest {
     Wall,
     /// Obstacle `i`.
     Obstacle(u32),
+    /// An arm's own links `i` and `j` (not adjacent).
+    Links(u32, u32),
 }
 
 impl World {
@@ -297,4 +299,24 @@ pub enum ObstacleInput {
         /// Radius.
         radius: f64,
     },
+}
+
+/// The smallest distance between two parts of `placed` that are not neighbours in the list
+/// (an arm's links i and j with j ≥ i + 2; adjacent links share a joint), and which two;
+/// `None` for fewer than three parts.
+pub fn self_clearance(placed: &[(Pose, &Part)]) -> Option<(f64, Nearest)> {
+    let mut best: Option<(f64, Nearest)> = None;
+    for i in 0..placed.len() {
+        for j in i + 2..placed.len() {
+            let (pi, a) = placed[i];
+            let (pj, b) = placed[j];
+            let d = query::distance(&pi, a.shape(), &pj, b.shape())
+                .map(|d| d.distance)
+                .unwrap_or(0.0);
+            if best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, Nearest::Links(i as u32, j as u32)));
+            }
+        }
+    }
+    best
 }

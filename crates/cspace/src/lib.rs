@@ -42,7 +42,9 @@ mod space;
 pub mod svg;
 
 pub use error::CspaceError;
-pub use geometry::{Nearest, Obstacle, ObstacleInput, Part, World, checked_ring, convex_parts};
+pub use geometry::{
+    Nearest, Obstacle, ObstacleInput, Part, World, checked_ring, convex_parts, self_clearance,
+};
 pub use robot::{Arm, RigidRobot, Robot};
 pub use space::{
     Axis, ConfigClass, ConfigGoal, ConfigSpace, CspaceMeshReport, DEFAULT_MAX_TETRAHEDRA,

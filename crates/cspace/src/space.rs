@@ -36,7 +36,7 @@ use harmonic_volume::{
 };
 
 use crate::error::CspaceError;
-use crate::geometry::{Nearest, World};
+use crate::geometry::{Nearest, World, self_clearance};
 use crate::robot::Robot;
 
 /// The obstacle index of a two-link arm's slab faces (natural condition).
@@ -386,7 +386,8 @@ impl ConfigSpace {
     }
 
     /// The robot's distance to the nearest obstacle or wall at `q` (negated outside the
-    /// workspace), and which that is.
+    /// workspace), or between two of an arm's links that are not neighbours, and which that
+    /// is.
     pub fn clearance(&self, q: &[f64]) -> (f64, Nearest) {
         match &self.robot {
             Robot::Rigid(r) => {
@@ -397,7 +398,12 @@ impl ConfigSpace {
             Robot::Arm(arm) => {
                 let parts = arm.placed_parts(q);
                 let placed: Vec<_> = parts.iter().map(|(pose, p)| (*pose, p)).collect();
-                self.world.clearance(&placed, arm.base)
+                let world = self.world.clearance(&placed, arm.base);
+                // Links that are not neighbours must not touch each other either.
+                match self_clearance(&placed) {
+                    Some(own) if own.0 < world.0 => own,
+                    _ => world,
+                }
             }
         }
     }
@@ -410,7 +416,7 @@ impl ConfigSpace {
         let mut best = (
             self.margin - d,
             match nearest {
-                Nearest::Wall => BoundaryTag::Wall,
+                Nearest::Wall | Nearest::Links(..) => BoundaryTag::Wall,
                 Nearest::Obstacle(i) => BoundaryTag::Obstacle(i),
             },
         );
@@ -614,6 +620,7 @@ fn nearest_name(n: Nearest) -> String {
     match n {
         Nearest::Wall => "the workspace boundary".into(),
         Nearest::Obstacle(i) => format!("obstacle {i}"),
+        Nearest::Links(i, j) => format!("itself (links {i} and {j})"),
     }
 }
 

@@ -5,7 +5,7 @@
 use harmonic_mesh::BoundaryTag;
 
 use crate::error::{SolidRole, VolumeError};
-use crate::implicit::ImplicitDomain;
+use crate::implicit::{Grading, ImplicitDomain};
 use crate::solid::{BoxSolid, Point, Solid, SphereSolid, Vector};
 
 /// A goal region.
@@ -310,7 +310,229 @@ impl DomainImplicit<'_> {
     }
 }
 
+/// A boundary part of a volume domain, for grading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Part {
+    Wall,
+    Obstacle(usize),
+}
+
+/// How far below the lattice spacing grading may go.
+const GRADING_LEVELS: f64 = 16.0;
+
+impl DomainImplicit<'_> {
+    /// The distance from `p` to part `part` grown by its offset, positive on the free side.
+    fn part_distance(&self, part: Part, p: &Point) -> f64 {
+        match part {
+            Part::Wall => -self.domain.workspace.signed_distance(p) - self.wall_offset,
+            Part::Obstacle(i) => self.domain.obstacles[i].signed_distance(p) - self.offsets[i],
+        }
+    }
+
+    /// The part's distance gradient by central differences.
+    fn part_gradient(&self, part: Part, p: &Point, step: f64) -> Vector {
+        let mut g = Vector::zeros();
+        for a in 0..3 {
+            let mut e = Vector::zeros();
+            e[a] = step;
+            g[a] = (self.part_distance(part, &(p + e)) - self.part_distance(part, &(p - e)))
+                / (2.0 * step);
+        }
+        g
+    }
+
+    /// The box a part (grown by its offset) lies in; the workspace's is its own box.
+    fn part_bounds(&self, part: Part) -> (Point, Point) {
+        match part {
+            Part::Wall => self.domain.workspace.bounds(),
+            Part::Obstacle(i) => {
+                let (lo, hi) = self.domain.obstacles[i].bounds();
+                let o = Vector::repeat(self.offsets[i]);
+                (lo - o, hi + o)
+            }
+        }
+    }
+
+    /// The thickness below which obstacle `i` (grown by its offset) may slip between the
+    /// vertices of a lattice of spacing h, as a multiple of h: a box thinner than h/2 may
+    /// hold no lattice plane, a ball narrower than twice the lattice's covering radius
+    /// (√5/4 h) may hold no vertex; a surface is judged by its bounding box, like a box.
+    /// Returns (thickness, the thickness it must reach in spacings).
+    fn thickness(&self, i: usize) -> (f64, f64) {
+        let grown = 2.0 * self.offsets[i];
+        match &self.domain.obstacles[i] {
+            Solid::Sphere(b) => (2.0 * b.radius + grown, 2.0 * 5f64.sqrt() / 4.0),
+            other => {
+                let (lo, hi) = other.bounds();
+                ((hi - lo).min() + grown, 0.5)
+            }
+        }
+    }
+}
+
+impl DomainImplicit<'_> {
+    /// Whether obstacle `b` (grown) reaches into part `a` (grown; the wall: beyond the
+    /// shrunk workspace): such parts leave wedges around where they meet, not passages.
+    /// Balls are tested exactly, boxes and surfaces by their boxes.
+    fn overlap(&self, a: Part, b: Part) -> bool {
+        let Part::Obstacle(j) = b else {
+            return false;
+        };
+        let grown_ball = |k: usize| match &self.domain.obstacles[k] {
+            Solid::Sphere(s) => Some((s.center, s.radius + self.offsets[k])),
+            _ => None,
+        };
+        match a {
+            Part::Wall => match grown_ball(j) {
+                Some((c, r)) => self.part_distance(Part::Wall, &c) < r,
+                None => {
+                    let (lo, hi) = self.part_bounds(b);
+                    let (wlo, whi) = self.domain.workspace.bounds();
+                    let w = self.wall_offset;
+                    (0..3).any(|k| lo[k] < wlo[k] + w || hi[k] > whi[k] - w)
+                }
+            },
+            Part::Obstacle(i) => match (grown_ball(i), grown_ball(j)) {
+                (Some((c, r)), _) => self.part_distance(b, &c) < r,
+                (None, Some((c, r))) => self.part_distance(a, &c) < r,
+                (None, None) => box_gap(self.part_bounds(a), self.part_bounds(b)) < 0.0,
+            },
+        }
+    }
+}
+
+/// Whether `p` is within `margin` of the box `(lo, hi)`.
+fn near_box(p: &Point, (lo, hi): (Point, Point), margin: f64) -> bool {
+    (0..3).all(|a| p[a] >= lo[a] - margin && p[a] <= hi[a] + margin)
+}
+
+/// The gap between two boxes along the axis that separates them most (negative: overlap).
+fn box_gap(a: (Point, Point), b: (Point, Point)) -> f64 {
+    (0..3)
+        .map(|k| (b.0[k] - a.1[k]).max(a.0[k] - b.1[k]))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
 impl ImplicitDomain for DomainImplicit<'_> {
+    /// Grades the lattice down to passages between two parts that face each other closer
+    /// than the spacing (two obstacles, or an obstacle and a wall) and to obstacles thinner
+    /// than it: a tetrahedron near both faces of a passage of width w (its centroid within
+    /// its size of each, their normals opposed) is bisected until it is no longer than w/2,
+    /// one near a part thin enough to slip between lattice vertices (see `thickness`) until
+    /// it cannot, and never below 1/16 of the spacing. Parts that overlap or share a face leave no passage and are not refined for. Only pairs whose boxes come that close are examined, so a scene without
+    /// narrow passages or thin parts keeps the uniform lattice.
+    fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
+        let n = self.domain.obstacles.len();
+        let mut pairs: Vec<(Part, Part)> = Vec::new();
+        for i in 0..n {
+            let bi = self.part_bounds(Part::Obstacle(i));
+            for j in i + 1..n {
+                let bj = self.part_bounds(Part::Obstacle(j));
+                let (a, b) = (Part::Obstacle(i), Part::Obstacle(j));
+                if box_gap(bi, bj) < spacing && !self.overlap(a, b) {
+                    pairs.push((a, b));
+                }
+            }
+            // Near a wall of the workspace's box (from inside).
+            let (wlo, whi) = self.domain.workspace.bounds();
+            let w = self.wall_offset;
+            let to_wall = (0..3)
+                .map(|a| (bi.0[a] - wlo[a] - w).min(whi[a] - w - bi.1[a]))
+                .fold(f64::INFINITY, f64::min);
+            if to_wall < spacing && !self.overlap(Part::Wall, Part::Obstacle(i)) {
+                pairs.push((Part::Wall, Part::Obstacle(i)));
+            }
+        }
+        let thin: Vec<usize> = (0..n)
+            .filter(|&i| {
+                let (t, need) = self.thickness(i);
+                t < need * spacing
+            })
+            .collect();
+        if pairs.is_empty() && thin.is_empty() {
+            return None;
+        }
+        let floor = spacing / GRADING_LEVELS;
+        // Where each pair's faces can both be within a spacing of a point, and where a thin
+        // part's surface can be: a box test rejects every other tetrahedron cheaply.
+        let grow =
+            |(lo, hi): (Point, Point), m: f64| (lo - Vector::repeat(m), hi + Vector::repeat(m));
+        let pairs: Vec<(Part, Part, (Point, Point))> = pairs
+            .into_iter()
+            .map(|(a, b)| {
+                let (ba, bb) = (
+                    grow(self.part_bounds(a), spacing),
+                    grow(self.part_bounds(b), spacing),
+                );
+                let zone = match a {
+                    Part::Wall => bb,
+                    Part::Obstacle(_) => (ba.0.sup(&bb.0), ba.1.inf(&bb.1)),
+                };
+                (a, b, zone)
+            })
+            .collect();
+        let thin: Vec<(usize, (Point, Point))> = thin
+            .into_iter()
+            .map(|i| (i, grow(self.part_bounds(Part::Obstacle(i)), spacing)))
+            .collect();
+        let zones: Vec<(Point, Point)> = pairs
+            .iter()
+            .map(|p| p.2)
+            .chain(thin.iter().map(|t| t.1))
+            .collect();
+        let want = move |p: &[Point; 4]| -> bool {
+            let s = crate::refine::longest_edge(p);
+            if s <= floor {
+                return false;
+            }
+            let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
+            for &(a, b, zone) in &pairs {
+                if !near_box(&c, zone, 0.0) {
+                    continue;
+                }
+                let (da, db) = (self.part_distance(a, &c), self.part_distance(b, &c));
+                // A passage of positive width (parts that overlap or share a face leave none).
+                let width = da + db;
+                // Passages narrower than the finest size are left closed: no interior vertex
+                // would fit in them anyway.
+                // So are passages the lattice keeps open by itself (a spacing wide or more).
+                if da.abs() >= s
+                    || db.abs() >= s
+                    || width < 2.0 * floor
+                    || width >= spacing
+                    || s <= 0.5 * width
+                {
+                    continue;
+                }
+                let step = 1e-3 * s;
+                let (ga, gb) = (
+                    self.part_gradient(a, &c, step),
+                    self.part_gradient(b, &c, step),
+                );
+                if ga.dot(&gb) < -0.5 * ga.norm() * gb.norm() {
+                    return true;
+                }
+            }
+            thin.iter().any(|&(i, zone)| {
+                near_box(&c, zone, 0.0) && self.part_distance(Part::Obstacle(i), &c).abs() < s && {
+                    let (t, need) = self.thickness(i);
+                    s * need > t
+                }
+            })
+        };
+        // Ties are broken towards the zones: the distance to the nearest one.
+        let rank = move |c: &Point| {
+            zones
+                .iter()
+                .map(|(lo, hi)| (lo - c).sup(&(c - hi)).sup(&Vector::zeros()).norm())
+                .fold(f64::INFINITY, f64::min)
+        };
+        Some(Grading {
+            want: Box::new(want),
+            rank: Box::new(rank),
+        })
+    }
+
     fn value(&self, p: &Point) -> f64 {
         self.value_and_tag(p).0
     }

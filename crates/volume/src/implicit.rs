@@ -90,4 +90,24 @@ pub trait ImplicitDomain {
 
     /// A box `(min, max)` containing free space.
     fn bounds(&self) -> (Point, Point);
+
+    /// Where a lattice of spacing `spacing` is too coarse for this domain (passages narrower
+    /// than it, parts thinner than it), as a refinement criterion on the lattice's
+    /// tetrahedra; `None` (the default) meshes on the uniform lattice.
+    fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
+        let _ = spacing;
+        None
+    }
+}
+
+/// A test on a tetrahedron's corners.
+pub type TetTest<'a> = dyn Fn(&[Point; 4]) -> bool + 'a;
+
+/// A refinement criterion for the stuffing lattice (see [`ImplicitDomain::grading`]).
+pub struct Grading<'a> {
+    /// Whether a lattice tetrahedron (its corners) should be bisected.
+    pub want: Box<TetTest<'a>>,
+    /// A rank of points, smaller near what is refined for: among edges of equal length the
+    /// one nearer is bisected first, which keeps the refinement local.
+    pub rank: Box<dyn Fn(&Point) -> f64 + 'a>,
 }

@@ -70,7 +70,7 @@ mod stuffing;
 pub use carve::{CarveReport, GRADING, GoalHole, carve_goals};
 pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
 pub use error::{SolidRole, VolumeError};
-pub use implicit::ImplicitDomain;
+pub use implicit::{Grading, ImplicitDomain};
 pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
 pub use periodic::{

@@ -75,6 +75,8 @@ pub struct MeshReport {
     /// (≤ `clearance_tolerance` when conservative; `-inf` when there are no such faces;
     /// NaN when not checked).
     pub clearance_deficit: f64,
+    /// Lattice edges bisected to grade the lattice down to narrow passages and thin parts.
+    pub graded: usize,
     /// Edges bisected to grade the mesh down to goals smaller than the lattice.
     pub refined: usize,
     /// Per goal, the tetrahedra carved out of it (0 for a goal the stuffing resolved).
@@ -125,6 +127,7 @@ impl VolumeDomain {
             if stuffed.tetrahedra.is_empty() {
                 return Err(VolumeError::NoFreeSpace { spacing: h });
             }
+            let graded = stuffed.graded;
             let (lattice_vertices, warped, dropped_flat) = (
                 stuffed.lattice_vertices,
                 stuffed.warped,
@@ -166,6 +169,7 @@ impl VolumeDomain {
                     warped,
                     dropped_flat,
                     clearance_deficit: deficit,
+                    graded,
                     refined,
                     goal_tetrahedra: goal_tets,
                     seconds: start.elapsed().as_secs_f64(),

@@ -29,6 +29,7 @@ use std::collections::HashMap;
 
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
+use crate::refine::refine_where;
 use crate::solid::{Point, Vector};
 
 /// Warping threshold on long (axis-parallel) lattice edges, from Labelle & Shewchuk (2007).
@@ -61,6 +62,9 @@ pub struct Stuffed {
     pub cut_points: usize,
     /// Tetrahedra dropped because they were flat (volume below 1e-12·h³).
     pub dropped_flat: usize,
+    /// Lattice edges bisected to grade the lattice down to narrow gaps and thin parts
+    /// ([`ImplicitDomain::grading`]); 0 on the uniform lattice.
+    pub graded: usize,
 }
 
 pub(crate) const NONE: u32 = u32::MAX;
@@ -193,8 +197,78 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
             budget: opts.max_tetrahedra,
         });
     }
-    let nv = lattice.count();
-    let mut pos: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
+    let positions: Vec<Point> = (0..lattice.count() as u32)
+        .map(|v| lattice.position(v))
+        .collect();
+    if let Some(grading) = domain.grading(h) {
+        let mut tets = Vec::new();
+        lattice.for_each_tet(&|_| true, &mut |t| tets.push(t));
+        let mut vertices = positions;
+        let budget = usize::try_from(opts.max_tetrahedra).unwrap_or(usize::MAX);
+        let report = refine_where(
+            &mut vertices,
+            &mut tets,
+            &|_| false,
+            &*grading.want,
+            &*grading.rank,
+            budget,
+        );
+        if report.bisections > 0 {
+            let background = Explicit::new(vertices, tets);
+            let (pos, f, cuts, warped) = cut_and_warp(domain, h, &background.vertices, &|v, k| {
+                background.neighbours(v, k)
+            });
+            let mut out = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
+                for &t in &background.tets {
+                    e(t);
+                }
+            });
+            out.graded = report.bisections;
+            return Ok(out);
+        }
+        // Nothing wanted refining: the uniform lattice.
+        let (pos, f, cuts, warped) = cut_and_warp(domain, h, &vertices, &|v, k| {
+            lattice_neighbours(&lattice, v, k)
+        });
+        let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
+        return Ok(out);
+    }
+    let (pos, f, cuts, warped) = cut_and_warp(domain, h, &positions, &|v, k| {
+        lattice_neighbours(&lattice, v, k)
+    });
+
+    // 3. Stencils over the lattice tetrahedra.
+    let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
+    Ok(out)
+}
+
+/// The lattice neighbours of `v`, each with whether the edge is long (axis-parallel).
+fn lattice_neighbours(lattice: &Lattice, v: u32, k: &mut dyn FnMut(u32, f64)) {
+    for (w, long) in lattice.neighbours(v) {
+        k(w, if long { ALPHA_LONG } else { ALPHA_SHORT });
+    }
+}
+
+/// Lists a vertex's neighbours, each with whether the edge is long (axis-parallel).
+type Neighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64)) + 'a;
+
+/// Hands every tetrahedron of a background to a callback.
+type Tets<'a> = dyn FnMut(&mut dyn FnMut([u32; 4])) + 'a;
+
+/// The cut points of the edges whose ends have strictly opposite signs.
+pub(crate) type Cuts = HashMap<(u32, u32), Point>;
+
+/// Steps 1 and 2 of [`stuff`] over any background mesh with vertices `positions` whose
+/// edges `neighbours` lists (with whether each is long, i.e. axis-parallel): the vertices
+/// after warping, their signs, the cut points left, and how many vertices were warped.
+fn cut_and_warp(
+    domain: &dyn ImplicitDomain,
+    h: f64,
+    positions: &[Point],
+    neighbours: &Neighbours<'_>,
+) -> (Vec<Point>, Vec<f64>, Cuts, usize) {
+    let nv = positions.len();
+    let mut pos = positions.to_vec();
     let zero = 1e-12 * h;
     let mut f: Vec<f64> = pos
         .iter()
@@ -205,54 +279,45 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
         .collect();
 
     // 1. Cut points on edges with strictly opposite signs.
-    let mut cuts: HashMap<(u32, u32), Point> = HashMap::new();
+    let mut cuts: Cuts = HashMap::new();
     for v in 0..nv as u32 {
         if f[v as usize] >= 0.0 {
             continue;
         }
-        for (w, _) in lattice.neighbours(v) {
+        neighbours(v, &mut |w, _| {
             if f[w as usize] > 0.0 {
                 let c = domain.cut(&pos[v as usize], &pos[w as usize]);
                 cuts.insert(key(v, w), c);
             }
-        }
+        });
     }
 
-    // 2. Warping.
-    let long_len = h;
-    let short_len = 0.5 * 3f64.sqrt() * h;
+    // 2. Warping: the threshold is α times the edge's length before any warping.
     let mut warped = 0;
     for v in 0..nv as u32 {
         if f[v as usize] == 0.0 {
             continue;
         }
         let mut best: Option<(f64, Point)> = None;
-        for (w, long) in lattice.neighbours(v) {
+        neighbours(v, &mut |w, alpha| {
             if let Some(c) = cuts.get(&key(v, w)) {
                 let dist = (c - pos[v as usize]).norm();
-                let (alpha, len) = if long {
-                    (ALPHA_LONG, long_len)
-                } else {
-                    (ALPHA_SHORT, short_len)
-                };
+                let len = (positions[w as usize] - positions[v as usize]).norm();
                 if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
                     best = Some((dist, *c));
                 }
             }
-        }
+        });
         if let Some((_, c)) = best {
             pos[v as usize] = c;
             f[v as usize] = 0.0;
             warped += 1;
-            for (w, _) in lattice.neighbours(v) {
+            neighbours(v, &mut |w, _| {
                 cuts.remove(&key(v, w));
-            }
+            });
         }
     }
-
-    // 3. Stencils over the lattice tetrahedra.
-    let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
-    Ok(out)
+    (pos, f, cuts, warped)
 }
 
 /// Step 3 of [`stuff`]: the stencils of every lattice tetrahedron whose first centre `keep`
@@ -266,8 +331,57 @@ pub(crate) fn emit_stencils(
     warped: usize,
     keep: &dyn Fn([usize; 3]) -> bool,
 ) -> (Stuffed, Vec<Sv>) {
-    let n = lattice.n;
-    let nv = lattice.count();
+    let mut sources = Vec::new();
+    let out = emit_over_with_sources(
+        pos,
+        f,
+        cuts,
+        domain,
+        warped,
+        lattice.h,
+        lattice.count(),
+        &mut sources,
+        &mut |e| lattice.for_each_tet(keep, e),
+    );
+    (out, sources)
+}
+
+/// Step 3 over the tetrahedra `tets` hands out (vertex numbers into `pos`).
+fn emit_over(
+    pos: &[Point],
+    f: &[f64],
+    cuts: &Cuts,
+    domain: &dyn ImplicitDomain,
+    warped: usize,
+    h: f64,
+    tets: &mut Tets<'_>,
+) -> Stuffed {
+    let mut sources = Vec::new();
+    emit_over_with_sources(
+        pos,
+        f,
+        cuts,
+        domain,
+        warped,
+        h,
+        pos.len(),
+        &mut sources,
+        tets,
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn emit_over_with_sources(
+    pos: &[Point],
+    f: &[f64],
+    cuts: &Cuts,
+    domain: &dyn ImplicitDomain,
+    warped: usize,
+    h: f64,
+    nv: usize,
+    sources: &mut Vec<Sv>,
+    tets: &mut Tets<'_>,
+) -> Stuffed {
     let mut out = Stuffed {
         lattice_vertices: nv,
         warped,
@@ -275,7 +389,6 @@ pub(crate) fn emit_stencils(
     };
     let mut vertex_of = vec![NONE; nv];
     let mut cut_of: HashMap<(u32, u32), u32> = HashMap::new();
-    let min_volume = 1e-12 * lattice.h * lattice.h * lattice.h;
     let mut emitter = Emitter {
         pos,
         cuts,
@@ -283,44 +396,119 @@ pub(crate) fn emit_stencils(
         cut_of: &mut cut_of,
         out: &mut out,
         sources: Vec::new(),
-        min_volume,
+        min_volume: 1e-12 * h * h * h,
         nv: nv as u64,
     };
-    for axis in 0..3 {
-        let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
-        let mut idx = [0usize; 3];
-        for k in 0..n[2] {
-            for j in 0..n[1] {
-                for i in 0..n[0] {
-                    idx[0] = i;
-                    idx[1] = j;
-                    idx[2] = k;
-                    if idx[axis] + 1 >= n[axis] || !keep(idx) {
-                        continue;
-                    }
-                    let c1 = lattice.centre(i, j, k);
-                    let mut up = idx;
-                    up[axis] += 1;
-                    let c2 = lattice.centre(up[0], up[1], up[2]);
-                    // The shared face's corners, in cyclic order.
-                    let corner = |db: usize, dc: usize| {
-                        let mut q = idx;
-                        q[axis] += 1;
-                        q[b] += db;
-                        q[c] += dc;
-                        lattice.corner(q[0], q[1], q[2])
-                    };
-                    let ring = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
-                    for m in 0..4 {
-                        let tet = [c1, c2, ring[m], ring[(m + 1) % 4]];
-                        emitter.stencil(tet, f, domain);
+    tets(&mut |t| emitter.stencil(t, f, domain));
+    *sources = std::mem::take(&mut emitter.sources);
+    out
+}
+
+impl Lattice {
+    /// Hands out every lattice tetrahedron whose first centre `keep` accepts: the two
+    /// centres of face-adjacent cubes and an edge of their common face.
+    pub(crate) fn for_each_tet(
+        &self,
+        keep: &dyn Fn([usize; 3]) -> bool,
+        emit: &mut dyn FnMut([u32; 4]),
+    ) {
+        let n = self.n;
+        for axis in 0..3 {
+            let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
+            let mut idx = [0usize; 3];
+            for k in 0..n[2] {
+                for j in 0..n[1] {
+                    for i in 0..n[0] {
+                        idx[0] = i;
+                        idx[1] = j;
+                        idx[2] = k;
+                        if idx[axis] + 1 >= n[axis] || !keep(idx) {
+                            continue;
+                        }
+                        let c1 = self.centre(i, j, k);
+                        let mut up = idx;
+                        up[axis] += 1;
+                        let c2 = self.centre(up[0], up[1], up[2]);
+                        // The shared face's corners, in cyclic order.
+                        let corner = |db: usize, dc: usize| {
+                            let mut q = idx;
+                            q[axis] += 1;
+                            q[b] += db;
+                            q[c] += dc;
+                            self.corner(q[0], q[1], q[2])
+                        };
+                        let ring = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+                        for m in 0..4 {
+                            emit([c1, c2, ring[m], ring[(m + 1) % 4]]);
+                        }
                     }
                 }
             }
         }
     }
-    let sources = std::mem::take(&mut emitter.sources);
-    (out, sources)
+}
+
+/// A background mesh given by its tetrahedra: a lattice graded by bisection.
+struct Explicit {
+    vertices: Vec<Point>,
+    tets: Vec<[u32; 4]>,
+    /// Compressed rows: the neighbours of vertex v are `adjacent[start[v]..start[v + 1]]`.
+    start: Vec<usize>,
+    adjacent: Vec<(u32, f64)>,
+}
+
+impl Explicit {
+    fn new(vertices: Vec<Point>, tets: Vec<[u32; 4]>) -> Self {
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(6 * tets.len());
+        for t in &tets {
+            for i in 0..4 {
+                for j in i + 1..4 {
+                    edges.push(key(t[i], t[j]));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        let nv = vertices.len();
+        let mut start = vec![0usize; nv + 1];
+        for &(a, b) in &edges {
+            start[a as usize + 1] += 1;
+            start[b as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            start[v + 1] += start[v];
+        }
+        let mut fill = start.clone();
+        let mut adjacent = vec![(0u32, 0.0); start[nv]];
+        for &(a, b) in &edges {
+            let d = vertices[b as usize] - vertices[a as usize];
+            // Axis-parallel (two coordinates almost zero): the lattice's long-edge threshold;
+            // face and body diagonals: its short-edge one. (The paper's thresholds are for
+            // the lattice's own tetrahedra; on the bisected ones between two levels the
+            // angles are measured, not bounded.)
+            let tiny = 1e-9 * d.norm();
+            let alpha = match d.iter().filter(|c| c.abs() <= tiny).count() {
+                2 => ALPHA_LONG,
+                _ => ALPHA_SHORT,
+            };
+            adjacent[fill[a as usize]] = (b, alpha);
+            fill[a as usize] += 1;
+            adjacent[fill[b as usize]] = (a, alpha);
+            fill[b as usize] += 1;
+        }
+        Explicit {
+            vertices,
+            tets,
+            start,
+            adjacent,
+        }
+    }
+
+    fn neighbours(&self, v: u32, k: &mut dyn FnMut(u32, f64)) {
+        for &(w, alpha) in &self.adjacent[self.start[v as usize]..self.start[v as usize + 1]] {
+            k(w, alpha);
+        }
+    }
 }
 
 struct Emitter<'a> {

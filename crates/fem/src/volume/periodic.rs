@@ -20,7 +20,7 @@ use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, V
 use super::potential::VolumePotential;
 use super::solve::{
     FLAT_RATIO_3D, PLANNING_ACCURATE_MAX_UNKNOWNS, VolumeSolveMethod, VolumeSolveReport,
-    solve_volume,
+    planning_method, solve_volume,
 };
 use crate::bc::{BoundaryCondition, BoundaryConditions};
 
@@ -193,12 +193,7 @@ pub fn solve_periodic_for_planning(
     };
     let assembler = VolumeAssembler::with_identified(Arc::clone(&slab), &bcs, options, shared)?;
     let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
-    let method = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
-        VolumeSolveMethod::Accurate
-    } else {
-        VolumeSolveMethod::Auto
-    };
-    let (psi, report) = solve_volume(&system, method)?;
+    let (psi, report) = solve_volume(&system, planning_method(system.matrix().n()))?;
     Ok((
         VolumePotential::new(slab, psi, system.reference())?,
         PeriodicSolveReport {

@@ -120,6 +120,24 @@ pub const FLAT_RATIO_3D: f64 = 1e-12;
 /// seconds at most; larger flat fields keep the normwise-accurate solution).
 pub const PLANNING_ACCURATE_MAX_UNKNOWNS: usize = 25_000;
 
+/// Largest clamped system the planning solve factors with Cholesky rather than IC(0)-PCG:
+/// PCG's relative residual of 1e-10 leaves noise where ψ is smaller than that, and noise is
+/// what an interior extremum is made of (measured on graded stuffed meshes of 40–60 k
+/// unknowns: 19–25 extrema after PCG, none after Cholesky).
+pub const PLANNING_CHOLESKY_MAX_UNKNOWNS: usize = 200_000;
+
+/// The method of the planning solve's clamped (M-matrix) redo for `n` unknowns: the
+/// accurate elimination, else Cholesky, else PCG.
+pub fn planning_method(n: usize) -> VolumeSolveMethod {
+    if n <= PLANNING_ACCURATE_MAX_UNKNOWNS {
+        VolumeSolveMethod::Accurate
+    } else if n <= PLANNING_CHOLESKY_MAX_UNKNOWNS {
+        VolumeSolveMethod::Cholesky
+    } else {
+        VolumeSolveMethod::Auto
+    }
+}
+
 /// One-shot for planning: assemble `bcs` on `mesh` with the Galerkin stiffness and solve
 /// ([`VolumeSolveMethod::Auto`]). If that solution has an interior local extremum (possible
 /// where the mesh has obtuse dihedral angles), or ψ spans more than 1/[`FLAT_RATIO_3D`] (a
@@ -173,12 +191,7 @@ pub fn solve_assembled_for_planning(
     };
     let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), bcs, options)?;
     let system = assembler.assemble(bcs)?;
-    let method = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
-        VolumeSolveMethod::Accurate
-    } else {
-        VolumeSolveMethod::Auto
-    };
-    let (psi, report) = solve_volume(&system, method)?;
+    let (psi, report) = solve_volume(&system, planning_method(system.matrix().n()))?;
     Ok((
         VolumePotential::new(mesh, psi, system.reference())?,
         report,
