@@ -318,6 +318,10 @@ pub struct ConfigPlannedPath {
     /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
     /// `outside_workspace`, `max_steps`).
     pub status: VolumeTraceStatus,
+    /// For a start in collision: with what (`"obstacle 2"`, `"the workspace boundary"`,
+    /// `"itself (links 0 and 2)"`), the margin counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blocked_by: Option<String>,
     /// Which tracer made it.
     pub tracer: Tracer,
     /// Length in configuration space, in its scaled metric (θ times the radius of gyration,
@@ -667,9 +671,13 @@ impl ConfigPlanner {
             ),
             Robot::Arm(_) => (None, Some(configs)),
         };
+        let blocked_by = (matches!(status, VolumeTraceStatus::StartInObstacle)
+            && start.len() == self.space.dof())
+        .then(|| self.space.nearest_name(start));
         ConfigPlannedPath {
             start: start.to_vec(),
             status,
+            blocked_by,
             tracer,
             length,
             min_clearance: finite_or_zero(clearance),
@@ -753,12 +761,17 @@ impl ConfigPlanner {
         );
         for path in &report.paths {
             let end = path.configurations().last().cloned().unwrap_or_default();
+            let blocked = path
+                .blocked_by
+                .as_ref()
+                .map(|b| format!(" (collides with {b})"))
+                .unwrap_or_default();
             let _ = writeln!(
                 s,
-                "{:?}: {}, length {:.3}, clearance {:.3}, end {:?}",
+                "{:?}: {}{blocked}, length {:.3}, clearance {:.3}, end {:?}",
                 path.start,
                 path.status.as_str(),
-                path.length,
+                path.length + 0.0, // no "-0.000"
                 path.min_clearance,
                 end.iter()
                     .map(|v| (v * 1e3).round() / 1e3)

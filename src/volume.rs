@@ -91,6 +91,10 @@ pub struct VolumePlannedPath {
     /// The goal reached, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
+    /// For a start in an obstacle or outside the workspace: which (`"obstacle 2"`,
+    /// `"the workspace"`), with the robot's radius counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blocked_by: Option<String>,
     /// Which tracer made the path: `smooth`, or `exact` where the smooth one stalled.
     pub tracer: Tracer,
     /// Length of the polyline.
@@ -354,10 +358,25 @@ impl VolumePlanner {
             .iter()
             .map(|q| self.clearance(q))
             .fold(f64::INFINITY, f64::min);
+        let blocked_by = match self
+            .domain
+            .classify(&Point::new(start[0], start[1], start[2]), 0.0)
+        {
+            PointClass::Obstacle(i) => Some(format!("obstacle {i}")),
+            PointClass::OutsideWorkspace => Some("the workspace".to_string()),
+            _ => None,
+        }
+        .filter(|_| {
+            matches!(
+                path.status,
+                VolumeTraceStatus::StartInObstacle | VolumeTraceStatus::OutsideWorkspace
+            )
+        });
         VolumePlannedPath {
             start,
             status: path.status,
             goal: path.goal,
+            blocked_by,
             tracer,
             length: path.length,
             min_clearance: finite_or_zero(clearance),
@@ -431,11 +450,16 @@ impl VolumePlanner {
         );
         for path in &report.paths {
             let [x, y, z] = path.start;
+            let blocked = path
+                .blocked_by
+                .as_ref()
+                .map(|b| format!(" ({b}, robot radius counted)"))
+                .unwrap_or_default();
             let _ = writeln!(
                 s,
-                "({x}, {y}, {z}): {}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
+                "({x}, {y}, {z}): {}{blocked}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
                 path.status.as_str(),
-                path.length,
+                path.length + 0.0, // no "-0.000"
                 path.min_clearance,
                 path.min_gradient
             );

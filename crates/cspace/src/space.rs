@@ -463,6 +463,13 @@ impl ConfigSpace {
         }
     }
 
+    /// What the robot at `q` is nearest to, in words (`"obstacle 2"`, `"the workspace
+    /// boundary"`, `"itself (links 0 and 2)"`): what a configuration in collision collides
+    /// with.
+    pub fn nearest_name(&self, q: &[f64]) -> String {
+        nearest_name(self.clearance(q).1)
+    }
+
     /// The lattice tetrahedra meshing would examine.
     pub fn estimated_tetrahedra(&self) -> u64 {
         periodic_lattice_tetrahedra(self.bounds(), self.spacing, self.cells)

@@ -80,6 +80,18 @@ pub enum VolumeError {
         /// The triangle.
         triangle: usize,
     },
+    /// Two triangles without a common vertex touch or cross: the surface intersects itself.
+    #[error(
+        "{solid}: triangles {} and {} cross each other: the surface intersects itself",
+        triangles[0],
+        triangles[1]
+    )]
+    SelfIntersecting {
+        /// The solid.
+        solid: SolidRole,
+        /// The two triangles.
+        triangles: [usize; 2],
+    },
     /// An edge used by one triangle only: the surface is not closed.
     #[error("{solid}: edge ({}, {}) belongs to one triangle only (triangle {triangle}): the surface is not closed", edge[0], edge[1])]
     OpenEdge {

@@ -64,7 +64,8 @@ fn finite(p: &Point) -> bool {
 impl TriSurface {
     /// Validates a triangle surface: finite vertices, indices in range, no degenerate
     /// triangle, every edge shared by exactly two triangles traversing it in opposite
-    /// directions. `role` names the solid in errors.
+    /// directions, no two triangles without a common vertex touching or crossing. `role`
+    /// names the solid in errors.
     pub fn new(
         role: SolidRole,
         vertices: Vec<Point>,
@@ -155,6 +156,12 @@ impl TriSurface {
                 t.swap(1, 2);
             }
         }
+        if let Some([a, b]) = crossing_triangles(&vertices, &triangles) {
+            return Err(VolumeError::SelfIntersecting {
+                solid: role,
+                triangles: [a, b],
+            });
+        }
         let mut lo = vertices[0];
         let mut hi = vertices[0];
         for p in &vertices {
@@ -194,6 +201,47 @@ impl TriSurface {
         let d = ((p.x - q.x).powi(2) + (p.y - q.y).powi(2) + (p.z - q.z).powi(2)).sqrt();
         if proj.is_inside { -d } else { d }
     }
+}
+
+/// Two triangles of a surface that touch or cross though they share no vertex, if any: a
+/// sweep over their bounding boxes along x, then parry's exact triangle–triangle test.
+fn crossing_triangles(vertices: &[Point], triangles: &[[u32; 3]]) -> Option<[usize; 2]> {
+    let boxes: Vec<(Point, Point)> = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| vertices[v as usize]);
+            (a.inf(&b).inf(&c), a.sup(&b).sup(&c))
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..triangles.len()).collect();
+    order.sort_by(|&i, &j| boxes[i].0.x.total_cmp(&boxes[j].0.x));
+    let tri = |t: usize| {
+        let [a, b, c] = triangles[t].map(|v| pv(&vertices[v as usize]));
+        Triangle::new(a, b, c)
+    };
+    for (k, &i) in order.iter().enumerate() {
+        for &j in &order[k + 1..] {
+            if boxes[j].0.x > boxes[i].1.x {
+                break;
+            }
+            let overlap =
+                (1..3).all(|a| boxes[j].0[a] <= boxes[i].1[a] && boxes[i].0[a] <= boxes[j].1[a]);
+            if !overlap || triangles[i].iter().any(|v| triangles[j].contains(v)) {
+                continue;
+            }
+            let touch = parry3d_f64::query::intersection_test(
+                &Pose::IDENTITY,
+                &tri(i),
+                &Pose::IDENTITY,
+                &tri(j),
+            )
+            .is_ok_and(|r| r.intersecting);
+            if touch {
+                return Some([i.min(j), i.max(j)]);
+            }
+        }
+    }
+    None
 }
 
 /// One solid of a volume scene.
@@ -401,6 +449,25 @@ mod tests {
         let e =
             Solid::new_sphere(SolidRole::Goal(0), Point::new(f64::NAN, 0.0, 0.0), 1.0).unwrap_err();
         assert!(matches!(e, VolumeError::NonFinite { .. }));
+    }
+
+    #[test]
+    fn a_surface_crossing_itself_names_two_crossing_triangles() {
+        // Two tetrahedra in one surface, the second poking through the first's faces.
+        let (mut v, mut t) = tetra();
+        let shift = |p: &Point| Point::new(p.x + 0.3, p.y + 0.3, p.z - 0.4);
+        v.extend(tetra().0.iter().map(shift));
+        t.extend(tetra().1.iter().map(|tri| tri.map(|i| i + 4)));
+        let e = Solid::new_surface(SolidRole::Obstacle(1), v, t.clone()).unwrap_err();
+        let VolumeError::SelfIntersecting { triangles, .. } = e else {
+            panic!("{e}");
+        };
+        assert!(triangles[0] < 4 && triangles[1] >= 4, "{triangles:?}");
+        assert!(e.to_string().starts_with("obstacle 1: triangles "), "{e}");
+        // Apart, the same two tetrahedra are one valid (two-piece) surface.
+        let (mut v, _) = tetra();
+        v.extend(tetra().0.iter().map(|p| Point::new(p.x + 3.0, p.y, p.z)));
+        assert!(Solid::new_surface(SolidRole::Obstacle(1), v, t).is_ok());
     }
 
     #[test]
