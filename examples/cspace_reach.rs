@@ -8,6 +8,7 @@
 //!
 //! ```text
 //! cargo run --release --example cspace_reach [-- CASES [FIRST_SEED]]
+//! cargo run --release --example cspace_reach -- scene SEED     # that case's scene file
 //! ```
 
 use std::time::Instant;
@@ -18,6 +19,15 @@ use harmonic_planner::AnyScene;
 use harmonic_planner::cspace::ConfigPlanner;
 
 fn main() {
+    // `-- scene SEED` prints that case's scene file instead.
+    if std::env::args().nth(1).as_deref() == Some("scene") {
+        let seed = std::env::args()
+            .nth(2)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(1);
+        println!("{}", case_of(seed).json);
+        return;
+    }
     let arg = |i: usize, default: u64| {
         std::env::args()
             .nth(i)
@@ -30,12 +40,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     let (mut all_connected, mut all_reached) = (0, 0);
     for seed in first..first + cases {
-        let case = match seed % 4 {
-            0 => ConfigCase::polygon(seed, 8),
-            1 => ConfigCase::arm(seed, 2, false, 8),
-            2 => ConfigCase::arm(seed, 3, false, 8),
-            _ => ConfigCase::arm(seed, 3, true, 8),
-        };
+        let case = case_of(seed);
         let (connected, reached, missed, tets, build, goal) = run(&case);
         all_connected += connected;
         all_reached += reached;
@@ -49,6 +54,16 @@ fn main() {
         );
     }
     println!("\nreached {all_reached} of {all_connected} connected starts");
+}
+
+/// The case of a seed: polygon, 2-link joints, 3-link joints, 3-link tip in turn.
+fn case_of(seed: u64) -> ConfigCase {
+    match seed % 4 {
+        0 => ConfigCase::polygon(seed, 8),
+        1 => ConfigCase::arm(seed, 2, false, 8),
+        2 => ConfigCase::arm(seed, 3, false, 8),
+        _ => ConfigCase::arm(seed, 3, true, 8),
+    }
 }
 
 /// Plans every start of `case`: (connected, reached, misses, tetrahedra, build ms, goal).
@@ -77,13 +92,16 @@ fn run(case: &ConfigCase) -> (usize, usize, Vec<String>, usize, f64, String) {
         n += 1;
         let p = planner.plan(start);
         let configs = p.configurations();
-        let ok = p.status.reached_goal()
-            && configs.last().is_some_and(|q| case.goal_met(q))
-            && check_path(space.robot(), space.world(), &configs, 1e-3).min_clearance > 0.0;
-        if ok {
+        let met = configs.last().is_some_and(|q| case.goal_met(q));
+        let motion = check_path(space.robot(), space.world(), &configs, 1e-3);
+        if p.status.reached_goal() && met && motion.min_clearance > 0.0 {
             reached += 1;
         } else {
-            missed.push(format!("{start:.2?}: {}", p.status.as_str()));
+            missed.push(format!(
+                "{start:.2?}: {}, goal met {met}, motion clearance {:.2e}",
+                p.status.as_str(),
+                motion.min_clearance
+            ));
         }
     }
     (

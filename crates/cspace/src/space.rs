@@ -508,7 +508,7 @@ impl ConfigSpace {
         if carved.carved.first().is_none_or(|&n| n == 0) {
             return Err(self.goal_unmeshed(carved.refine.budget_reached, max_tetrahedra));
         }
-        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.terms(p, true).1)?;
+        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
         let report = CspaceMeshReport {
             spacing: self.spacing,
             scale: self.scale,
@@ -635,7 +635,13 @@ impl ImplicitDomain for ConfigSpace {
     fn value(&self, p: &Point) -> f64 {
         self.terms(p, false).0
     }
+    /// The goal for a face whose centroid lies in the goal region (the faces carving left
+    /// have their corners there, even beside an obstacle closer than the margin), else the
+    /// part whose term is largest.
     fn tag(&self, p: &Point) -> BoundaryTag {
+        if self.goal_value(&self.config(p)) <= 0.0 {
+            return BoundaryTag::Goal(0);
+        }
         self.terms(p, true).1
     }
     fn bounds(&self) -> (Point, Point) {

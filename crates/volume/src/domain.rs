@@ -536,7 +536,15 @@ impl ImplicitDomain for DomainImplicit<'_> {
     fn value(&self, p: &Point) -> f64 {
         self.value_and_tag(p).0
     }
+    /// A carved goal for a face whose centroid lies in it (the faces carving left have their
+    /// corners there, even beside an obstacle closer than the robot's radius), else the part
+    /// whose term is largest.
     fn tag(&self, p: &Point) -> BoundaryTag {
+        for (j, g) in self.goals.iter().enumerate() {
+            if self.carved[j] && g.signed_distance(p) <= 0.0 {
+                return BoundaryTag::Goal(j as u32);
+            }
+        }
         self.value_and_tag_of(p, true).1
     }
     fn bounds(&self) -> (Point, Point) {
