@@ -256,21 +256,6 @@ impl ConfigSpace {
                 }
             }
         }
-        // A periodic axis starts half a turn from the goal, so the goal lies mid-period, away
-        // from the slab's seam (where the mesh is not refined).
-        let mut origin = [0.0; 3];
-        for (a, o) in origin.iter_mut().enumerate() {
-            if axes[a] == Axis::Periodic {
-                let centre = match &goal {
-                    ConfigGoal::Pose { pose, .. } => Some(pose[a]),
-                    ConfigGoal::Joints { joints, .. } => joints.get(a).copied(),
-                    ConfigGoal::EndEffector { .. } => None,
-                };
-                if let Some(c) = centre {
-                    *o = c - PI;
-                }
-            }
-        }
         let mut cells = [None; 3];
         for a in 0..3 {
             if axes[a] == Axis::Periodic {
@@ -287,9 +272,39 @@ impl ConfigSpace {
             spacing,
             axes,
             scale,
-            origin,
+            origin: [0.0; 3],
             cells,
-        })
+        }
+        .centred_on_thin_goal())
+    }
+
+    /// Whether the goal region is thinner than half the spacing: too thin for the lattice to
+    /// give it faces, so it is carved rather than stuffed.
+    fn goal_is_thin(&self) -> bool {
+        4.0 * self.goal_geometry().1 < self.spacing
+    }
+
+    /// A goal thinner than half the spacing is carved after refining down to it, and refinement
+    /// stays off the slab's seam: so every periodic axis then starts half a turn from the
+    /// goal's angle, putting the goal mid-period. (A thicker goal is stuffed and leaves the
+    /// axes as they are.)
+    fn centred_on_thin_goal(mut self) -> Self {
+        if !self.goal_is_thin() {
+            return self;
+        }
+        for a in 0..3 {
+            if self.axes[a] == Axis::Periodic {
+                let centre = match &self.goal {
+                    ConfigGoal::Pose { pose, .. } => Some(pose[a]),
+                    ConfigGoal::Joints { joints, .. } => joints.get(a).copied(),
+                    ConfigGoal::EndEffector { .. } => None,
+                };
+                if let Some(c) = centre {
+                    self.origin[a] = c - PI;
+                }
+            }
+        }
+        self
     }
 
     /// The robot.
@@ -491,14 +506,28 @@ impl ConfigSpace {
                 spacing: self.spacing,
             });
         }
-        let mut stuffed = stuff_periodic(
-            self,
-            &StuffingOptions {
-                spacing: self.spacing,
-                max_tetrahedra,
-            },
-            self.cells,
-        )?;
+        let options = StuffingOptions {
+            spacing: self.spacing,
+            max_tetrahedra,
+        };
+        // A goal at least half a spacing thick is stuffed with the rest (smooth goal faces, no
+        // refinement); a thinner one, or one the stuffing gave no face, is carved.
+        if !self.goal_is_thin() {
+            let stuffed = stuff_periodic(&WithGoal(self), &options, self.cells)?;
+            if !stuffed.stuffed.tetrahedra.is_empty() {
+                let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
+                if mesh
+                    .slab
+                    .boundary_faces()
+                    .iter()
+                    .any(|f| f.tag == BoundaryTag::Goal(0))
+                {
+                    let report = self.report(estimated, &mesh, None, start);
+                    return Ok((mesh, report));
+                }
+            }
+        }
+        let mut stuffed = stuff_periodic(self, &options, self.cells)?;
         if stuffed.stuffed.tetrahedra.is_empty() {
             return Err(CspaceError::NoFreeSpace {
                 spacing: self.spacing,
@@ -509,16 +538,7 @@ impl ConfigSpace {
             return Err(self.goal_unmeshed(carved.refine.budget_reached, max_tetrahedra));
         }
         let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
-        let report = CspaceMeshReport {
-            spacing: self.spacing,
-            scale: self.scale,
-            cells: self.cells,
-            lattice_tetrahedra: estimated,
-            seam_faces: mesh.seam_faces,
-            refined: carved.refine.bisections,
-            goal_tetrahedra: carved.carved.first().copied().unwrap_or(0),
-            seconds: start.elapsed().as_secs_f64(),
-        };
+        let report = self.report(estimated, &mesh, Some(&carved), start);
         Ok((mesh, report))
     }
 }
@@ -628,6 +648,43 @@ fn nearest_name(n: Nearest) -> String {
         Nearest::Wall => "the workspace boundary".into(),
         Nearest::Obstacle(i) => format!("obstacle {i}"),
         Nearest::Links(i, j) => format!("itself (links {i} and {j})"),
+    }
+}
+
+impl ConfigSpace {
+    /// The meshing report.
+    fn report(
+        &self,
+        estimated: u64,
+        mesh: &PeriodicMesh,
+        carved: Option<&CarveReport>,
+        start: std::time::Instant,
+    ) -> CspaceMeshReport {
+        CspaceMeshReport {
+            spacing: self.spacing,
+            scale: self.scale,
+            cells: self.cells,
+            lattice_tetrahedra: estimated,
+            seam_faces: mesh.seam_faces,
+            refined: carved.map_or(0, |c| c.refine.bisections),
+            goal_tetrahedra: carved.and_then(|c| c.carved.first().copied()).unwrap_or(0),
+            seconds: start.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+/// The configuration space with its goal region stuffed too (for goals thick enough).
+struct WithGoal<'a>(&'a ConfigSpace);
+
+impl ImplicitDomain for WithGoal<'_> {
+    fn value(&self, p: &Point) -> f64 {
+        self.0.terms(p, true).0
+    }
+    fn tag(&self, p: &Point) -> BoundaryTag {
+        self.0.tag(p)
+    }
+    fn bounds(&self) -> (Point, Point) {
+        self.0.bounds()
     }
 }
 
