@@ -515,7 +515,8 @@ impl ConfigSpace {
         if !self.goal_is_thin() {
             let stuffed = stuff_periodic(&WithGoal(self), &options, self.cells)?;
             if !stuffed.stuffed.tetrahedra.is_empty() {
-                let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
+                let mut mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
+                self.keep_goal_faces_inside(&mut mesh);
                 if mesh
                     .slab
                     .boundary_faces()
@@ -537,7 +538,8 @@ impl ConfigSpace {
         if carved.carved.first().is_none_or(|&n| n == 0) {
             return Err(self.goal_unmeshed(carved.refine.budget_reached, max_tetrahedra));
         }
-        let mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
+        let mut mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
+        self.keep_goal_faces_inside(&mut mesh);
         let report = self.report(estimated, &mesh, Some(&carved), start);
         Ok((mesh, report))
     }
@@ -652,6 +654,25 @@ fn nearest_name(n: Nearest) -> String {
 }
 
 impl ConfigSpace {
+    /// A face is the goal's only if its three corners are in the goal region (to rounding):
+    /// a wall, limit or slab face whose centroid lies in the goal but which reaches out of it
+    /// takes the tag of the part it lies on instead, so a path that stops on a goal face
+    /// stops inside the tolerance.
+    fn keep_goal_faces_inside(&self, mesh: &mut PeriodicMesh) {
+        let tol = 1e-9 * self.spacing;
+        let fix = |c: &[Point; 3], tag: BoundaryTag| {
+            if tag != BoundaryTag::Goal(0)
+                || c.iter().all(|p| self.goal_value(&self.config(p)) <= tol)
+            {
+                return tag;
+            }
+            let centroid = Point::from((c[0].coords + c[1].coords + c[2].coords) / 3.0);
+            self.terms(&centroid, false).1
+        };
+        mesh.slab.retag(&fix);
+        mesh.covering.retag(&fix);
+    }
+
     /// The meshing report.
     fn report(
         &self,

@@ -183,6 +183,16 @@ impl TetMesh {
         })
     }
 
+    /// Gives each boundary face the tag `retag` returns for it (its corners and its current
+    /// tag): how a goal's faces are kept to those wholly inside it, which the centroid alone
+    /// cannot tell.
+    pub fn retag(&mut self, retag: &dyn Fn(&[Point; 3], BoundaryTag) -> BoundaryTag) {
+        for f in &mut self.boundary {
+            let corners = f.vertices.map(|v| self.vertices[v as usize]);
+            f.tag = retag(&corners, f.tag);
+        }
+    }
+
     /// The vertices.
     pub fn vertices(&self) -> &[Point] {
         &self.vertices
