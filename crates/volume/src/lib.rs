@@ -13,6 +13,11 @@
 //! * [`stuff`]: isosurface stuffing on a body-centred cubic lattice (Labelle & Shewchuk 2007):
 //!   boundary faces lie on the surfaces (no staircase); [`VolumeDomain::mesh`] adds an exact
 //!   check that no wall or obstacle face comes closer to an obstacle than the robot radius.
+//! * [`refine_where`]: longest-edge bisection (Rivara) of any conforming tetrahedral mesh
+//!   where a criterion asks. It grades the lattice before stuffing where
+//!   [`ImplicitDomain::grading`] asks (passages narrower than the spacing, thin obstacles),
+//!   and [`carve_goals`] grades the stuffed mesh down to goals smaller than the lattice and
+//!   carves them out, so a goal of any size gets faces inside it.
 //! * [`TetMesh`]: positively oriented tetrahedra, face adjacency, tagged boundary faces,
 //!   point location; [`quality`] measures dihedral angles and negative stiffness weights.
 //! * [`io`]: `.vtu` output and an SVG of the three orthographic projections.
