@@ -1,0 +1,81 @@
+//! What the uniform stuffing lattice lost and the graded one keeps: a window narrower than
+//! the lattice in a wall (a ball robot passes it), and a plate thinner than the lattice (no
+//! path may cross it). Paths are checked against the boxes by distances computed here.
+
+use harmonic_planner::AnyScene;
+use harmonic_planner::volume::VolumePlanner;
+
+fn planner(json: &str) -> VolumePlanner {
+    let AnyScene::Volume(scene) = AnyScene::from_json(json).expect("parses") else {
+        panic!("a volume scene");
+    };
+    VolumePlanner::new(&scene).expect("plans")
+}
+
+/// Signed distance from `p` to the box `[lo, hi]` (negative inside).
+fn box_distance(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    let q = [0, 1, 2].map(|a| (lo[a] - p[a]).max(p[a] - hi[a]));
+    let out = q.iter().map(|c| c.max(0.0).powi(2)).sum::<f64>().sqrt();
+    out + q[0].max(q[1]).max(q[2]).min(0.0)
+}
+
+#[test]
+fn a_window_narrower_than_the_lattice_lets_the_robot_through() {
+    // A wall at x = 5 with a 0.8 m square window; the robot's radius 0.3 leaves 0.2 m, less
+    // than half the default lattice's spacing (about 0.39 m), which closed it.
+    let boxes = [
+        ([4.9, -1.0, -1.0], [5.1, 4.6, 11.0]),
+        ([4.9, 5.4, -1.0], [5.1, 11.0, 11.0]),
+        ([4.9, 4.6, -1.0], [5.1, 5.4, 4.6]),
+        ([4.9, 4.6, 5.4], [5.1, 5.4, 11.0]),
+    ];
+    let obstacles: Vec<String> = boxes
+        .iter()
+        .map(|(lo, hi)| format!(r#"{{"box": {{"min": {lo:?}, "max": {hi:?}}}}}"#))
+        .collect();
+    let json = format!(
+        r#"{{"dimension": 3, "workspace": {{"box": {{"min": [0, 0, 0], "max": [10, 10, 10]}}}},
+        "obstacles": [{}], "robot": {{"radius": 0.3}},
+        "goal": {{"sphere": {{"center": [9, 5, 5], "radius": 0.4}}}},
+        "starts": [[1, 5, 5], [2, 2, 2], [1, 8, 9]]}}"#,
+        obstacles.join(", ")
+    );
+    let planner = planner(&json);
+    for start in [[1.0, 5.0, 5.0], [2.0, 2.0, 2.0], [1.0, 8.0, 9.0]] {
+        let path = planner.plan(start);
+        assert!(
+            path.status.reached_goal(),
+            "from {start:?}: {:?}",
+            path.status
+        );
+        for w in path.points.windows(2) {
+            for k in 0..=20 {
+                let t = k as f64 / 20.0;
+                let p = [0, 1, 2].map(|a| w[0][a] + t * (w[1][a] - w[0][a]));
+                for (lo, hi) in &boxes {
+                    assert!(
+                        box_distance(p, *lo, *hi) >= 0.3 - 1e-9,
+                        "{p:?} too near a box"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_plate_thinner_than_the_lattice_is_not_crossed() {
+    // 0.08 m thick, across the whole workspace: the uniform lattice held no vertex in it, so
+    // the plate vanished and paths went through it.
+    let planner = planner(
+        r#"{"dimension": 3, "workspace": {"box": {"min": [0, 0, 0], "max": [10, 10, 10]}},
+        "obstacles": [{"box": {"min": [5.0, -1, -1], "max": [5.08, 11, 11]}}],
+        "goal": {"sphere": {"center": [9, 5, 5], "radius": 0.4}}}"#,
+    );
+    for start in [[1.0, 5.0, 5.0], [2.0, 2.0, 2.0]] {
+        let path = planner.plan(start);
+        assert_eq!(path.status.as_str(), "unreachable", "from {start:?}");
+    }
+    // On the goal's side, a start still reaches it.
+    assert!(planner.plan([8.0, 2.0, 3.0]).status.reached_goal());
+}
