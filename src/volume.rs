@@ -358,20 +358,22 @@ impl VolumePlanner {
             .iter()
             .map(|q| self.clearance(q))
             .fold(f64::INFINITY, f64::min);
-        let blocked_by = match self
-            .domain
-            .classify(&Point::new(start[0], start[1], start[2]), 0.0)
-        {
-            PointClass::Obstacle(i) => Some(format!("obstacle {i}")),
-            PointClass::OutsideWorkspace => Some("the workspace".to_string()),
-            _ => None,
-        }
-        .filter(|_| {
-            matches!(
-                path.status,
-                VolumeTraceStatus::StartInObstacle | VolumeTraceStatus::OutsideWorkspace
-            )
-        });
+        let blocked = matches!(
+            path.status,
+            VolumeTraceStatus::StartInObstacle | VolumeTraceStatus::OutsideWorkspace
+        );
+        let blocked_by = if blocked {
+            match self
+                .domain
+                .classify(&Point::new(start[0], start[1], start[2]), 0.0)
+            {
+                PointClass::Obstacle(i) => Some(format!("obstacle {i}")),
+                PointClass::OutsideWorkspace => Some("the workspace".to_string()),
+                _ => None,
+            }
+        } else {
+            None
+        };
         VolumePlannedPath {
             start,
             status: path.status,

@@ -31,8 +31,8 @@ use std::f64::consts::{PI, TAU};
 
 use harmonic_mesh::BoundaryTag;
 use harmonic_volume::{
-    CarveReport, GoalHole, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point, StuffingOptions,
-    carve_goals, periodic_lattice_tetrahedra, stuff_periodic,
+    CarveReport, GoalHole, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point, SEAM_PART,
+    StuffingOptions, carve_goals, periodic_lattice_tetrahedra, stuff_periodic,
 };
 
 use crate::error::CspaceError;
@@ -516,7 +516,7 @@ impl ConfigSpace {
             let stuffed = stuff_periodic(&WithGoal(self), &options, self.cells)?;
             if !stuffed.stuffed.tetrahedra.is_empty() {
                 let mut mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
-                self.keep_goal_faces_inside(&mut mesh);
+                self.goal_faces_by_corners(&mut mesh);
                 if mesh
                     .slab
                     .boundary_faces()
@@ -539,7 +539,7 @@ impl ConfigSpace {
             return Err(self.goal_unmeshed(carved.refine.budget_reached, max_tetrahedra));
         }
         let mut mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
-        self.keep_goal_faces_inside(&mut mesh);
+        self.goal_faces_by_corners(&mut mesh);
         let report = self.report(estimated, &mesh, Some(&carved), start);
         Ok((mesh, report))
     }
@@ -654,16 +654,22 @@ fn nearest_name(n: Nearest) -> String {
 }
 
 impl ConfigSpace {
-    /// A face is the goal's only if its three corners are in the goal region (to rounding):
-    /// a wall, limit or slab face whose centroid lies in the goal but which reaches out of it
-    /// takes the tag of the part it lies on instead, so a path that stops on a goal face
-    /// stops inside the tolerance.
-    fn keep_goal_faces_inside(&self, mesh: &mut PeriodicMesh) {
+    /// A face is the goal's exactly when its three corners are in the goal region (to
+    /// rounding): carving leaves such faces, stuffing puts its goal faces' corners on the
+    /// goal's surface, and a wall, limit or slab face that reaches out of the goal takes the
+    /// tag of the part it lies on, so a path that stops on a goal face stops inside the
+    /// tolerance.
+    fn goal_faces_by_corners(&self, mesh: &mut PeriodicMesh) {
         let tol = 1e-9 * self.spacing;
         let fix = |c: &[Point; 3], tag: BoundaryTag| {
-            if tag != BoundaryTag::Goal(0)
-                || c.iter().all(|p| self.goal_value(&self.config(p)) <= tol)
-            {
+            // The slab's ends are identified, not boundary: they keep their tag.
+            if tag == BoundaryTag::Obstacle(SEAM_PART) {
+                return tag;
+            }
+            if c.iter().all(|p| self.goal_value(&self.config(p)) <= tol) {
+                return BoundaryTag::Goal(0);
+            }
+            if tag != BoundaryTag::Goal(0) {
                 return tag;
             }
             let centroid = Point::from((c[0].coords + c[1].coords + c[2].coords) / 3.0);
@@ -713,13 +719,9 @@ impl ImplicitDomain for ConfigSpace {
     fn value(&self, p: &Point) -> f64 {
         self.terms(p, false).0
     }
-    /// The goal for a face whose centroid lies in the goal region (the faces carving left
-    /// have their corners there, even beside an obstacle closer than the margin), else the
-    /// part whose term is largest.
+    /// The part whose term is largest, the goal's included (the goal's faces are then
+    /// settled by their corners: `ConfigSpace::goal_faces_by_corners`).
     fn tag(&self, p: &Point) -> BoundaryTag {
-        if self.goal_value(&self.config(p)) <= 0.0 {
-            return BoundaryTag::Goal(0);
-        }
         self.terms(p, true).1
     }
     fn bounds(&self) -> (Point, Point) {

@@ -252,7 +252,7 @@ impl VolumeDomain {
 pub struct DomainImplicit<'a> {
     domain: &'a VolumeDomain,
     goals: Vec<Solid>,
-    /// Per goal: carved after meshing (left out of the value, kept in the tag).
+    /// Per goal: carved after meshing (left out of the value and the tag).
     carved: Vec<bool>,
     offsets: Vec<f64>,
     wall_offset: f64,
@@ -261,12 +261,6 @@ pub struct DomainImplicit<'a> {
 impl DomainImplicit<'_> {
     /// The value and the tag of the part attaining it.
     pub fn value_and_tag(&self, p: &Point) -> (f64, BoundaryTag) {
-        self.value_and_tag_of(p, false)
-    }
-
-    /// As [`value_and_tag`](Self::value_and_tag), with the carved goals counted too when
-    /// `carved` is set (how faces of a carved goal get its tag).
-    fn value_and_tag_of(&self, p: &Point, carved: bool) -> (f64, BoundaryTag) {
         let mut best = self.domain.workspace.signed_distance(p) + self.wall_offset;
         let mut tag = BoundaryTag::Wall;
         for (i, (o, &offset)) in self.domain.obstacles.iter().zip(&self.offsets).enumerate() {
@@ -283,7 +277,7 @@ impl DomainImplicit<'_> {
             }
         }
         for (j, g) in self.goals.iter().enumerate() {
-            if self.carved[j] && !carved {
+            if self.carved[j] {
                 continue;
             }
             let v = -g.signed_distance(p);
@@ -300,8 +294,8 @@ impl DomainImplicit<'_> {
         &self.goals
     }
 
-    /// Leaves goal `j` out of the value (when `carved[j]`): it is carved from the mesh after
-    /// stuffing ([`VolumeDomain::mesh`]) rather than stuffed, but still names its faces.
+    /// Leaves goal `j` out of the value and the tag (when `carved[j]`): it is carved from the
+    /// mesh after stuffing ([`VolumeDomain::mesh`]) rather than stuffed.
     pub fn carving(mut self, carved: &[bool]) -> Self {
         for (slot, &c) in self.carved.iter_mut().zip(carved) {
             *slot = c;
@@ -536,16 +530,10 @@ impl ImplicitDomain for DomainImplicit<'_> {
     fn value(&self, p: &Point) -> f64 {
         self.value_and_tag(p).0
     }
-    /// A carved goal for a face whose centroid lies in it (the faces carving left have their
-    /// corners there, even beside an obstacle closer than the robot's radius), else the part
-    /// whose term is largest.
+    /// The part whose term is largest; carved goals are left to [`VolumeDomain::mesh`], which
+    /// gives a face to a carved goal when its three corners lie in it.
     fn tag(&self, p: &Point) -> BoundaryTag {
-        for (j, g) in self.goals.iter().enumerate() {
-            if self.carved[j] && g.signed_distance(p) <= 0.0 {
-                return BoundaryTag::Goal(j as u32);
-            }
-        }
-        self.value_and_tag_of(p, true).1
+        self.value_and_tag(p).1
     }
     fn bounds(&self) -> (Point, Point) {
         let (lo, hi) = self.domain.workspace.bounds();

@@ -139,20 +139,14 @@ impl VolumeDomain {
             }
             let mut mesh =
                 TetMesh::new(stuffed.vertices, stuffed.tetrahedra, &|p| implicit.tag(p))?;
-            // A carved goal's faces are those wholly in it: a wall or obstacle face whose
-            // centroid lies in the goal but which reaches out of it keeps its own tag.
+            // A carved goal's faces are exactly those with their three corners in it (the
+            // faces carving left, and wall or obstacle faces wholly inside the goal).
             let solids = implicit.goal_solids().to_vec();
             let tol = 1e-9 * h;
-            mesh.retag(&|c, tag| match tag {
-                BoundaryTag::Goal(j)
-                    if carved.get(j as usize) == Some(&true)
-                        && c.iter()
-                            .any(|p| solids[j as usize].signed_distance(p) > tol) =>
-                {
-                    let centroid = Point::from((c[0].coords + c[1].coords + c[2].coords) / 3.0);
-                    implicit.value_and_tag(&centroid).1
-                }
-                tag => tag,
+            mesh.retag(&|c, tag| {
+                (0..carved.len())
+                    .find(|&j| carved[j] && c.iter().all(|p| solids[j].signed_distance(p) <= tol))
+                    .map_or(tag, |j| BoundaryTag::Goal(j as u32))
             });
             // A stuffed goal that an obstacle left too little of for the lattice: carve it.
             let mut faced = vec![false; carved.len()];

@@ -197,28 +197,28 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
             budget: opts.max_tetrahedra,
         });
     }
-    let positions: Vec<Point> = (0..lattice.count() as u32)
+    let mut positions: Vec<Point> = (0..lattice.count() as u32)
         .map(|v| lattice.position(v))
         .collect();
     if let Some(grading) = domain.grading(h) {
         let mut tets = Vec::new();
         lattice.for_each_tet(&|_| true, &mut |t| tets.push(t));
-        let mut vertices = positions;
         let budget = usize::try_from(opts.max_tetrahedra).unwrap_or(usize::MAX);
         let report = refine_where(
-            &mut vertices,
+            &mut positions,
             &mut tets,
             &|_| false,
             &*grading.want,
             &*grading.rank,
             budget,
         );
+        // (Without a bisection, the positions are the lattice's: stuff it as it is.)
         if report.bisections > 0 {
-            let background = Explicit::new(vertices, tets);
+            let background = Explicit::new(positions, tets);
             let (pos, f, cuts, warped) = cut_and_warp(domain, h, &background.vertices, &|v, k| {
                 background.neighbours(v, k)
             });
-            let mut out = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
+            let (mut out, _) = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
                 for &t in &background.tets {
                     e(t);
                 }
@@ -226,12 +226,6 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
             out.graded = report.bisections;
             return Ok(out);
         }
-        // Nothing wanted refining: the uniform lattice.
-        let (pos, f, cuts, warped) = cut_and_warp(domain, h, &vertices, &|v, k| {
-            lattice_neighbours(&lattice, v, k)
-        });
-        let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
-        return Ok(out);
     }
     let (pos, f, cuts, warped) = cut_and_warp(domain, h, &positions, &|v, k| {
         lattice_neighbours(&lattice, v, k)
@@ -331,22 +325,13 @@ pub(crate) fn emit_stencils(
     warped: usize,
     keep: &dyn Fn([usize; 3]) -> bool,
 ) -> (Stuffed, Vec<Sv>) {
-    let mut sources = Vec::new();
-    let out = emit_over_with_sources(
-        pos,
-        f,
-        cuts,
-        domain,
-        warped,
-        lattice.h,
-        lattice.count(),
-        &mut sources,
-        &mut |e| lattice.for_each_tet(keep, e),
-    );
-    (out, sources)
+    emit_over(pos, f, cuts, domain, warped, lattice.h, &mut |e| {
+        lattice.for_each_tet(keep, e)
+    })
 }
 
-/// Step 3 over the tetrahedra `tets` hands out (vertex numbers into `pos`).
+/// Step 3 over the tetrahedra `tets` hands out (vertex numbers into `pos`), with, per output
+/// vertex, the background vertex or edge it came from.
 fn emit_over(
     pos: &[Point],
     f: &[f64],
@@ -355,33 +340,8 @@ fn emit_over(
     warped: usize,
     h: f64,
     tets: &mut Tets<'_>,
-) -> Stuffed {
-    let mut sources = Vec::new();
-    emit_over_with_sources(
-        pos,
-        f,
-        cuts,
-        domain,
-        warped,
-        h,
-        pos.len(),
-        &mut sources,
-        tets,
-    )
-}
-
-#[allow(clippy::too_many_arguments)]
-fn emit_over_with_sources(
-    pos: &[Point],
-    f: &[f64],
-    cuts: &Cuts,
-    domain: &dyn ImplicitDomain,
-    warped: usize,
-    h: f64,
-    nv: usize,
-    sources: &mut Vec<Sv>,
-    tets: &mut Tets<'_>,
-) -> Stuffed {
+) -> (Stuffed, Vec<Sv>) {
+    let nv = pos.len();
     let mut out = Stuffed {
         lattice_vertices: nv,
         warped,
@@ -400,8 +360,8 @@ fn emit_over_with_sources(
         nv: nv as u64,
     };
     tets(&mut |t| emitter.stencil(t, f, domain));
-    *sources = std::mem::take(&mut emitter.sources);
-    out
+    let sources = std::mem::take(&mut emitter.sources);
+    (out, sources)
 }
 
 impl Lattice {
