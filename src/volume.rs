@@ -23,8 +23,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::volume::{
-    NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeFemError, VolumePotential,
-    scene_conditions, solve_assembled_for_planning,
+    VolumeAssembler, VolumeFemError, VolumePotential, scene_conditions,
+    solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
@@ -200,21 +200,8 @@ impl VolumePlanner {
         // Stuffed meshes keep a few obtuse tetrahedra; where their positive off-diagonals let
         // the Galerkin field have an interior extremum (or ψ is too flat for Cholesky), the
         // planning solve redoes it on the M-matrix with those weights clamped.
-        let (potential, _, clamped) =
-            solve_assembled_for_planning(Arc::clone(&mesh), &bcs, &system)?;
-        let clamped_edges = if clamped {
-            VolumeAssembler::with_options(
-                Arc::clone(&mesh),
-                &bcs,
-                VolumeAssemblyOptions {
-                    negative_weights: NegativeWeights::Clamp,
-                },
-            )?
-            .assemble(&bcs)?
-            .clamped_edges()
-        } else {
-            0
-        };
+        let (potential, _, clamped) = solve_assembled_for_planning(&assembler, &bcs, &system)?;
+        let clamped_edges = clamped.unwrap_or(0);
         let field = Arc::clone(P1VolumeField::ascending(&mesh, potential.psi())?.parts());
         let solve_ms = millis(t);
 

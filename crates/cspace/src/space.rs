@@ -675,8 +675,7 @@ impl ConfigSpace {
             let centroid = Point::from((c[0].coords + c[1].coords + c[2].coords) / 3.0);
             self.terms(&centroid, false).1
         };
-        mesh.slab.retag(&fix);
-        mesh.covering.retag(&fix);
+        mesh.retag(&fix);
     }
 
     /// The meshing report.

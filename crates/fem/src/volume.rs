@@ -56,9 +56,9 @@ pub use periodic::{
 pub use potential::{VolumeEvaluation, VolumePotential};
 pub use solve::{
     AUTO_ACCURATE_MAX_UNKNOWNS_3D, AUTO_CHOLESKY_MAX_UNKNOWNS, FLAT_RATIO_3D,
-    PLANNING_ACCURATE_MAX_UNKNOWNS, PLANNING_CHOLESKY_MAX_UNKNOWNS, VolumeSolveMethod,
-    VolumeSolveReport, planning_method, solve_assembled_for_planning, solve_volume,
-    solve_volume_potential, solve_volume_potential_with_report,
+    PLANNING_ACCURATE_MAX_UNKNOWNS, PLANNING_CHOLESKY_MAX_UNKNOWNS, PLANNING_PCG_TOL,
+    VolumeSolveMethod, VolumeSolveReport, planning_method, solve_assembled_for_planning,
+    solve_volume, solve_volume_potential, solve_volume_potential_with_report,
 };
 pub use spec::{condition, scene_conditions};
 

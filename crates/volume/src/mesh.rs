@@ -22,6 +22,55 @@ pub fn signed_volume(a: &Point, b: &Point, c: &Point, d: &Point) -> f64 {
     (b - a).dot(&(c - a).cross(&(d - a))) / 6.0
 }
 
+/// The face adjacency of `tets` (vertex indices checked): per tetrahedron, the tetrahedron
+/// across face `k`, or [`NO_NEIGHBOR`]. Faces are matched by sorting their sorted vertex
+/// triples, packed with the tetrahedron and local face into one `u128` key (a parallel sort:
+/// keys are unique, so the result is the same on any number of threads). A face shared by more
+/// than two tetrahedra is an error.
+pub(crate) fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, VolumeError> {
+    use rayon::slice::ParallelSliceMut;
+    let mut faces: Vec<u128> = Vec::with_capacity(4 * tets.len());
+    for (t, tet) in tets.iter().enumerate() {
+        for (k, f) in FACES.iter().enumerate() {
+            let mut key = [tet[f[0]], tet[f[1]], tet[f[2]]];
+            key.sort_unstable();
+            faces.push(
+                (key[0] as u128) << 96
+                    | (key[1] as u128) << 64
+                    | (key[2] as u128) << 32
+                    | ((t as u128) << 2 | k as u128),
+            );
+        }
+    }
+    faces.par_sort_unstable();
+    let side = |x: u128| ((x as u32 >> 2) as usize, (x as u32 & 3) as usize);
+    let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
+    let mut i = 0;
+    while i < faces.len() {
+        let mut j = i + 1;
+        while j < faces.len() && faces[j] >> 32 == faces[i] >> 32 {
+            j += 1;
+        }
+        match j - i {
+            1 => {}
+            2 => {
+                let ((t0, k0), (t1, k1)) = (side(faces[i]), side(faces[i + 1]));
+                neighbors[t0][k0] = t1 as u32;
+                neighbors[t1][k1] = t0 as u32;
+            }
+            n => {
+                let k = faces[i] >> 32;
+                let key = [(k >> 64) as u32, (k >> 32) as u32, k as u32];
+                return Err(VolumeError::InvalidMesh(format!(
+                    "face {key:?} is shared by {n} tetrahedra"
+                )));
+            }
+        }
+        i = j;
+    }
+    Ok(neighbors)
+}
+
 /// One boundary face of the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryFace {
@@ -86,9 +135,10 @@ impl TetMesh {
         tag: &dyn Fn(&Point) -> BoundaryTag,
     ) -> Result<Self, VolumeError> {
         let nv = vertices.len();
-        if nv >= NO_NEIGHBOR as usize || tets.len() >= NO_NEIGHBOR as usize {
+        // Faces are numbered 4·t + k in 32 bits.
+        if nv >= NO_NEIGHBOR as usize || tets.len() >= 1 << 30 {
             return Err(VolumeError::InvalidMesh(format!(
-                "{nv} vertices and {} tetrahedra: more than 32-bit indices hold",
+                "{nv} vertices and {} tetrahedra: more than 32-bit face numbers hold",
                 tets.len()
             )));
         }
@@ -113,66 +163,52 @@ impl TetMesh {
                 )));
             }
         }
-        // Faces by sorted vertex triple; equal triples are the two sides of a face.
-        let mut faces: Vec<([u32; 3], u32)> = Vec::with_capacity(4 * tets.len());
-        for (t, tet) in tets.iter().enumerate() {
-            for (k, f) in FACES.iter().enumerate() {
-                let mut key = [tet[f[0]], tet[f[1]], tet[f[2]]];
-                key.sort_unstable();
-                faces.push((key, (t as u32) << 2 | k as u32));
-            }
-        }
-        faces.sort_unstable();
-        let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
+        let neighbors = face_neighbors(&tets)?;
+        Ok(Self::with_neighbors(
+            vertices,
+            tets,
+            neighbors,
+            &mut |_, _, c| tag(c),
+        ))
+    }
+
+    /// A mesh from parts already checked and their face adjacency (as [`face_neighbors`]
+    /// finds it); every face without a neighbour is a boundary face, tagged by
+    /// `tag(tetrahedron, local face, centroid of the face)`.
+    pub(crate) fn with_neighbors(
+        vertices: Vec<Point>,
+        tets: Vec<[u32; 4]>,
+        neighbors: Vec<[u32; 4]>,
+        tag: &mut dyn FnMut(u32, usize, &Point) -> BoundaryTag,
+    ) -> Self {
         let mut face_boundary = vec![[NO_NEIGHBOR; 4]; tets.len()];
         let mut boundary = Vec::new();
-        let mut on_boundary = vec![false; nv];
-        let mut i = 0;
-        while i < faces.len() {
-            let mut j = i + 1;
-            while j < faces.len() && faces[j].0 == faces[i].0 {
-                j += 1;
+        let mut on_boundary = vec![false; vertices.len()];
+        for (t, across) in neighbors.iter().enumerate() {
+            for (k, &n) in across.iter().enumerate() {
+                if n != NO_NEIGHBOR {
+                    continue;
+                }
+                let f = FACES[k].map(|l| tets[t][l]);
+                let c = Point::from(
+                    (vertices[f[0] as usize].coords
+                        + vertices[f[1] as usize].coords
+                        + vertices[f[2] as usize].coords)
+                        / 3.0,
+                );
+                face_boundary[t][k] = boundary.len() as u32;
+                for &v in &f {
+                    on_boundary[v as usize] = true;
+                }
+                boundary.push(BoundaryFace {
+                    vertices: f,
+                    tet: t as u32,
+                    local_face: k as u8,
+                    tag: tag(t as u32, k, &c),
+                });
             }
-            match j - i {
-                1 => {
-                    let (t, k) = ((faces[i].1 >> 2) as usize, (faces[i].1 & 3) as usize);
-                    let f = FACES[k].map(|l| tets[t][l]);
-                    let c = Point::from(
-                        (vertices[f[0] as usize].coords
-                            + vertices[f[1] as usize].coords
-                            + vertices[f[2] as usize].coords)
-                            / 3.0,
-                    );
-                    face_boundary[t][k] = boundary.len() as u32;
-                    for &v in &f {
-                        on_boundary[v as usize] = true;
-                    }
-                    boundary.push(BoundaryFace {
-                        vertices: f,
-                        tet: t as u32,
-                        local_face: k as u8,
-                        tag: tag(&c),
-                    });
-                }
-                2 => {
-                    let (t0, k0) = ((faces[i].1 >> 2) as usize, (faces[i].1 & 3) as usize);
-                    let (t1, k1) = (
-                        (faces[i + 1].1 >> 2) as usize,
-                        (faces[i + 1].1 & 3) as usize,
-                    );
-                    neighbors[t0][k0] = t1 as u32;
-                    neighbors[t1][k1] = t0 as u32;
-                }
-                n => {
-                    return Err(VolumeError::InvalidMesh(format!(
-                        "face {:?} is shared by {n} tetrahedra",
-                        faces[i].0
-                    )));
-                }
-            }
-            i = j;
         }
-        Ok(TetMesh {
+        TetMesh {
             vertices,
             tets,
             neighbors,
@@ -180,7 +216,12 @@ impl TetMesh {
             face_boundary,
             on_boundary,
             locator: OnceLock::new(),
-        })
+        }
+    }
+
+    /// Sets the tag of boundary face `i` (an index into [`boundary_faces`](Self::boundary_faces)).
+    pub(crate) fn set_tag(&mut self, i: usize, tag: BoundaryTag) {
+        self.boundary[i].tag = tag;
     }
 
     /// Gives each boundary face the tag `retag` returns for it (its corners and its current

@@ -24,13 +24,13 @@
 //!   follows the periodic potential with the angles unwrapped: a path crosses θ = 2π as any
 //!   other face.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use harmonic_mesh::BoundaryTag;
 
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
-use crate::mesh::TetMesh;
+use crate::mesh::{NO_NEIGHBOR, TetMesh};
 use crate::solid::{Point, Vector};
 use crate::stuffing::{
     ALPHA_LONG, ALPHA_SHORT, Lattice, NONE, Stuffed, StuffingOptions, Sv, emit_stencils, key,
@@ -406,7 +406,6 @@ impl PeriodicMesh {
         let mut vertices = Vec::new();
         let mut slab_vertex = Vec::new();
         let mut tets = Vec::with_capacity(s.tetrahedra.len() * shifts.len());
-        let mut middle_of_slab = vec![NONE; s.vertices.len()];
         for sh in &shifts {
             let mut local = vec![NONE; s.vertices.len()];
             for tet in &s.tetrahedra {
@@ -429,50 +428,43 @@ impl PeriodicMesh {
                 });
                 tets.push(mapped);
             }
-            if *sh == [0; 3] {
-                middle_of_slab = local;
-            }
         }
-        let covering = TetMesh::new(vertices, tets, tag)?;
+        // The covering's adjacency; its tags come from the slab's below.
+        let covering = TetMesh::new(vertices, tets, &|_| BoundaryTag::Wall)?;
 
-        // The slab's ends: boundary faces of the slab that are inside the covering.
-        let real: HashSet<[u32; 3]> = covering
-            .boundary_faces()
+        // The slab is the covering's middle copy: its tetrahedra, in order, at `middle`. A face
+        // whose neighbour there lies in another copy is a slab end (a seam), one without a
+        // neighbour is real boundary; only those are tagged by `tag`.
+        let nt = s.tetrahedra.len();
+        let middle = nt * shifts.iter().position(|sh| *sh == [0; 3]).unwrap_or(0);
+        let inside = |n: u32| (middle..middle + nt).contains(&(n as usize));
+        let neighbors: Vec<[u32; 4]> = covering.neighbors()[middle..middle + nt]
             .iter()
-            .map(|f| {
-                let mut k = f.vertices;
-                k.sort_unstable();
-                k
+            .map(|across| {
+                across.map(|n| {
+                    if inside(n) {
+                        n - middle as u32
+                    } else {
+                        NO_NEIGHBOR
+                    }
+                })
             })
             .collect();
-        let probe = TetMesh::new(s.vertices.clone(), s.tetrahedra.clone(), &|_| {
-            BoundaryTag::Wall
-        })?;
-        let centroid = |f: &[u32; 3]| {
-            let v = probe.vertices();
-            Point::from(
-                (v[f[0] as usize].coords + v[f[1] as usize].coords + v[f[2] as usize].coords) / 3.0,
-            )
-        };
-        let bits = |p: &Point| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-        let mut seams: HashSet<[u64; 3]> = HashSet::new();
-        for f in probe.boundary_faces() {
-            let mut k = f.vertices.map(|v| middle_of_slab[v as usize]);
-            k.sort_unstable();
-            if !real.contains(&k) {
-                seams.insert(bits(&centroid(&f.vertices)));
-            }
-        }
-        let seam_faces = seams.len();
-        drop(probe);
-        let slab = TetMesh::new(s.vertices.clone(), s.tetrahedra.clone(), &|p| {
-            if seams.contains(&bits(p)) {
-                BoundaryTag::Obstacle(SEAM_PART)
-            } else {
-                tag(p)
-            }
-        })?;
-        Ok(PeriodicMesh {
+        let mut seam_faces = 0;
+        let slab = TetMesh::with_neighbors(
+            s.vertices.clone(),
+            s.tetrahedra.clone(),
+            neighbors,
+            &mut |t, k, c| {
+                if covering.neighbors()[middle + t as usize][k] != NO_NEIGHBOR {
+                    seam_faces += 1;
+                    BoundaryTag::Obstacle(SEAM_PART)
+                } else {
+                    tag(c)
+                }
+            },
+        );
+        let mut mesh = PeriodicMesh {
             slab,
             images,
             covering,
@@ -480,6 +472,31 @@ impl PeriodicMesh {
             period: stuffed.period,
             copies,
             seam_faces,
-        })
+        };
+        mesh.tag_covering();
+        Ok(mesh)
+    }
+
+    /// Gives each boundary face of the slab the tag `retag` returns for it (as
+    /// [`TetMesh::retag`]) and the covering's faces their slab face's tag.
+    pub fn retag(&mut self, retag: &dyn Fn(&[Point; 3], BoundaryTag) -> BoundaryTag) {
+        self.slab.retag(retag);
+        self.tag_covering();
+    }
+
+    /// Every boundary face of the covering gets the tag of the slab face it copies: the same
+    /// local face of the same slab tetrahedron (copies are laid out one slab after another).
+    /// The covering's outer ends are slab ends and keep the seam's tag.
+    fn tag_covering(&mut self) {
+        let nt = self.slab.tetrahedra().len();
+        for i in 0..self.covering.boundary_faces().len() {
+            let f = self.covering.boundary_faces()[i];
+            let t = f.tet as usize % nt;
+            let tag = self
+                .slab
+                .boundary_face(t as u32, f.local_face as usize)
+                .map_or(BoundaryTag::Obstacle(SEAM_PART), |b| b.tag);
+            self.covering.set_tag(i, tag);
+        }
     }
 }

@@ -401,6 +401,17 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         data: Option<VolumeBoundaryData<'_>>,
     ) -> Result<VolumeSystem, VolumeFemError> {
+        self.assemble_weighted(bcs, data, self.options.negative_weights)
+    }
+
+    /// [`assemble`](Self::assemble) with `negative_weights` in place of the options' (the
+    /// planning solve's clamped redo reuses the pattern this way).
+    pub fn assemble_weighted(
+        &self,
+        bcs: &BoundaryConditions,
+        data: Option<VolumeBoundaryData<'_>>,
+        negative_weights: NegativeWeights,
+    ) -> Result<VolumeSystem, VolumeFemError> {
         bcs.validate()?;
         self.check_kinds(bcs)?;
         let values = FaceValues {
@@ -410,7 +421,8 @@ impl VolumeAssembler {
         let prescribed = self.prescribed(bcs, &values)?;
         let psi_fixed = self.psi_of_prescribed(&prescribed);
         let weight = self.edge_weights();
-        let mut parts = self.scatter_stiffness(&weight, &psi_fixed);
+        let clamp = negative_weights == NegativeWeights::Clamp;
+        let mut parts = self.scatter_stiffness(&weight, &psi_fixed, clamp);
         self.boundary_terms(bcs, &values, prescribed.reference, &mut parts)?;
         let Scattered {
             mut matrix,
@@ -560,8 +572,8 @@ impl VolumeAssembler {
 
     /// The edge weights into the matrix (off-diagonals), the diagonal, and the lifting of
     /// prescribed neighbours into the right-hand side and the excesses; negative weights are
-    /// clamped to 0 when the options say so.
-    fn scatter_stiffness(&self, weight: &[f64], psi_fixed: &[f64]) -> Scattered {
+    /// clamped to 0 when `clamp`.
+    fn scatter_stiffness(&self, weight: &[f64], psi_fixed: &[f64], clamp: bool) -> Scattered {
         let unknown_of = &self.unknown_of;
         let n = self.free.len();
         let mut matrix = SymmetricCsc::zeros_like(&self.template);
@@ -570,7 +582,6 @@ impl VolumeAssembler {
         let mut diag = vec![0.0; n];
         let mut negative: Vec<usize> = Vec::new();
         let mut clamped = 0;
-        let clamp = self.options.negative_weights == NegativeWeights::Clamp;
         let round_off = 1e-12 * weight.iter().fold(0.0f64, |m, w| m.max(w.abs()));
         {
             let values = matrix.values_mut();

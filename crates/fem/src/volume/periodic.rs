@@ -18,10 +18,7 @@ use harmonic_volume::{SEAM_PART, TetMesh};
 use super::VolumeFemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
 use super::potential::VolumePotential;
-use super::solve::{
-    FLAT_RATIO_3D, PLANNING_ACCURATE_MAX_UNKNOWNS, VolumeSolveMethod, VolumeSolveReport,
-    planning_method, solve_volume,
-};
+use super::solve::{VolumeSolveReport, planning_solve};
 use crate::bc::{BoundaryCondition, BoundaryConditions};
 
 /// `bcs` with the slab's end faces (`Obstacle(SEAM_PART)`) under the natural condition.
@@ -163,43 +160,19 @@ pub fn solve_periodic_for_planning(
     )?;
     let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
     let positive_offdiagonals = system.positive_offdiagonals();
-    let (psi, report) = solve_volume(&system, VolumeSolveMethod::Auto)?;
-    let flat = {
-        let free = system.free_vertices();
-        let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
-            (a.min(psi[v as usize]), b.max(psi[v as usize]))
-        });
-        !free.is_empty() && (lo.is_nan() || lo <= FLAT_RATIO_3D * hi)
-    };
-    let potential = VolumePotential::new(Arc::clone(&slab), psi, system.reference())?;
-    let flat = flat && system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS;
     let unknowns = system.matrix().n();
-    if report.method == VolumeSolveMethod::Accurate
-        || (!flat && potential.interior_local_extrema() == 0)
-    {
-        return Ok((
-            potential,
-            PeriodicSolveReport {
-                solve: report,
-                clamped: false,
-                clamped_edges: 0,
-                positive_offdiagonals,
-                unknowns,
-            },
-        ));
-    }
-    let options = VolumeAssemblyOptions {
-        negative_weights: NegativeWeights::Clamp,
-    };
-    let assembler = VolumeAssembler::with_identified(Arc::clone(&slab), &bcs, options, shared)?;
-    let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
-    let (psi, report) = solve_volume(&system, planning_method(system.matrix().n()))?;
+    let (potential, solve, clamped_edges) = planning_solve(&slab, &system, || {
+        identify_periodic(
+            &assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?,
+            images,
+        )
+    })?;
     Ok((
-        VolumePotential::new(slab, psi, system.reference())?,
+        potential,
         PeriodicSolveReport {
-            solve: report,
-            clamped: true,
-            clamped_edges: system.clamped_edges(),
+            solve,
+            clamped: clamped_edges.is_some(),
+            clamped_edges: clamped_edges.unwrap_or(0),
             positive_offdiagonals,
             unknowns,
         },

@@ -9,7 +9,7 @@ use harmonic_solver::{AccurateLdlt, Ordering, PcgOptions, Preconditioner, Symbol
 use harmonic_volume::TetMesh;
 
 use super::VolumeFemError;
-use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
+use super::assemble::{NegativeWeights, VolumeAssembler, VolumeSystem};
 use super::potential::VolumePotential;
 use crate::bc::BoundaryConditions;
 
@@ -52,6 +52,16 @@ pub fn solve_volume(
     system: &VolumeSystem,
     method: VolumeSolveMethod,
 ) -> Result<(Vec<f64>, VolumeSolveReport), VolumeFemError> {
+    solve_volume_to(system, method, 1e-10)
+}
+
+/// [`solve_volume`] with PCG stopped at relative residual `pcg_tol` (at most 1e-10).
+fn solve_volume_to(
+    system: &VolumeSystem,
+    method: VolumeSolveMethod,
+    pcg_tol: f64,
+) -> Result<(Vec<f64>, VolumeSolveReport), VolumeFemError> {
+    let pcg_tol = pcg_tol.min(1e-10);
     let start = Instant::now();
     let n = system.matrix().n();
     let method = match method {
@@ -85,12 +95,12 @@ pub fn solve_volume(
                 let mut x = vec![0.0; n];
                 let opts = PcgOptions {
                     preconditioner: Preconditioner::IncompleteCholesky,
-                    rel_tol: 1e-10,
+                    rel_tol: pcg_tol,
                     max_iter: 20_000,
                 };
                 let report = pcg(system.matrix(), system.rhs(), &mut x, &opts)?;
                 iterations = report.iterations;
-                if report.rel_residual.is_nan() || report.rel_residual > 1e-10 {
+                if report.rel_residual.is_nan() || report.rel_residual > pcg_tol {
                     return Err(VolumeFemError::NotConverged {
                         iterations,
                         residual: report.rel_residual,
@@ -120,14 +130,48 @@ pub const FLAT_RATIO_3D: f64 = 1e-12;
 /// seconds at most; larger flat fields keep the normwise-accurate solution).
 pub const PLANNING_ACCURATE_MAX_UNKNOWNS: usize = 25_000;
 
-/// Largest clamped system the planning solve factors with Cholesky rather than IC(0)-PCG:
-/// PCG's relative residual of 1e-10 leaves noise where ψ is smaller than that, and noise is
-/// what an interior extremum is made of (measured on graded stuffed meshes of 40–60 k
-/// unknowns: 19–25 extrema after PCG, none after Cholesky).
+/// Largest clamped system the planning solve factors with Cholesky when IC(0)-PCG's field
+/// still has an interior extremum (measured on graded stuffed meshes of 40–60 k unknowns:
+/// 19–25 extrema after PCG to 1e-10, none after Cholesky).
 pub const PLANNING_CHOLESKY_MAX_UNKNOWNS: usize = 200_000;
 
-/// The method of the planning solve's clamped (M-matrix) redo for `n` unknowns: the
-/// accurate elimination, else Cholesky, else PCG.
+/// Relative residual of the planning solve's clamped PCG: deeper than the general 1e-10, since
+/// noise where ψ is smaller than the residual is what an interior extremum is made of (on
+/// 3-link arms' configuration spaces, 85 k unknowns: 80 iterations against 60).
+pub const PLANNING_PCG_TOL: f64 = 1e-13;
+
+/// The planning solve's clamped (M-matrix) redo: the accurate elimination up to
+/// [`PLANNING_ACCURATE_MAX_UNKNOWNS`]; beyond, IC(0)-PCG to [`PLANNING_PCG_TOL`], checked for
+/// interior extrema, and Cholesky (up to [`PLANNING_CHOLESKY_MAX_UNKNOWNS`]) only when that
+/// check fails. Cholesky on 85 k unknowns of a 3-link arm's space took 5.7 s, PCG 0.2 s.
+pub(super) fn solve_clamped_for_planning(
+    mesh: &Arc<TetMesh>,
+    system: &VolumeSystem,
+) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+    let n = system.matrix().n();
+    if n <= PLANNING_ACCURATE_MAX_UNKNOWNS {
+        let (psi, report) = solve_volume(system, VolumeSolveMethod::Accurate)?;
+        return Ok((
+            VolumePotential::new(Arc::clone(mesh), psi, system.reference())?,
+            report,
+        ));
+    }
+    let (psi, report) = solve_volume_to(system, VolumeSolveMethod::Pcg, PLANNING_PCG_TOL)?;
+    let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
+    if potential.interior_local_extrema() == 0 || n > PLANNING_CHOLESKY_MAX_UNKNOWNS {
+        return Ok((potential, report));
+    }
+    let (psi, mut fallback) = solve_volume(system, VolumeSolveMethod::Cholesky)?;
+    fallback.seconds += report.seconds;
+    Ok((
+        VolumePotential::new(Arc::clone(mesh), psi, system.reference())?,
+        fallback,
+    ))
+}
+
+/// The direct method for a clamped (M-matrix) system of `n` unknowns: the accurate elimination
+/// up to [`PLANNING_ACCURATE_MAX_UNKNOWNS`], else Cholesky up to
+/// [`PLANNING_CHOLESKY_MAX_UNKNOWNS`], else [`VolumeSolveMethod::Auto`].
 pub fn planning_method(n: usize) -> VolumeSolveMethod {
     if n <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         VolumeSolveMethod::Accurate
@@ -142,8 +186,8 @@ pub fn planning_method(n: usize) -> VolumeSolveMethod {
 /// ([`VolumeSolveMethod::Auto`]). If that solution has an interior local extremum (possible
 /// where the mesh has obtuse dihedral angles), or ψ spans more than 1/[`FLAT_RATIO_3D`] (a
 /// far field a Cholesky solve cannot resolve), assemble again with [`NegativeWeights::Clamp`]
-/// — an M-matrix, so no interior extremum — and solve it with the entrywise-accurate
-/// elimination (up to [`PLANNING_ACCURATE_MAX_UNKNOWNS`] unknowns).
+/// — an M-matrix, so no interior extremum — and solve that as [`solve_clamped_for_planning`]
+/// says.
 pub fn solve_volume_potential(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
@@ -157,20 +201,35 @@ pub fn solve_volume_potential_with_report(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
 ) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
-    let assembler = VolumeAssembler::new(Arc::clone(&mesh), bcs)?;
+    let assembler = VolumeAssembler::new(mesh, bcs)?;
     let system = assembler.assemble(bcs)?;
-    solve_assembled_for_planning(mesh, bcs, &system)
+    let (potential, report, clamped) = solve_assembled_for_planning(&assembler, bcs, &system)?;
+    Ok((potential, report, clamped.is_some()))
 }
 
-/// The planning solve of [`solve_volume_potential_with_report`] for a `system` already
-/// assembled from `bcs` on `mesh` with the Galerkin stiffness (so a caller can time the
-/// assembly apart): solve, and redo with the clamped M-matrix where the field has an interior
-/// extremum or is too flat for a Cholesky solve.
+/// The planning solve of [`solve_volume_potential_with_report`] for a `system` that
+/// `assembler` assembled from `bcs` with the Galerkin stiffness (so a caller can time the
+/// assembly apart): solve, and redo with the clamped M-matrix, on the same pattern, where the
+/// field has an interior extremum or is too flat for a Cholesky solve. The last item is the
+/// number of clamped edges when the redo ran.
 pub fn solve_assembled_for_planning(
-    mesh: Arc<TetMesh>,
+    assembler: &VolumeAssembler,
     bcs: &BoundaryConditions,
     system: &VolumeSystem,
-) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), VolumeFemError> {
+    planning_solve(assembler.mesh(), system, || {
+        assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp)
+    })
+}
+
+/// The planning solve on `mesh` (a slab for a periodic `system`): the Galerkin `system` first;
+/// when its field is flat or has an interior extremum, `clamped()` assembles the M-matrix and
+/// [`solve_clamped_for_planning`] solves it. Returns the clamped edges when the redo ran.
+pub(super) fn planning_solve(
+    mesh: &Arc<TetMesh>,
+    system: &VolumeSystem,
+    clamped: impl FnOnce() -> Result<VolumeSystem, VolumeFemError>,
+) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), VolumeFemError> {
     let (psi, report) = solve_volume(system, VolumeSolveMethod::Auto)?;
     let flat = {
         let free = system.free_vertices();
@@ -179,22 +238,14 @@ pub fn solve_assembled_for_planning(
         });
         !free.is_empty() && (lo.is_nan() || lo <= FLAT_RATIO_3D * hi)
     };
-    let potential = VolumePotential::new(Arc::clone(&mesh), psi, system.reference())?;
+    let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
     let accurate_already = report.method == VolumeSolveMethod::Accurate;
     // A flat field is only worth redoing when the accurate elimination will take it.
     let flat = flat && system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS;
     if accurate_already || (!flat && potential.interior_local_extrema() == 0) {
-        return Ok((potential, report, false));
+        return Ok((potential, report, None));
     }
-    let options = VolumeAssemblyOptions {
-        negative_weights: NegativeWeights::Clamp,
-    };
-    let assembler = VolumeAssembler::with_options(Arc::clone(&mesh), bcs, options)?;
-    let system = assembler.assemble(bcs)?;
-    let (psi, report) = solve_volume(&system, planning_method(system.matrix().n()))?;
-    Ok((
-        VolumePotential::new(mesh, psi, system.reference())?,
-        report,
-        true,
-    ))
+    let system = clamped()?;
+    let (potential, report) = solve_clamped_for_planning(mesh, &system)?;
+    Ok((potential, report, Some(system.clamped_edges())))
 }
