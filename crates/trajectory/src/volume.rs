@@ -230,13 +230,25 @@ impl<'a> P1VolumeField<'a> {
             }
         }
         // Recovered nodal gradients (volume-weighted), for the smooth tracer.
+        // Each tetrahedron's gradient on every core, summed into the vertices in order (the
+        // same sums on any number of threads).
+        let per_tet: Vec<(Vector, f64)> = {
+            use rayon::prelude::*;
+            (0..tets.len() as u32)
+                .into_par_iter()
+                .map(|t| {
+                    let (g, vol) = mesh.barycentric_gradients(t);
+                    let tet = tets[t as usize];
+                    let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
+                    (grad * vol, vol)
+                })
+                .collect()
+        };
         let mut nodal = vec![Vector::zeros(); nv];
         let mut weight = vec![0.0; nv];
-        for (t, tet) in tets.iter().enumerate() {
-            let (g, vol) = mesh.barycentric_gradients(t as u32);
-            let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
+        for (tet, &(gv, vol)) in tets.iter().zip(&per_tet) {
             for &v in tet {
-                nodal[v as usize] += grad * vol;
+                nodal[v as usize] += gv;
                 weight[v as usize] += vol;
             }
         }

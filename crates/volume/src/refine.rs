@@ -163,18 +163,35 @@ impl Refiner<'_> {
         }
     }
 
-    /// The longest edge of `t` in the strict order of [`Refiner::key`].
+    /// The longest edge of `t` in the strict order of [`Refiner::key`]. The rank (a call to
+    /// the caller's function) is asked only of the edges tied for the longest.
     fn longest(&self, t: u32) -> (u32, u32) {
         let tet = self.tets[t as usize];
+        let edges = EDGES.map(|(i, j)| (tet[i].min(tet[j]), tet[i].max(tet[j])));
+        let lens = edges.map(|e| self.length_key(e));
+        let top = lens.iter().copied().max().unwrap_or(0);
+        let mut tied = edges
+            .iter()
+            .zip(&lens)
+            .filter(|&(_, &l)| l == top)
+            .map(|(&e, _)| e);
+        let first = tied.next().unwrap_or((tet[0], tet[1]));
         let mut best: Option<(EdgeKey, (u32, u32))> = None;
-        for &(i, j) in &EDGES {
-            let e = (tet[i].min(tet[j]), tet[i].max(tet[j]));
+        for e in tied {
+            let (b, _) = *best.get_or_insert_with(|| (self.key(first), first));
             let k = self.key(e);
-            if best.is_none_or(|(b, _)| greater(k, b)) {
+            if greater(k, b) {
                 best = Some((k, e));
             }
         }
-        best.map_or((tet[0], tet[1]), |(_, e)| e)
+        best.map_or(first, |(_, e)| e)
+    }
+
+    /// The first part of [`Refiner::key`]: the squared length with the last 20 bits of the
+    /// mantissa dropped.
+    fn length_key(&self, (a, b): (u32, u32)) -> u64 {
+        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
+        (pa - pb).norm_squared().to_bits() >> 20
     }
 
     /// An edge's place in the order that decides which edge of a tetrahedron is bisected:
@@ -185,8 +202,12 @@ impl Refiner<'_> {
     /// uniform lattice.
     fn key(&self, (a, b): (u32, u32)) -> EdgeKey {
         let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
-        let len = (pa - pb).norm_squared().to_bits() >> 20;
-        (len, (self.rank)(&nalgebra::center(&pa, &pb)), a, b)
+        (
+            self.length_key((a, b)),
+            (self.rank)(&nalgebra::center(&pa, &pb)),
+            a,
+            b,
+        )
     }
 
     fn tets_around(&self, (a, b): (u32, u32)) -> Vec<u32> {

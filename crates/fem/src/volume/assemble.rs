@@ -3,7 +3,7 @@
 //! every edge's entries are computed once by [`VolumeAssembler::new`].
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use harmonic_mesh::BoundaryTag;
 use harmonic_solver::{MMatrix, SymmetricCsc};
@@ -167,6 +167,8 @@ pub struct VolumeAssembler {
     components: Vec<(u32, bool)>,
     /// Per tetrahedron: its component.
     tet_component: Vec<u32>,
+    /// The Galerkin edge weights, computed on first assembly.
+    weights: OnceLock<Vec<f64>>,
 }
 
 impl VolumeAssembler {
@@ -261,7 +263,10 @@ impl VolumeAssembler {
                 all.push((a << 32 | b, (t as u32) * 6 + e as u32));
             }
         }
-        all.sort_unstable();
+        {
+            use rayon::slice::ParallelSliceMut;
+            all.par_sort_unstable();
+        }
         let mut edges: Vec<[u32; 2]> = Vec::new();
         let mut tet_edges = vec![[0u32; 6]; tets.len()];
         for (i, &(k, slot)) in all.iter().enumerate() {
@@ -371,6 +376,7 @@ impl VolumeAssembler {
             template,
             components,
             tet_component,
+            weights: OnceLock::new(),
         })
     }
 
@@ -422,7 +428,7 @@ impl VolumeAssembler {
         let psi_fixed = self.psi_of_prescribed(&prescribed);
         let weight = self.edge_weights();
         let clamp = negative_weights == NegativeWeights::Clamp;
-        let mut parts = self.scatter_stiffness(&weight, &psi_fixed, clamp);
+        let mut parts = self.scatter_stiffness(weight, &psi_fixed, clamp);
         self.boundary_terms(bcs, &values, prescribed.reference, &mut parts)?;
         let Scattered {
             mut matrix,
@@ -438,7 +444,7 @@ impl VolumeAssembler {
                 values[self.diag_pos[j] as usize] = d;
             }
         }
-        let (positive, first) = self.negative_weights(&weight, &negative, &diag);
+        let (positive, first) = self.negative_weights(weight, &negative, &diag);
         Ok(VolumeSystem {
             matrix,
             rhs,
@@ -558,16 +564,27 @@ impl VolumeAssembler {
     }
 
     /// Edge weights w_ij = −Σ_T V ∇λ_i·∇λ_j.
-    fn edge_weights(&self) -> Vec<f64> {
-        let mesh = &*self.mesh;
-        let mut weight = vec![0.0; self.edges.len()];
-        for (t, te) in self.tet_edges.iter().enumerate() {
-            let (g, vol) = mesh.barycentric_gradients(t as u32);
-            for (e, &[i, j]) in EDGES.iter().enumerate() {
-                weight[te[e] as usize] -= vol * g[i].dot(&g[j]);
+    fn edge_weights(&self) -> &[f64] {
+        self.weights.get_or_init(|| {
+            use rayon::prelude::*;
+            let mesh = &*self.mesh;
+            // Each tetrahedron's six terms on every core, summed into the edges in order (the
+            // same sums on any number of threads).
+            let local: Vec<[f64; 6]> = (0..self.tet_edges.len() as u32)
+                .into_par_iter()
+                .map(|t| {
+                    let (g, vol) = mesh.barycentric_gradients(t);
+                    EDGES.map(|[i, j]| -vol * g[i].dot(&g[j]))
+                })
+                .collect();
+            let mut weight = vec![0.0; self.edges.len()];
+            for (te, w) in self.tet_edges.iter().zip(&local) {
+                for (&e, &we) in te.iter().zip(w) {
+                    weight[e as usize] += we;
+                }
             }
-        }
-        weight
+            weight
+        })
     }
 
     /// The edge weights into the matrix (off-diagonals), the diagonal, and the lifting of

@@ -148,17 +148,35 @@ pub(super) fn solve_clamped_for_planning(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
 ) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
-    let n = system.matrix().n();
-    if n <= PLANNING_ACCURATE_MAX_UNKNOWNS {
-        let (psi, report) = solve_volume(system, VolumeSolveMethod::Accurate)?;
-        return Ok((
-            VolumePotential::new(Arc::clone(mesh), psi, system.reference())?,
-            report,
-        ));
-    }
-    let (psi, report) = solve_volume_to(system, VolumeSolveMethod::Pcg, PLANNING_PCG_TOL)?;
+    let first = clamped_first_try(mesh, system)?;
+    clamped_checked(mesh, system, first)
+}
+
+/// The first solve of [`solve_clamped_for_planning`]: accurate elimination or PCG.
+fn clamped_first_try(
+    mesh: &Arc<TetMesh>,
+    system: &VolumeSystem,
+) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+    let (psi, report) = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
+        solve_volume(system, VolumeSolveMethod::Accurate)?
+    } else {
+        solve_volume_to(system, VolumeSolveMethod::Pcg, PLANNING_PCG_TOL)?
+    };
     let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
-    if potential.interior_local_extrema() == 0 || n > PLANNING_CHOLESKY_MAX_UNKNOWNS {
+    Ok((potential, report))
+}
+
+/// The check of [`solve_clamped_for_planning`]: a PCG field with an interior extremum is
+/// solved again by Cholesky.
+fn clamped_checked(
+    mesh: &Arc<TetMesh>,
+    system: &VolumeSystem,
+    (potential, report): (VolumePotential, VolumeSolveReport),
+) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+    if report.method != VolumeSolveMethod::Pcg
+        || system.matrix().n() > PLANNING_CHOLESKY_MAX_UNKNOWNS
+        || potential.interior_local_extrema() == 0
+    {
         return Ok((potential, report));
     }
     let (psi, mut fallback) = solve_volume(system, VolumeSolveMethod::Cholesky)?;
@@ -228,8 +246,43 @@ pub fn solve_assembled_for_planning(
 pub(super) fn planning_solve(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-    clamped: impl FnOnce() -> Result<VolumeSystem, VolumeFemError>,
+    clamped: impl FnOnce() -> Result<VolumeSystem, VolumeFemError> + Send,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), VolumeFemError> {
+    let galerkin = || galerkin_checked(mesh, system);
+    // A large system's clamped try runs on another core while the Galerkin one is solved (the
+    // graded meshes of small goals almost always need it); it is dropped if the Galerkin field
+    // passes. Either way the result is the one the sequential order gives.
+    if system.matrix().n() > PLANNING_ACCURATE_MAX_UNKNOWNS && rayon::current_num_threads() > 1 {
+        let speculative = || -> Result<_, VolumeFemError> {
+            let system = clamped()?;
+            let first = clamped_first_try(mesh, &system)?;
+            Ok((system, first))
+        };
+        let (galerkin, speculative) = rayon::join(galerkin, speculative);
+        let (potential, report, passed) = galerkin?;
+        if passed {
+            return Ok((potential, report, None));
+        }
+        let (system, first) = speculative?;
+        let (potential, report) = clamped_checked(mesh, &system, first)?;
+        return Ok((potential, report, Some(system.clamped_edges())));
+    }
+    let (potential, report, passed) = galerkin()?;
+    if passed {
+        return Ok((potential, report, None));
+    }
+    let system = clamped()?;
+    let (potential, report) = solve_clamped_for_planning(mesh, &system)?;
+    Ok((potential, report, Some(system.clamped_edges())))
+}
+
+/// The Galerkin solve of [`planning_solve`] and whether its field passes: solved by the
+/// accurate elimination, or neither flat (where the accurate elimination would take it) nor
+/// with an interior extremum.
+fn galerkin_checked(
+    mesh: &Arc<TetMesh>,
+    system: &VolumeSystem,
+) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
     let (psi, report) = solve_volume(system, VolumeSolveMethod::Auto)?;
     let flat = {
         let free = system.free_vertices();
@@ -242,10 +295,6 @@ pub(super) fn planning_solve(
     let accurate_already = report.method == VolumeSolveMethod::Accurate;
     // A flat field is only worth redoing when the accurate elimination will take it.
     let flat = flat && system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS;
-    if accurate_already || (!flat && potential.interior_local_extrema() == 0) {
-        return Ok((potential, report, None));
-    }
-    let system = clamped()?;
-    let (potential, report) = solve_clamped_for_planning(mesh, &system)?;
-    Ok((potential, report, Some(system.clamped_edges())))
+    let passed = accurate_already || (!flat && potential.interior_local_extrema() == 0);
+    Ok((potential, report, passed))
 }
