@@ -6,17 +6,32 @@
 //! `harmonic_cspace::check`) connects it to the goal; it is reached when the path's last
 //! configuration is within the goal's tolerance and every motion is collision-free.
 //!
+//! Per case: the planner's build time (mesh and solve) and the whole plan (build, then every
+//! start traced, in parallel); per family, medians and maxima.
+//!
 //! ```text
 //! cargo run --release --example cspace_reach [-- CASES [FIRST_SEED]]
 //! cargo run --release --example cspace_reach -- scene SEED     # that case's scene file
 //! ```
 
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use harmonic_cspace::check::{check_path, exact_clearance};
 use harmonic_fixtures::{ConfigCase, ConfigKind};
 use harmonic_planner::AnyScene;
 use harmonic_planner::cspace::ConfigPlanner;
+
+/// What one case gave.
+struct Outcome {
+    connected: usize,
+    reached: usize,
+    missed: Vec<String>,
+    tets: usize,
+    build_ms: f64,
+    plan_ms: f64,
+    goal: String,
+}
 
 fn main() {
     // `-- scene SEED` prints that case's scene file instead.
@@ -36,24 +51,60 @@ fn main() {
     };
     let cases = arg(1, 12);
     let first = arg(2, 1);
-    println!("| seed | robot | goal | tetrahedra | build ms | connected | reached | missed |");
-    println!("|---|---|---|---|---|---|---|---|");
-    let (mut all_connected, mut all_reached) = (0, 0);
+    println!(
+        "| seed | robot | goal | tetrahedra | build ms | plan ms | connected | reached | missed |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let mut families: BTreeMap<String, Vec<Outcome>> = BTreeMap::new();
     for seed in first..first + cases {
         let case = case_of(seed);
-        let (connected, reached, missed, tets, build, goal) = run(&case);
-        all_connected += connected;
-        all_reached += reached;
+        let o = run(&case);
         let robot = match case.kind {
             ConfigKind::Polygon => "polygon".to_string(),
             ConfigKind::Arm(n) => format!("{n}-link arm"),
         };
         println!(
-            "| {seed} | {robot} | {goal} | {tets} | {build:.0} | {connected} | {reached} | {} |",
-            missed.join("; ")
+            "| {seed} | {robot} | {} | {} | {:.0} | {:.0} | {} | {} | {} |",
+            o.goal,
+            o.tets,
+            o.build_ms,
+            o.plan_ms,
+            o.connected,
+            o.reached,
+            o.missed.join("; ")
+        );
+        families.entry(robot).or_default().push(o);
+    }
+    println!(
+        "\n| robot | scenes | connected starts | reached | tetrahedra (median, max) | build (median, max) | whole plan (median, max) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (robot, outcomes) in &families {
+        let planned: Vec<&Outcome> = outcomes.iter().filter(|o| o.tets > 0).collect();
+        let stat = |f: &dyn Fn(&Outcome) -> f64| {
+            let mut v: Vec<f64> = planned.iter().map(|o| f(o)).collect();
+            v.sort_by(f64::total_cmp);
+            (
+                v.get(v.len() / 2).copied().unwrap_or(0.0),
+                v.last().copied().unwrap_or(0.0),
+            )
+        };
+        let tets = stat(&|o| o.tets as f64 / 1e3);
+        let build = stat(&|o| o.build_ms / 1e3);
+        let plan = stat(&|o| o.plan_ms / 1e3);
+        println!(
+            "| {robot} | {} | {} | {} | {:.0} k, {:.0} k | {:.2} s, {:.2} s | {:.2} s, {:.2} s |",
+            outcomes.len(),
+            outcomes.iter().map(|o| o.connected).sum::<usize>(),
+            outcomes.iter().map(|o| o.reached).sum::<usize>(),
+            tets.0,
+            tets.1,
+            build.0,
+            build.1,
+            plan.0,
+            plan.1
         );
     }
-    println!("\nreached {all_reached} of {all_connected} connected starts");
 }
 
 /// The case of a seed: polygon, 2-link joints, 3-link joints, 3-link tip in turn.
@@ -66,31 +117,42 @@ fn case_of(seed: u64) -> ConfigCase {
     }
 }
 
-/// Plans every start of `case`: (connected, reached, misses, tetrahedra, build ms, goal).
-fn run(case: &ConfigCase) -> (usize, usize, Vec<String>, usize, f64, String) {
+/// Builds the planner of `case`, plans every start, and checks the connected ones.
+fn run(case: &ConfigCase) -> Outcome {
     let scene = match AnyScene::from_json(&case.json) {
         Ok(AnyScene::Config(s)) => s,
         other => panic!("{:?}", other.err()),
     };
-    let goal_text = serde_json::to_string(&scene.goal).unwrap_or_default();
+    let goal = serde_json::to_string(&scene.goal).unwrap_or_default();
     let t = Instant::now();
     let planner = match ConfigPlanner::new(&scene) {
         Ok(p) => p,
-        Err(e) => return (0, 0, vec![e.to_string()], 0, 0.0, goal_text),
+        Err(e) => {
+            return Outcome {
+                connected: 0,
+                reached: 0,
+                missed: vec![e.to_string()],
+                tets: 0,
+                build_ms: 0.0,
+                plan_ms: 0.0,
+                goal,
+            };
+        }
     };
-    let build = t.elapsed().as_secs_f64() * 1e3;
+    let build_ms = t.elapsed().as_secs_f64() * 1e3;
+    let paths = planner.plan_many(&case.starts);
+    let plan_ms = t.elapsed().as_secs_f64() * 1e3;
     let space = planner.space();
     let clearance = |q: &[f64]| exact_clearance(space.robot(), space.world(), q);
     let in_goal = |q: &[f64]| space.goal_value(q) <= 0.0;
     let cells = if case.range.len() == 2 { 96 } else { 40 };
     let connected = case.connected_starts(cells, &clearance, &in_goal);
     let (mut n, mut reached, mut missed) = (0, 0, Vec::new());
-    for (start, &conn) in case.starts.iter().zip(&connected) {
+    for ((start, &conn), p) in case.starts.iter().zip(&connected).zip(&paths) {
         if !conn {
             continue;
         }
         n += 1;
-        let p = planner.plan(start);
         let configs = p.configurations();
         let met = configs.last().is_some_and(|q| case.goal_met(q));
         let motion = check_path(space.robot(), space.world(), &configs, 1e-3);
@@ -104,12 +166,13 @@ fn run(case: &ConfigCase) -> (usize, usize, Vec<String>, usize, f64, String) {
             ));
         }
     }
-    (
-        n,
+    Outcome {
+        connected: n,
         reached,
         missed,
-        planner.slab().tetrahedra().len(),
-        build,
-        goal_text,
-    )
+        tets: planner.slab().tetrahedra().len(),
+        build_ms,
+        plan_ms,
+        goal,
+    }
 }

@@ -617,29 +617,39 @@ impl ConfigPlanner {
             return self.planned(start, None, Tracer::Exact);
         };
         let field = field.with_outside(&classify);
-        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale));
-        let (path, tracer) = match smooth {
-            Ok(path)
-                if !matches!(
+        let to_configs = |path: &VolumePath| -> Vec<Vec<f64>> {
+            path.points
+                .iter()
+                .map(|q| {
+                    let c = self.space.config(q);
+                    c.iter().zip(&shift).map(|(a, s)| a + s).collect()
+                })
+                .collect()
+        };
+        // The smooth tracer first; the exact one where it stalls or where its motion meets an
+        // obstacle between entries (a C-obstacle thinner than the mesh can lie under a chord).
+        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale))
+            .ok()
+            .filter(|path| {
+                !matches!(
                     path.status,
                     VolumeTraceStatus::Stalled { .. } | VolumeTraceStatus::MaxSteps
-                ) =>
-            {
-                (path, Tracer::Smooth)
-            }
-            _ => (
-                trace_exact_volume(&field, p, &ExactVolumeOptions::default()),
-                Tracer::Exact,
-            ),
-        };
-        let configs: Vec<Vec<f64>> = path
-            .points
-            .iter()
-            .map(|q| {
-                let c = self.space.config(q);
-                c.iter().zip(&shift).map(|(a, s)| a + s).collect()
+                )
             })
-            .collect();
+            .map(|path| {
+                let configs = to_configs(&path);
+                (path, configs)
+            })
+            .filter(|(_, configs)| self.first_collision(configs).is_none());
+        let (path, configs, tracer) = match smooth {
+            Some((path, configs)) => (path, configs, Tracer::Smooth),
+            None => {
+                let path = trace_exact_volume(&field, p, &ExactVolumeOptions::default());
+                let configs = to_configs(&path);
+                (path, configs, Tracer::Exact)
+            }
+        };
+        let collision = self.first_collision(&configs);
         let mut out = self.planned(start, Some((path, configs)), tracer);
         if let Some(first) = out.poses.as_mut().and_then(|p| p.first_mut()) {
             first.copy_from_slice(&start[..3]);
@@ -647,7 +657,44 @@ impl ConfigPlanner {
         if let Some(first) = out.joints.as_mut().and_then(|p| p.first_mut()) {
             first.copy_from_slice(start);
         }
+        // A path that reached the goal but touches an obstacle on the way is not reached.
+        if let Some(q) = collision.filter(|_| out.status.reached_goal()) {
+            out.status = VolumeTraceStatus::Collision;
+            out.blocked_by = Some(format!(
+                "{} at {q:.4?}, where its image in configuration space is thinner than the \
+                 mesh; a smaller mesh.spacing resolves it",
+                self.space.nearest_name(&q)
+            ));
+            out.min_clearance = 0.0;
+        }
         out
+    }
+
+    /// The first configuration, sampled along the path's motions so that no robot point moves
+    /// more than 1e-3 × the scene size between samples, where the robot touches an obstacle,
+    /// the workspace boundary or itself (exact clearance 0; the safety margin not counted).
+    fn first_collision(&self, configs: &[Vec<f64>]) -> Option<Vec<f64>> {
+        let robot = self.space.robot();
+        let step = 1e-3 * self.size;
+        let touches = |q: &[f64]| self.space.clearance(q).0 <= 0.0;
+        if let [only] = configs {
+            return touches(only).then(|| only.clone());
+        }
+        for w in configs.windows(2) {
+            let n = ((robot.sweep_bound(&w[0], &w[1]) / step).ceil() as usize).clamp(1, 1 << 20);
+            for k in 0..=n {
+                let t = k as f64 / n as f64;
+                let q: Vec<f64> = w[0]
+                    .iter()
+                    .zip(&w[1])
+                    .map(|(a, b)| a + t * (b - a))
+                    .collect();
+                if touches(&q) {
+                    return Some(q);
+                }
+            }
+        }
+        None
     }
 
     fn planned(

@@ -70,3 +70,41 @@ fn three_link_arms_reach_joint_and_tip_goals() {
     check(&ConfigCase::arm(2, 3, false, 8), "3-link joints 2");
     check(&ConfigCase::arm(7, 3, true, 8), "3-link tip 7");
 }
+
+/// Seed 10's goal lies beyond an obstacle's image in configuration space that is thinner than
+/// the default spacing (the arm's tip grazing a small circle at full reach): stuffing leaves a
+/// tetrahedron across it, and the traced motion would pass through the circle. The planner
+/// checks every reached path against the exact geometry: that start is `collision`, naming
+/// the circle, never `reached_goal`; every path it calls reached is collision-free.
+#[test]
+fn a_motion_through_an_unresolved_obstacle_is_a_collision_not_a_reach() {
+    let case = ConfigCase::arm(10, 3, false, 8);
+    let scene = match AnyScene::from_json(&case.json) {
+        Ok(AnyScene::Config(s)) => s,
+        other => panic!("{:?}", other.err()),
+    };
+    let planner = ConfigPlanner::new(&scene).expect("planner");
+    let space = planner.space();
+    let grazing = [-0.9979097541823152, 0.1985225262267134, -0.345714405724864];
+    let mut collisions = 0;
+    for start in &case.starts {
+        let p = planner.plan(start);
+        let motion = check_path(space.robot(), space.world(), &p.configurations(), 1e-3);
+        if p.status.reached_goal() {
+            assert!(motion.min_clearance > 0.0, "{start:?}: {motion:?}");
+        }
+        if p.status == harmonic_trajectory::volume::VolumeTraceStatus::Collision {
+            collisions += 1;
+            let why = p.blocked_by.clone().unwrap_or_default();
+            assert!(why.contains("obstacle 0"), "{start:?}: {why}");
+        }
+        let same = start
+            .iter()
+            .zip(&grazing)
+            .all(|(a, b)| (a - b).abs() < 1e-12);
+        if same {
+            assert_eq!(p.status.as_str(), "collision", "{start:?}");
+        }
+    }
+    assert!(collisions >= 1);
+}

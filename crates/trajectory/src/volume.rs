@@ -42,6 +42,9 @@ pub enum VolumeTraceStatus {
     },
     /// The step budget ran out.
     MaxSteps,
+    /// The path was traced but a check of its motions against the exact geometry found the
+    /// robot touching an obstacle (set by planners that check, not by the tracers).
+    Collision,
 }
 
 impl VolumeTraceStatus {
@@ -54,6 +57,7 @@ impl VolumeTraceStatus {
             VolumeTraceStatus::OutsideWorkspace => "outside_workspace",
             VolumeTraceStatus::Stalled { .. } => "stalled",
             VolumeTraceStatus::MaxSteps => "max_steps",
+            VolumeTraceStatus::Collision => "collision",
         }
     }
     /// Whether a goal was reached.
