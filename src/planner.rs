@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use harmonic_fem::{
     Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL,
-    MultigridOptions, MultilevelSystem, Parallelism, Potential, SolveMethod, Solver,
+    MultigridOptions, MultilevelSystem, Parallelism, Potential, SolveMethod, SolveReport, Solver,
     interior_local_extrema_except,
 };
 use harmonic_mesh::{
@@ -281,6 +281,8 @@ pub struct Planner {
     /// The smooth tracer's options: [`SmoothOptions::for_scale`] of the scene's size, with
     /// the tolerance the planner's source may set ([`Planner::with_trace_tolerance`]).
     pub(crate) smooth: SmoothOptions,
+    /// What produced ψ (`potential.solved_by` in the report).
+    pub(crate) solved_by: &'static str,
 }
 
 /// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
@@ -473,6 +475,10 @@ pub struct PotentialSummary {
     /// potential is kept with exponents, a corridor of hundreds of widths).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_log10_psi: Option<f64>,
+    /// What produced ψ: `cholesky`, `cholesky (flat, checked: no interior extremum)`,
+    /// `accurate`, `accurate (extended exponent)`, `multigrid`, `blend` or `goal
+    /// superposition` (a workspace's goals).
+    pub solved_by: &'static str,
 }
 
 /// What `hplan plan --json` and `hplan car --json` print: the mesh, the stage timings, the
@@ -679,6 +685,16 @@ impl Scene {
     }
 }
 
+/// How a solve report names the method in `potential.solved_by`.
+fn solved_by(report: &SolveReport) -> &'static str {
+    match (report.method, report.extended, report.flat_but_sound) {
+        (SolveMethod::Cholesky, _, true) => "cholesky (flat, checked: no interior extremum)",
+        (SolveMethod::Cholesky, _, false) => "cholesky",
+        (_, true, _) => "accurate (extended exponent)",
+        _ => "accurate",
+    }
+}
+
 /// The ME766 blend `k·φ_D + (1 − k)·φ_N` on `mesh`, `φ_N` scaled to a largest value of 1.
 fn blended_potential(
     mesh: &Arc<Mesh>,
@@ -808,7 +824,7 @@ impl Planner {
         }
         stage(Stage::Assembling);
         let t = Instant::now();
-        let (potential, assemble_ms, t) = if let Some(hierarchy) = &meshed.hierarchy {
+        let (potential, assemble_ms, t, solved_by) = if let Some(hierarchy) = &meshed.hierarchy {
             if blend.is_some() {
                 return Err(PlanError::MultigridUnsupported {
                     what: "the blended conditions",
@@ -820,11 +836,11 @@ impl Planner {
             let t = Instant::now();
             let cycle = levels.multigrid(MultigridOptions::default())?;
             let (potential, _) = levels.solve(&cycle, MULTIGRID_REL_TOL)?;
-            (potential, assemble_ms, t)
+            (potential, assemble_ms, t, "multigrid")
         } else if let Some((k, d, n)) = blend {
             stage(Stage::Solving);
             let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
-            (p, 0.0, t)
+            (p, 0.0, t, "blend")
         } else {
             let assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
             let system = assembler.assemble(bcs)?;
@@ -840,11 +856,8 @@ impl Planner {
                 options.solve,
                 options.parallelism,
             )?;
-            (
-                solver.potential(Arc::clone(&mesh), &system)?,
-                assemble_ms,
-                t,
-            )
+            let (potential, report) = solver.potential_with_report(Arc::clone(&mesh), &system)?;
+            (potential, assemble_ms, t, solved_by(&report))
         };
         let nodal_gradients = potential.nodal_gradients_psi().to_vec();
         // Checked once here, so queries need not.
@@ -868,6 +881,7 @@ impl Planner {
             vertex_goals: None,
             entry: None,
             smooth: SmoothOptions::for_scale(meshed.scale),
+            solved_by,
         })
     }
 
@@ -1167,6 +1181,7 @@ impl Planner {
                 },
                 min_psi: finite_or_zero(min_psi),
                 min_log10_psi: min_log10_psi.filter(|v| v.is_finite()),
+                solved_by: self.solved_by,
             },
         )
     }

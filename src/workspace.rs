@@ -463,6 +463,7 @@ impl Workspace {
                 tolerance: self.trace_tolerance.unwrap_or(scene.tolerance),
                 ..scene
             },
+            solved_by: "goal superposition",
         })
     }
 }
