@@ -388,6 +388,37 @@ pub enum MapError {
     ),
 }
 
+/// The cell of `clear` whose centre is nearest to `g` (grid coordinates), ring by ring around
+/// `g`'s cell: `(column, row, distance in cells)`.
+fn nearest_clear(g: [f64; 2], clear: &BitGrid) -> Option<(usize, usize, f64)> {
+    let (w, h) = (clear.width() as isize, clear.height() as isize);
+    let (gi, gj) = (g[0].floor() as isize, g[1].floor() as isize);
+    let mut nearest: Option<(usize, usize, f64)> = None;
+    for k in 0..w.max(h) {
+        if nearest.is_some_and(|(_, _, d)| (k as f64 - 1.0) > d) {
+            break;
+        }
+        for j in (gj - k).max(0)..(gj + k + 1).min(h) {
+            let step = if j == gj - k || j == gj + k {
+                1
+            } else {
+                (2 * k).max(1)
+            };
+            let mut i = gi - k;
+            while i <= gi + k {
+                if i >= 0 && i < w && clear.get(i, j) {
+                    let d = (i as f64 + 0.5 - g[0]).hypot(j as f64 + 0.5 - g[1]);
+                    if nearest.is_none_or(|(_, _, b)| d < b) {
+                        nearest = Some((i as usize, j as usize, d));
+                    }
+                }
+                i += step;
+            }
+        }
+    }
+    nearest
+}
+
 /// A grid's place in the world: cells of `resolution` from `origin` `[x, y, yaw]`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct GridFrame {
@@ -963,7 +994,9 @@ impl OccupancyMap {
             file: self.source.clone(),
             source,
         };
-        planner.stage(crate::planner::Stage::Meshing);
+        planner
+            .stage(crate::planner::Stage::Meshing)
+            .map_err(plan_error)?;
         let checked = std::time::Instant::now();
         let (traced, known) = match opts.mesher {
             MapMesher::Traced => (true, Known::default()),
@@ -1069,7 +1102,9 @@ impl OccupancyMap {
             file: self.source.clone(),
             source,
         };
-        planner.stage(crate::planner::Stage::Meshing);
+        planner
+            .stage(crate::planner::Stage::Meshing)
+            .map_err(plan_error)?;
         let t = std::time::Instant::now();
         let (domain, mesh_options, entry) =
             self.traced_domain(around, robot_radius, opts, &[], Known::default())?;
@@ -1357,30 +1392,7 @@ impl OccupancyMap {
                 }
             }
         }
-        // The nearest clear cell by its centre, ring by ring around the goal's cell.
-        let mut nearest: Option<(usize, usize, f64)> = None;
-        for k in 0..w.max(h) {
-            if nearest.is_some_and(|(_, _, d)| (k as f64 - 1.0) > d) {
-                break;
-            }
-            for j in (gj - k).max(0)..(gj + k + 1).min(h) {
-                let step = if j == gj - k || j == gj + k {
-                    1
-                } else {
-                    (2 * k).max(1)
-                };
-                let mut i = gi - k;
-                while i <= gi + k {
-                    if i >= 0 && i < w && clear.get(i, j) {
-                        let d = (i as f64 + 0.5 - g[0]).hypot(j as f64 + 0.5 - g[1]);
-                        if nearest.is_none_or(|(_, _, b)| d < b) {
-                            nearest = Some((i as usize, j as usize, d));
-                        }
-                    }
-                    i += step;
-                }
-            }
-        }
+        let nearest = nearest_clear(g, clear);
         MapError::GoalTooClose {
             file: self.source.clone(),
             x: goal[0],
@@ -1391,6 +1403,33 @@ impl OccupancyMap {
             distance: distance * self.resolution,
             nearest_clear: nearest.map(|(c, r, d)| (c as u32, r as u32, d * self.resolution)),
         }
+    }
+
+    /// The centre of the cell nearest to `p` (world coordinates) where a disc robot of
+    /// `robot_radius` keeps its radius from every blocked cell, if one lies within `within`
+    /// of `p`: where a goal given on or beside an obstacle moves to (NavFn's goal tolerance).
+    /// `p` itself (not the centre) when its own cell is clear.
+    pub fn nearest_clear_point(
+        &self,
+        p: [f64; 2],
+        robot_radius: f64,
+        unknown: UnknownCells,
+        within: f64,
+    ) -> Option<[f64; 2]> {
+        if !(robot_radius >= 0.0 && within >= 0.0 && p.iter().all(|c| c.is_finite())) {
+            return None;
+        }
+        let blocked = self.blocked(unknown);
+        let clear = bits::clear_cells(&blocked, robot_radius / self.resolution);
+        let g = self.world_to_grid(p);
+        let own = (g[0] >= 0.0 && g[1] >= 0.0)
+            .then(|| (g[0] as isize, g[1] as isize))
+            .filter(|&(i, j)| clear.get(i, j));
+        if own.is_some() {
+            return Some(p);
+        }
+        let (c, r, d) = nearest_clear(g, &clear)?;
+        (d * self.resolution <= within).then(|| self.cell_center(c, r))
     }
 
     fn goal_cell(&self, goal: [f64; 2], unknown: UnknownCells) -> Result<(usize, usize), MapError> {

@@ -37,6 +37,12 @@ pub enum PlanError {
     /// A goal given to a [`crate::Workspace`] is not usable.
     #[error(transparent)]
     Goal(#[from] crate::workspace::GoalError),
+    /// [`PlannerOptions::cancel`] asked to stop, at the start of `stage`.
+    #[error("cancelled before {stage:?}")]
+    Cancelled {
+        /// The stage that was about to start.
+        stage: Stage,
+    },
     /// [`PlannerOptions::multigrid`] asked of a planner whose mesh is not a scene's own, or
     /// with the blended conditions.
     #[error(
@@ -65,6 +71,9 @@ pub enum Stage {
 /// Something told of each [`Stage`] as it starts (the command line draws a spinner with it).
 pub type StageObserver = Arc<dyn Fn(Stage) + Send + Sync>;
 
+/// Asked at the start of each [`Stage`] whether to stop building (true: stop).
+pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
+
 /// How to build a planner.
 #[derive(Clone, Default)]
 pub struct PlannerOptions {
@@ -89,14 +98,23 @@ pub struct PlannerOptions {
     /// [`Planner::with_constraints`]); others refuse it with
     /// [`PlanError::MultigridUnsupported`]. `None` (the default) or `Some(0)`: the direct solve.
     pub multigrid: Option<usize>,
+    /// Asked at the start of every stage (meshing, assembling, solving); when it returns
+    /// true the build stops there with [`PlanError::Cancelled`]. A stage already running
+    /// finishes first.
+    pub cancel: Option<CancelCheck>,
 }
 
 impl PlannerOptions {
-    /// Tells the observer, if any, that `stage` starts.
-    pub(crate) fn stage(&self, stage: Stage) {
+    /// Tells the observer, if any, that `stage` starts, after asking [`PlannerOptions::cancel`]
+    /// whether to stop.
+    pub(crate) fn stage(&self, stage: Stage) -> Result<(), PlanError> {
+        if stage != Stage::Done && self.cancel.as_ref().is_some_and(|c| c()) {
+            return Err(PlanError::Cancelled { stage });
+        }
         if let Some(observe) = &self.on_stage {
             observe(stage);
         }
+        Ok(())
     }
 }
 
@@ -231,6 +249,7 @@ impl std::fmt::Debug for PlannerOptions {
             .field("parallelism", &self.parallelism)
             .field("solve", &self.solve)
             .field("multigrid", &self.multigrid)
+            .field("cancel", &self.cancel.as_ref().map(|_| "check"))
             .finish()
     }
 }
@@ -753,7 +772,7 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let refinements = options.multigrid.unwrap_or(0);
         let meshed = Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
         Planner::solved(
@@ -773,7 +792,7 @@ impl Planner {
         points: &[Point],
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let refinements = options.multigrid.unwrap_or(0);
         let meshed =
             Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
@@ -793,7 +812,7 @@ impl Planner {
         mesh_options: &MeshOptions,
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
         Planner::solved(meshed, &BoundaryConditions::default(), None, options)
     }
@@ -802,7 +821,7 @@ impl Planner {
     /// it is: goal-tagged boundary edges ([`BoundaryTag::Goal`]) held at φ = 0, every other
     /// boundary edge at φ = 1 (the default conditions). The mesh must have goal edges.
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let meshed = Meshed::of_mesh(mesh)?;
         Planner::solved(meshed, &BoundaryConditions::default(), None, options)
     }
@@ -822,7 +841,7 @@ impl Planner {
                 what: "a map, a validated domain or a mesh made elsewhere",
             });
         }
-        stage(Stage::Assembling);
+        stage(Stage::Assembling)?;
         let t = Instant::now();
         let (potential, assemble_ms, t, solved_by) = if let Some(hierarchy) = &meshed.hierarchy {
             if blend.is_some() {
@@ -832,13 +851,13 @@ impl Planner {
             }
             let levels = MultilevelSystem::assemble(hierarchy, bcs)?;
             let assemble_ms = millis(t);
-            stage(Stage::Solving);
+            stage(Stage::Solving)?;
             let t = Instant::now();
             let cycle = levels.multigrid(MultigridOptions::default())?;
             let (potential, _) = levels.solve(&cycle, MULTIGRID_REL_TOL)?;
             (potential, assemble_ms, t, "multigrid")
         } else if let Some((k, d, n)) = blend {
-            stage(Stage::Solving);
+            stage(Stage::Solving)?;
             let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
             (p, 0.0, t, "blend")
         } else {
@@ -846,7 +865,7 @@ impl Planner {
             let system = assembler.assemble(bcs)?;
             let assemble_ms = millis(t);
 
-            stage(Stage::Solving);
+            stage(Stage::Solving)?;
             let t = Instant::now();
             // Geometric nested dissection (about half AMD's factorisation time at 1M triangles),
             // the natural order for small systems.
@@ -863,7 +882,7 @@ impl Planner {
         // Checked once here, so queries need not.
         smooth_field_of(&mesh, &potential, &nodal_gradients)?;
         let solve_ms = millis(t);
-        stage(Stage::Done);
+        stage(Stage::Done)?;
         Ok(Planner {
             domain: meshed.domain,
             mesh,

@@ -171,7 +171,7 @@ impl Workspace {
 
     /// [`Workspace::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Workspace, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let spec = DomainSpec {
             goals: Vec::new(),
             ..scene.domain_spec()
@@ -184,7 +184,7 @@ impl Workspace {
     /// boundary edge is held at the walls' value φ = 1 (whatever its tag), goals come later
     /// as points or vertices.
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Workspace, PlanError> {
-        options.stage(Stage::Meshing);
+        options.stage(Stage::Meshing)?;
         let meshed = Meshed::of_mesh(mesh)?;
         Workspace::factored(
             meshed,
@@ -218,17 +218,17 @@ impl Workspace {
                 what: "a workspace of many goals",
             });
         }
-        options.stage(Stage::Assembling);
+        options.stage(Stage::Assembling)?;
         let t = Instant::now();
         let bcs = bcs.clone();
         let assembler = Assembler::new(Arc::clone(&meshed.mesh), &bcs, AssemblyOptions::default())?;
         let assemble_ms = millis(t);
 
-        options.stage(Stage::Solving);
+        options.stage(Stage::Solving)?;
         let t = Instant::now();
         let goals = GoalSolver::new(&assembler, &bcs, SolveMethod::Auto)?;
         let factor_ms = millis(t);
-        options.stage(Stage::Done);
+        options.stage(Stage::Done)?;
 
         Ok(Workspace {
             timings: WorkspaceTimings {
