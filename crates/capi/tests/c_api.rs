@@ -29,8 +29,13 @@ fn library_dir() -> PathBuf {
     panic!("libharmonic_planner.so is not beside {}", deps.display());
 }
 
-/// Compiles `source` with `compiler` and `flags`, links the shared library, runs it.
-fn compile_and_run(compiler: &str, flags: &[&str], source: &str) {
+/// Compiles `source` (relative to the crate) with `compiler` and `flags`, links the shared
+/// library, runs it with `args`; its standard output.
+fn compile_and_run(compiler: &str, flags: &[&str], source: &str) -> String {
+    compile_and_run_with(compiler, flags, source, &[])
+}
+
+fn compile_and_run_with(compiler: &str, flags: &[&str], source: &str, args: &[&str]) -> String {
     let dir = env!("CARGO_MANIFEST_DIR");
     let lib = library_dir();
     let out = std::env::temp_dir().join(format!(
@@ -52,30 +57,75 @@ fn compile_and_run(compiler: &str, flags: &[&str], source: &str) {
         .status()
         .unwrap_or_else(|e| panic!("cannot run {compiler}: {e}"));
     assert!(status.success(), "{compiler} failed on {source}");
-    let run = Command::new(&out).output().expect("run the test program");
+    let run = Command::new(&out)
+        .args(args)
+        .output()
+        .expect("run the test program");
     let _ = std::fs::remove_file(&out);
-    print!("{}", String::from_utf8_lossy(&run.stdout));
+    let stdout = String::from_utf8_lossy(&run.stdout).to_string();
     assert!(
         run.status.success(),
-        "{source} failed:\n{}",
+        "{source} failed:\n{stdout}{}",
         String::from_utf8_lossy(&run.stderr)
     );
+    stdout
 }
 
 #[test]
 fn the_c_test_passes() {
-    compile_and_run(
-        "cc",
-        &["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1"],
-        "tests/c/plan_test.c",
+    print!(
+        "{}",
+        compile_and_run(
+            "cc",
+            &["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1"],
+            "tests/c/plan_test.c",
+        )
     );
 }
 
 #[test]
 fn the_cpp_test_passes() {
-    compile_and_run(
-        "c++",
-        &["-std=c++17", "-Wall", "-Wextra", "-Werror", "-O1"],
-        "tests/cpp/plan_test.cpp",
+    print!(
+        "{}",
+        compile_and_run(
+            "c++",
+            &["-std=c++17", "-Wall", "-Wextra", "-Werror", "-O1"],
+            "tests/cpp/plan_test.cpp",
+        )
+    );
+}
+
+/// `examples/c/plan_costmap.c` on the bundled warehouse map: a Nav2-like inflated costmap of
+/// a map_server map, planned through the C interface; the path leaves from the start and
+/// ends on the goal.
+#[test]
+fn the_costmap_example_plans_on_the_bundled_map() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let yaml = format!("{root}/meshes/warehouse_map.yaml");
+    let out = compile_and_run_with(
+        "cc",
+        &["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2"],
+        "../../examples/c/plan_costmap.c",
+        &[&yaml, "16.5", "1.5", "-0.75", "-0.5"],
+    );
+    let poses: Vec<Vec<f64>> = out
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| {
+            l.split_whitespace()
+                .filter_map(|v| v.parse().ok())
+                .collect()
+        })
+        .collect();
+    println!("{}", out.lines().next().unwrap_or_default());
+    assert!(poses.len() >= 2, "{out}");
+    let (first, last) = (&poses[0], &poses[poses.len() - 1]);
+    assert!(
+        (first[0] + 0.75).abs() < 1e-4 && (first[1] + 0.5).abs() < 1e-4,
+        "{first:?}"
+    );
+    assert!(
+        (last[0] - 16.5).abs() < 1e-4 && (last[1] - 1.5).abs() < 1e-4,
+        "{last:?}"
     );
 }
