@@ -145,6 +145,14 @@ pub enum Snap {
     Blocks(usize),
 }
 
+/// The costliest graded cost of a free cell (Nav2's: 253 is inscribed, 254 lethal).
+pub const MAX_GRADED_COST: u8 = 252;
+
+/// The resistance a unit of graded cost adds at [`MapOptions::cost_weight`] 1, relative to a
+/// free cell's: NavFn's, whose step costs 50 (`COST_NEUTRAL`) plus 0.8 (`COST_FACTOR`) per
+/// unit of cost, so 0.8 / 50 — a cell of cost 252 resists 5 times as much as a free cell.
+pub const COST_RESISTANCE: f64 = 0.8 / 50.0;
+
 /// Options of [`OccupancyMap::planner`] and [`OccupancyMap::to_scene`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapOptions {
@@ -175,6 +183,14 @@ pub struct MapOptions {
     /// The mesh stays constrained Delaunay and the walls are Dirichlet, so the system is an
     /// M-matrix and the maximum principle holds at any bound.
     pub min_angle_deg: f64,
+    /// How much a map's graded costs ([`OccupancyMap::with_costs`]; `scale` and `raw` maps)
+    /// shape the field: a cell of cost c (1 … 252) conducts k = 1 / (1 + w·0.016·c) of a
+    /// free cell's flow ([`COST_RESISTANCE`]), so paths go around costly cells when a free
+    /// route is not much longer. A weight of 1 is NavFn's default: the costliest cell resists
+    /// 5 times as much as a free one, as NavFn's step through it costs 5 times a free step;
+    /// 0 ignores the costs (they plan as free cells). With costs and a positive weight the map is meshed by the
+    /// quadtree, whose right triangles keep the system an M-matrix for any k. Default 1.
+    pub cost_weight: f64,
 }
 
 impl Default for MapOptions {
@@ -186,6 +202,7 @@ impl Default for MapOptions {
             simplify_cells: 1.0,
             max_area: None,
             min_angle_deg: 15.0,
+            cost_weight: 1.0,
         }
     }
 }
@@ -461,6 +478,9 @@ pub struct OccupancyMap {
     occupied: BitGrid,
     /// The unknown cells, as bits.
     unknown: BitGrid,
+    /// Graded costs of free cells (0 none … 252 the costliest), row by row, when the map has
+    /// them ([`OccupancyMap::with_costs`], a `scale` or `raw` map).
+    costs: Option<Arc<Vec<u8>>>,
     source: String,
 }
 
@@ -624,12 +644,15 @@ fn parse_header(text: &str, file: &str, dir: &Path) -> Result<Header, MapError> 
     })
 }
 
-/// The map_server rule for one pixel, from the average of its colour channels (0..=255).
-fn classify(avg: f64, h: &Header) -> Cell {
+/// The map_server rule for one pixel, from the average of its colour channels (0..=255):
+/// the cell, and its graded cost. In `scale` and `raw` modes a value between the thresholds
+/// is a free cell with a cost rising from 1 at the free threshold to 252 at the occupied one
+/// (as Nav2's static layer reads such maps); in `trinary` mode it is unknown.
+fn classify(avg: f64, h: &Header) -> (Cell, u8) {
     let occ = match h.mode {
         Mode::Raw => {
             if avg > 100.0 {
-                return Cell::Unknown;
+                return (Cell::Unknown, 0);
             }
             avg / 100.0
         }
@@ -639,11 +662,15 @@ fn classify(avg: f64, h: &Header) -> Cell {
         }
     };
     if occ > h.occupied_thresh {
-        Cell::Occupied
+        (Cell::Occupied, 0)
     } else if occ < h.free_thresh {
-        Cell::Free
+        (Cell::Free, 0)
+    } else if h.mode == Mode::Trinary {
+        (Cell::Unknown, 0)
     } else {
-        Cell::Unknown
+        let span = (h.occupied_thresh - h.free_thresh).max(f64::MIN_POSITIVE);
+        let cost = 1.0 + 251.0 * ((occ - h.free_thresh) / span).clamp(0.0, 1.0);
+        (Cell::Free, cost.round() as u8)
     }
 }
 
@@ -703,12 +730,21 @@ impl OccupancyMap {
         }
         let rgb = img.to_rgb8();
         let mut cells = vec![Cell::Unknown; width * height];
+        let mut costs = vec![0u8; width * height];
         for (x, y, p) in rgb.enumerate_pixels() {
             let avg = (f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])) / 3.0;
             let row = height - 1 - y as usize;
-            cells[row * width + x as usize] = classify(avg, header);
+            (
+                cells[row * width + x as usize],
+                costs[row * width + x as usize],
+            ) = classify(avg, header);
         }
-        OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)
+        let map = OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)?;
+        if costs.iter().any(|&c| c > 0) {
+            map.with_costs(costs)
+        } else {
+            Ok(map)
+        }
     }
 
     /// A map from cells listed row by row, row 0 at the bottom.
@@ -751,7 +787,101 @@ impl OccupancyMap {
             occupied: bits(Cell::Occupied),
             unknown: bits(Cell::Unknown),
             cells,
+            costs: None,
             source: "map".into(),
+        })
+    }
+
+    /// The map with graded costs for its free cells, row by row as the cells (0 none, 1 …
+    /// 252 the costliest; values above 252 are refused, and costs of blocked cells are
+    /// ignored). With [`MapOptions::cost_weight`] w > 0 they shape the field: a cell of cost
+    /// c conducts 1 / (1 + w·0.016·c) of a free cell's flow.
+    pub fn with_costs(mut self, costs: Vec<u8>) -> Result<OccupancyMap, MapError> {
+        if costs.len() != self.cells.len() {
+            return Err(MapError::BadGrid(format!(
+                "{} costs for a {} × {} grid",
+                costs.len(),
+                self.width,
+                self.height
+            )));
+        }
+        if let Some(i) = costs.iter().position(|&c| c > MAX_GRADED_COST) {
+            return Err(MapError::BadGrid(format!(
+                "cost {} of cell (column {}, row {}) is above {MAX_GRADED_COST}, the costliest free cell",
+                costs[i],
+                i % self.width,
+                i / self.width
+            )));
+        }
+        self.costs = Some(Arc::new(costs));
+        Ok(self)
+    }
+
+    /// The graded cost of cell `(column, row)` (0 without costs).
+    pub fn cost(&self, column: usize, row: usize) -> u8 {
+        self.costs
+            .as_ref()
+            .and_then(|c| c.get(row * self.width + column).copied())
+            .unwrap_or(0)
+    }
+
+    /// The conductivity of the cell under a point for `weight`: 1 / (1 + weight·0.016·c)
+    /// for a cell of cost c (1 off the map and on cells without cost).
+    fn conductivity(&self, weight: f64) -> crate::planner::Conductivity {
+        let costs = self.costs.clone().unwrap_or_default();
+        let frame = GridFrame {
+            resolution: self.resolution,
+            origin: self.origin,
+        };
+        let (w, h) = (self.width, self.height);
+        Arc::new(move |p: Point| {
+            let g = frame.world_to_grid([p.x, p.y]);
+            let (i, j) = (g[0].floor(), g[1].floor());
+            let cost = if i >= 0.0 && j >= 0.0 && (i as usize) < w && (j as usize) < h {
+                costs.get(j as usize * w + i as usize).copied().unwrap_or(0)
+            } else {
+                0
+            };
+            1.0 / (1.0 + weight * COST_RESISTANCE * f64::from(cost))
+        })
+    }
+
+    /// The graded costs as rectangles for a picture: runs of equal cost along each row, in
+    /// world coordinates, each with its cost / 252 ([`crate::planner::SvgOptions::shaded`]).
+    pub fn cost_shading(&self) -> Vec<(Vec<[f64; 2]>, f64)> {
+        let mut out = Vec::new();
+        let Some(costs) = &self.costs else {
+            return out;
+        };
+        for row in 0..self.height {
+            let mut column = 0;
+            while column < self.width {
+                let c = costs[row * self.width + column];
+                let mut end = column + 1;
+                while end < self.width && costs[row * self.width + end] == c {
+                    end += 1;
+                }
+                if c > 0 {
+                    let (x0, x1, y0, y1) =
+                        (column as f64, end as f64, row as f64, row as f64 + 1.0);
+                    let ring = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+                        .map(|g| self.grid_to_world(g))
+                        .to_vec();
+                    out.push((ring, f64::from(c) / f64::from(MAX_GRADED_COST)));
+                }
+                column = end;
+            }
+        }
+        out
+    }
+
+    /// Whether some free cell has a graded cost.
+    fn has_graded_costs(&self, unknown: UnknownCells) -> bool {
+        self.costs.as_ref().is_some_and(|costs| {
+            costs
+                .iter()
+                .enumerate()
+                .any(|(i, &c)| c > 0 && !self.is_blocked(i % self.width, i / self.width, unknown))
         })
     }
 
@@ -997,8 +1127,28 @@ impl OccupancyMap {
         planner
             .stage(crate::planner::Stage::Meshing)
             .map_err(plan_error)?;
+        if !(opts.cost_weight.is_finite() && opts.cost_weight >= 0.0) {
+            return Err(MapError::BadOption {
+                option: "cost_weight",
+                message: format!("must be zero or positive, got {}", opts.cost_weight),
+            });
+        }
+        // Graded costs shape the field through a conductivity, on the quadtree's right
+        // triangles (any positive conductivity keeps their system an M-matrix).
+        let graded = opts.cost_weight > 0.0 && self.has_graded_costs(opts.unknown);
+        let with_costs;
+        let planner = if graded {
+            with_costs = PlannerOptions {
+                conductivity: Some(self.conductivity(opts.cost_weight)),
+                ..planner.clone()
+            };
+            &with_costs
+        } else {
+            planner
+        };
         let checked = std::time::Instant::now();
         let (traced, known) = match opts.mesher {
+            _ if graded => (false, Known::default()),
             MapMesher::Traced => (true, Known::default()),
             MapMesher::Quadtree => (false, Known::default()),
             MapMesher::Auto => self.traced_is_complete(goal, robot_radius, opts)?,

@@ -74,6 +74,9 @@ pub type StageObserver = Arc<dyn Fn(Stage) + Send + Sync>;
 /// Asked at the start of each [`Stage`] whether to stop building (true: stop).
 pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 
+/// The conductivity k(x) > 0 of ∇·(k∇φ) = 0 at a point (taken at each triangle's centroid).
+pub type Conductivity = Arc<dyn Fn(Point) -> f64 + Send + Sync>;
+
 /// How to build a planner.
 #[derive(Clone, Default)]
 pub struct PlannerOptions {
@@ -102,6 +105,11 @@ pub struct PlannerOptions {
     /// true the build stops there with [`PlanError::Cancelled`]. A stage already running
     /// finishes first.
     pub cancel: Option<CancelCheck>,
+    /// `Some(k)`: the potential solves ∇·(k∇φ) = 0, k taken at each triangle's centroid
+    /// ([`harmonic_fem::Assembler::with_conductivity`]): where k is small the flow, and the
+    /// paths, go around (a map's graded costs, [`crate::map::MapOptions::cost_weight`]).
+    /// Direct solves only: the multigrid route and the blend refuse it.
+    pub conductivity: Option<Conductivity>,
 }
 
 impl PlannerOptions {
@@ -250,6 +258,7 @@ impl std::fmt::Debug for PlannerOptions {
             .field("solve", &self.solve)
             .field("multigrid", &self.multigrid)
             .field("cancel", &self.cancel.as_ref().map(|_| "check"))
+            .field("conductivity", &self.conductivity.as_ref().map(|_| "k(x)"))
             .finish()
     }
 }
@@ -841,6 +850,11 @@ impl Planner {
                 what: "a map, a validated domain or a mesh made elsewhere",
             });
         }
+        if options.conductivity.is_some() && (meshed.hierarchy.is_some() || blend.is_some()) {
+            return Err(PlanError::MultigridUnsupported {
+                what: "a conductivity (graded costs)",
+            });
+        }
         stage(Stage::Assembling)?;
         let t = Instant::now();
         let (potential, assemble_ms, t, solved_by) = if let Some(hierarchy) = &meshed.hierarchy {
@@ -861,7 +875,19 @@ impl Planner {
             let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
             (p, 0.0, t, "blend")
         } else {
-            let assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
+            let mut assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
+            if let Some(k) = &options.conductivity {
+                let v = mesh.vertices();
+                let at_centroids = mesh
+                    .triangles()
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.map(|i| v[i as usize]);
+                        k(Point::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0))
+                    })
+                    .collect();
+                assembler = assembler.with_conductivity(at_centroids)?;
+            }
             let system = assembler.assemble(bcs)?;
             let assemble_ms = millis(t);
 
@@ -1306,6 +1332,11 @@ impl Planner {
         let picture = crate::render::Picture {
             workspace: rings!(self.domain.workspace_rings()),
             obstacles: rings!(self.domain.obstacle_polygons()),
+            shaded: opts
+                .shaded
+                .iter()
+                .map(|(ring, d)| (ring.iter().copied().map(point).collect(), *d))
+                .collect(),
             goals: match &self.vertex_goals {
                 None => rings!(self.domain.goal_polygons()),
                 Some(g) => g
@@ -1345,6 +1376,9 @@ pub struct SvgOptions {
     pub car_size: (f64, f64),
     /// A title in the corner.
     pub title: Option<String>,
+    /// Regions shaded under the picture, each with its darkness in [0, 1] (a map's graded
+    /// costs: [`crate::map::OccupancyMap::cost_shading`]).
+    pub shaded: Vec<(Vec<[f64; 2]>, f64)>,
 }
 
 impl Default for SvgOptions {
@@ -1354,6 +1388,7 @@ impl Default for SvgOptions {
             width_px: 800.0,
             car_size: (0.25, 0.12),
             title: None,
+            shaded: Vec::new(),
         }
     }
 }

@@ -15,6 +15,9 @@ pub struct Picture<'a> {
     pub workspace: Vec<Vec<Point>>,
     /// Obstacle rings (after merging and inflation).
     pub obstacles: Vec<Vec<Point>>,
+    /// Shaded regions under everything else, each with its darkness in [0, 1] (a map's
+    /// graded costs).
+    pub shaded: Vec<(Vec<Point>, f64)>,
     /// Goal rings.
     pub goals: Vec<Vec<Point>>,
     /// The mesh, drawn thin when `show_mesh` is set, and the carrier of the isolines.
@@ -85,6 +88,14 @@ impl Picture<'_> {
             ring_path(&self.workspace),
             1.5 * px
         );
+        for (ring, darkness) in &self.shaded {
+            let _ = writeln!(
+                s,
+                r##"<path d="{}" fill="#b5651d" fill-opacity="{:.3}" stroke="none"/>"##,
+                ring_path(std::slice::from_ref(ring)),
+                0.6 * darkness.clamp(0.0, 1.0)
+            );
+        }
         if let (Some(mesh), true) = (self.mesh, self.show_mesh) {
             let mut d = String::new();
             for (t, tri) in mesh.triangles().iter().enumerate() {

@@ -618,19 +618,27 @@ fn modes_negate_and_png() {
         .expect("image")
         .save(dir.join("m.png"))
         .expect("png");
-    let cells = |extra: &str| {
+    let load = |extra: &str| {
         std::fs::write(
             dir.join("m.yaml"),
             format!("image: m.png\nresolution: 0.1\norigin: [0, 0, 0]\n{extra}"),
         )
         .expect("write");
-        let map = OccupancyMap::load(dir.join("m.yaml")).expect("loads");
+        OccupancyMap::load(dir.join("m.yaml")).expect("loads")
+    };
+    let cells = |extra: &str| {
+        let map = load(extra);
         (0..4).map(|i| map.cell(i, 0)).collect::<Vec<_>>()
     };
     use Cell::{Free, Occupied, Unknown};
     // Occupancy (255 - v) / 255: 1.0, 0.61, 0.196.., 0.004.
     assert_eq!(cells(""), [Occupied, Unknown, Unknown, Free]);
-    assert_eq!(cells("mode: scale\n"), [Occupied, Unknown, Unknown, Free]);
+    // Scale: between the thresholds a free cell with a graded cost, 1 at the free threshold
+    // rising to 252 at the occupied one (0.608 of the way from 0.196 to 0.65: cost 229).
+    assert_eq!(cells("mode: scale\n"), [Occupied, Free, Free, Free]);
+    let scale = load("mode: scale\n");
+    assert_eq!((0..4).map(|i| scale.cost(i, 0)).collect::<Vec<_>>(), [0, 229, 1, 0]);
+    assert_eq!(load("").cost(1, 0), 0, "trinary maps have no costs");
     // Negated: v / 255.
     assert_eq!(cells("negate: 1\n"), [Free, Unknown, Occupied, Occupied]);
     // Raw: percent, above 100 unknown.

@@ -127,8 +127,10 @@ class Planner:
         robot_radius: float = 0.0,
         *,
         max_area: Optional[float] = None,
+        cost_weight: float = 1.0,
     ) -> "Planner":
-        """A planner on a ROS map_server YAML map towards ``goal`` (world coordinates)."""
+        """A planner on a ROS map_server YAML map towards ``goal`` (world coordinates);
+        a ``scale``/``raw`` map's graded costs shape the field by ``cost_weight``."""
     def plan(self, start: ArrayLike) -> Path:
         """A path from ``start`` (x, y) to the goal."""
     def plan_exact(self, start: ArrayLike) -> Path:

@@ -145,20 +145,24 @@ impl PyPlanner {
     /// towards `goal` (world coordinates) for a disc robot of `robot_radius`, as
     /// `hplan plan --map MAP.yaml --goal X,Y --robot-radius R` builds it (the map's default
     /// mesher, `auto`).
-    /// Occupied cells (and unknown ones) are obstacles. The GIL is released while the map is
-    /// read and the planner built.
+    /// Occupied cells (and unknown ones) are obstacles. A `scale` or `raw` map's graded
+    /// costs shape the field by `cost_weight` (`--cost-weight`: a cell of cost c conducts
+    /// 1 / (1 + w·0.016·c) of a free cell's flow; 0 plans them as free cells). The GIL is
+    /// released while the map is read and the planner built.
     #[staticmethod]
-    #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None))]
+    #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None, cost_weight = 1.0))]
     fn from_map(
         py: Python<'_>,
         yaml: PathBuf,
         goal: &Bound<'_, PyAny>,
         robot_radius: f64,
         max_area: Option<f64>,
+        cost_weight: f64,
     ) -> PyResult<PyPlanner> {
         let goal = finite(arrays::point::<2>(goal, "goal")?, "goal")?;
         let opts = MapOptions {
             max_area: positive("max_area", max_area)?,
+            cost_weight,
             ..MapOptions::default()
         };
         let planner = py.detach(|| {

@@ -162,3 +162,23 @@ def test_pose_goal_headings(warehouse):
     along = np.arctan2(d[:, 1], d[:, 0])
     moving = np.hypot(d[:, 0], d[:, 1]) > 1e-12
     np.testing.assert_allclose(poses[1:-1, 2][moving[1:]], along[1:][moving[1:]], atol=1e-12)
+
+
+def test_graded_costs_turn_paths_away_by_weight():
+    """The bundled scale map: a short route above a block through a costly band, a longer
+    one below. Of seven starts down the left wall, fewer cross the band as cost_weight
+    grows (the same counts as the Rust test), and none at weight 4."""
+    band = ROOT / "meshes" / "costly_band.yaml"
+    starts = [[0.5, 0.5 * k] for k in range(1, 8)]
+    through = []
+    for weight in (0.0, 1.0, 4.0):
+        planner = hp.Planner.from_map(band, goal=(7.5, 2.0), cost_weight=weight)
+        above = 0
+        for path in planner.plan_many(starts):
+            assert path.status == "reached_goal"
+            over = path.points[(path.points[:, 0] >= 3.0) & (path.points[:, 0] <= 5.0)]
+            above += bool(np.all(over[:, 1] > 2.9))
+        through.append(above)
+    assert through == sorted(through, reverse=True) and through[-1] == 0, through
+    with pytest.raises(hp.SceneError, match="cost_weight"):
+        hp.Planner.from_map(band, goal=(7.5, 2.0), cost_weight=-1.0)

@@ -77,8 +77,8 @@ typedef struct HpOptions {
    */
   int unknown_is_free;
   /**
-   * 0: graded costs ignored; > 0: graded costs are to shape the field (default 1; they do
-   * not yet: see the crate documentation).
+   * 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
+   * conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting).
    */
   double cost_weight;
   /**

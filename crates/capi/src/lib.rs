@@ -8,8 +8,10 @@
 //!
 //! Costs are Nav2's: 0 free, 1–252 graded, 253 inscribed, 254 lethal, 255 unknown. A cell whose
 //! cost is at least `obstacle_cost` is blocked, 255 too unless `unknown_is_free`. Graded costs
-//! below `obstacle_cost` do not shape the field yet: they plan as free cells, whatever
-//! `cost_weight` says (the weight is checked and kept for when they do).
+//! below it shape the field when `cost_weight` > 0 ([`planner::map::MapOptions::cost_weight`]):
+//! a cell of cost c conducts 1 / (1 + w·0.016·c) of a free cell's flow, so paths keep away from
+//! costly cells when a free route is not much longer; at weight 1 the costliest cell resists 5
+//! times a free one, as NavFn's step through it costs 5 times a free step.
 
 #![allow(non_camel_case_types)] // the contract's C names: HP_OK, ...
 
@@ -18,7 +20,7 @@ use std::ffi::{CString, c_char, c_int, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 
-use planner::map::{Cell, MapError, MapOptions, OccupancyMap, UnknownCells};
+use planner::map::{Cell, MAX_GRADED_COST, MapError, MapOptions, OccupancyMap, UnknownCells};
 use planner::planner::{PlanError, PlannerOptions};
 use planner::trajectory::TraceStatus;
 use planner::{Planner, Point};
@@ -88,8 +90,8 @@ pub struct HpOptions {
     pub obstacle_cost: u8,
     /// 0 (default): cost 255 is blocked; 1: it is free.
     pub unknown_is_free: c_int,
-    /// 0: graded costs ignored; > 0: graded costs are to shape the field (default 1; they do
-    /// not yet: see the crate documentation).
+    /// 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
+    /// conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting).
     pub cost_weight: f64,
     /// Metres: a blocked goal moves to the nearest clear cell within this distance (default 0).
     pub goal_tolerance: f64,
@@ -241,16 +243,17 @@ pub unsafe extern "C" fn hp_planner_new(
             // SAFETY: non-null and valid by the contract.
             unsafe { *options }
         };
-        let cells = costmap_cells(map, &options)?;
-        let planner = build(map, cells, goal, &options)?;
+        let (cells, costs) = costmap_cells(map, &options)?;
+        let planner = build(map, cells, costs, goal, &options)?;
         // SAFETY: as above.
         unsafe { *out = Box::into_raw(Box::new(planner)) };
         Ok(())
     })
 }
 
-/// The costmap's cells as the library's (checked first).
-fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<Vec<Cell>, Failure> {
+/// The costmap's cells as the library's, and the graded costs of the free ones (checked
+/// first).
+fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<(Vec<Cell>, Vec<u8>), Failure> {
     if map.size_x == 0 || map.size_y == 0 {
         return Err(invalid(format!(
             "the costmap is {} × {} cells: both sizes must be positive",
@@ -301,12 +304,12 @@ fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<Vec<Cell>, Fail
     Ok(data
         .iter()
         .map(|&cost| match cost {
-            255 if options.unknown_is_free != 0 => Cell::Free,
-            255 => Cell::Unknown,
-            c if c >= options.obstacle_cost => Cell::Occupied,
-            _ => Cell::Free,
+            255 if options.unknown_is_free != 0 => (Cell::Free, 0),
+            255 => (Cell::Unknown, 0),
+            c if c >= options.obstacle_cost => (Cell::Occupied, 0),
+            c => (Cell::Free, c.min(MAX_GRADED_COST)),
         })
-        .collect())
+        .unzip())
 }
 
 /// The planner: the map, the goal (moved within the tolerance where it is blocked), the
@@ -314,6 +317,7 @@ fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<Vec<Cell>, Fail
 fn build(
     costmap: &HpCostmap,
     cells: Vec<Cell>,
+    costs: Vec<u8>,
     goal: HpPose,
     options: &HpOptions,
 ) -> Result<HpPlanner, Failure> {
@@ -330,6 +334,7 @@ fn build(
         [costmap.origin_x, costmap.origin_y, 0.0],
         cells,
     )
+    .and_then(|m| m.with_costs(costs))
     .map_err(|e| invalid(e.to_string()))?;
     let unknown = if options.unknown_is_free != 0 {
         UnknownCells::Free
@@ -365,6 +370,7 @@ fn build(
     }
     let map_options = MapOptions {
         unknown,
+        cost_weight: options.cost_weight,
         ..MapOptions::default()
     };
     let make = || map.planner(at, radius, &map_options, &planner_options);

@@ -273,6 +273,8 @@ pub const NATURAL_ORDER_BELOW: usize = 1000;
 pub struct Assembler {
     mesh: Arc<Mesh>,
     options: AssemblyOptions,
+    /// Per triangle: the conductivity k of ∇·(k∇φ) = 0 (`None`: 1 everywhere, Laplace).
+    conductivity: Option<Arc<[f64]>>,
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     dofs: Arc<DofMap>,
     /// A zero-valued matrix with the final pattern.
@@ -618,6 +620,7 @@ impl Assembler {
         Ok(Assembler {
             mesh,
             options,
+            conductivity: None,
             kinds,
             dofs: Arc::new(dofs),
             template,
@@ -628,6 +631,32 @@ impl Assembler {
             component_fixed: components.fixed,
             component_vertex: components.vertex,
         })
+    }
+
+    /// Solves ∇·(k∇φ) = 0 instead of Laplace's equation, with `k` constant on each triangle
+    /// (`conductivity[t]`, positive and finite): the P1 stiffness of triangle t is scaled by
+    /// k_t. Where k is small the field's flow, and a path following it, goes around: how a
+    /// map's graded costs shape the field. Each triangle's cotangent weights keep their sign,
+    /// so on a mesh without obtuse angles (a quadtree's right triangles) the matrix stays an
+    /// M-matrix and the maximum principle holds; elsewhere an edge whose two triangles
+    /// disagree can turn negative, and the system says so ([`LinearSystem::not_m_matrix`]).
+    pub fn with_conductivity(mut self, conductivity: Vec<f64>) -> Result<Self, FemError> {
+        let expected = self.mesh.triangles().len();
+        if conductivity.len() != expected {
+            return Err(FemError::ConductivityCount {
+                expected,
+                got: conductivity.len(),
+            });
+        }
+        if let Some((triangle, &value)) = conductivity
+            .iter()
+            .enumerate()
+            .find(|(_, k)| !(k.is_finite() && **k > 0.0))
+        {
+            return Err(FemError::BadConductivity { triangle, value });
+        }
+        self.conductivity = Some(conductivity.into());
+        Ok(self)
     }
 
     /// The mesh.
@@ -880,8 +909,9 @@ impl Assembler {
     }
 
     /// Clears the matrix values, right-hand side and row excesses of `system` and scatters
-    /// the stiffness into the matrix: K_pq = −(cot θ_k)/2 for the edge opposite local vertex
-    /// k. Returns the summed weight of each lifting edge.
+    /// the stiffness into the matrix: K_pq = −k_t (cot θ_k)/2 for the edge opposite local
+    /// vertex k of triangle t (k_t its conductivity, 1 by default). Returns the summed weight
+    /// of each lifting edge.
     fn scatter_stiffness(&self, system: &mut LinearSystem) -> Vec<f64> {
         let vertices = self.mesh.vertices();
         let unknown_of = &self.dofs.unknown_of;
@@ -891,15 +921,17 @@ impl Assembler {
         let diag_pos = &self.diag_pos;
         system.excess.fill(0.0);
         let mut lift_weight = vec![0.0; self.lift_edges.len()];
-        for ((tri, pos), lift) in self
+        for (t, ((tri, pos), lift)) in self
             .mesh
             .triangles()
             .iter()
             .zip(&self.tri_pos)
             .zip(&self.lift_pos)
+            .enumerate()
         {
             let [p0, p1, p2] = tri.map(|v| vertices[v as usize]);
-            let half_inv = 0.5 / orient2d(p0, p1, p2);
+            let k = self.conductivity.as_ref().map_or(1.0, |c| c[t]);
+            let half_inv = 0.5 * k / orient2d(p0, p1, p2);
             let w = [
                 (p1 - p0).dot(&(p2 - p0)) * half_inv,
                 (p2 - p1).dot(&(p0 - p1)) * half_inv,

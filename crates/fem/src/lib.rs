@@ -136,6 +136,22 @@ pub use harmonic_solver::{MultigridOptions, Ordering, Parallelism, PcgReport, Wi
 /// Everything that can go wrong while assembling, solving or evaluating.
 #[derive(Debug, thiserror::Error)]
 pub enum FemError {
+    /// A conductivity (the coefficient k of ∇·(k∇φ) = 0) that is not a positive finite number.
+    #[error("the conductivity of triangle {triangle} is {value}, not a positive finite number")]
+    BadConductivity {
+        /// The triangle.
+        triangle: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// Conductivities given for a different number of triangles than the mesh has.
+    #[error("{got} conductivities for a mesh of {expected} triangles")]
+    ConductivityCount {
+        /// Triangles in the mesh.
+        expected: usize,
+        /// Values given.
+        got: usize,
+    },
     /// A boundary condition holds NaN or an infinity.
     #[error("boundary condition on {part}: {what} is {value}, not a finite number")]
     NonFinite {

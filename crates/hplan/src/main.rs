@@ -94,6 +94,12 @@ enum Command {
         /// quadtree, complete on every map. Either way the radius is kept exactly.
         #[arg(long, value_enum, default_value_t = MesherArg::Auto, requires = "map")]
         mesher: MesherArg,
+        /// On a map with graded costs (a `scale` or `raw` map_server YAML): how much they
+        /// shape the field. A cell of cost c (1–252) conducts 1/(1 + W·0.016·c) of a free
+        /// cell's flow, so paths go around costly cells (W = 1: the costliest cell resists 5×
+        /// a free one, as in NavFn); 0 plans them as free cells.
+        #[arg(long, value_name = "W", default_value_t = 1.0, requires = "map")]
+        cost_weight: f64,
         /// On a MovingAI `.map` file: metres per cell.
         #[arg(long, value_name = "M", default_value_t = 1.0, requires = "map")]
         resolution: f64,
@@ -545,11 +551,16 @@ fn plan_map(
     let planner = map
         .planner(goal, robot_radius, opts, &planner_opts)
         .map_err(|e| e.to_string())?;
-    if !headings.wanted() {
-        return report_plan(&planner, starts, common);
-    }
     let report = planner.plan_report(starts);
-    draw(&planner, &report, common)?;
+    draw_shaded(&planner, &report, common, map.cost_shading())?;
+    if !headings.wanted() {
+        return if common.json {
+            let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+            print_out(&format!("{json}\n"))
+        } else {
+            print_out(&report.summary())
+        };
+    }
     if common.json {
         let json = headings.report_json(&report, goal)?;
         print_out(&format!("{json}\n"))
@@ -630,10 +641,21 @@ impl Headings {
 
 /// The SVG and VTU files a plan report asks for.
 fn draw(planner: &Planner, report: &PlanReport, common: &Common) -> Result<(), String> {
+    draw_shaded(planner, report, common, Vec::new())
+}
+
+/// [`draw`], with regions shaded under the picture (a map's graded costs).
+fn draw_shaded(
+    planner: &Planner,
+    report: &PlanReport,
+    common: &Common,
+    shaded: Vec<(Vec<[f64; 2]>, f64)>,
+) -> Result<(), String> {
     if let Some(svg) = &common.svg {
         let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
         let opts = SvgOptions {
             show_mesh: common.mesh,
+            shaded,
             ..SvgOptions::default()
         };
         write_file(svg, &planner.svg(&paths, &[], &opts))?;
@@ -1028,6 +1050,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             goal,
             robot_radius,
             mesher,
+            cost_weight,
             resolution,
             poly,
             mesh_in,
@@ -1050,6 +1073,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                     let opts = MapOptions {
                         max_area: common.max_area,
                         mesher: mesher.into(),
+                        cost_weight,
                         ..MapOptions::default()
                     };
                     let grid = load_map(map, resolution)?;
