@@ -637,7 +637,10 @@ fn modes_negate_and_png() {
     // rising to 252 at the occupied one (0.608 of the way from 0.196 to 0.65: cost 229).
     assert_eq!(cells("mode: scale\n"), [Occupied, Free, Free, Free]);
     let scale = load("mode: scale\n");
-    assert_eq!((0..4).map(|i| scale.cost(i, 0)).collect::<Vec<_>>(), [0, 229, 1, 0]);
+    assert_eq!(
+        (0..4).map(|i| scale.cost(i, 0)).collect::<Vec<_>>(),
+        [0, 229, 1, 0]
+    );
     assert_eq!(load("").cost(1, 0), 0, "trinary maps have no costs");
     // Negated: v / 255.
     assert_eq!(cells("negate: 1\n"), [Free, Unknown, Occupied, Occupied]);

@@ -129,3 +129,19 @@ fn the_costmap_example_plans_on_the_bundled_map() {
         "{last:?}"
     );
 }
+
+/// `tests/c/random_test.c`: random costmaps (1×1 to 300×300), costs, options and poses (NaN,
+/// infinities, huge values; resolutions of zero, below zero, 1e-12 and 1e9): every call
+/// returns a status of the contract, never a crash. Three seeds.
+#[test]
+fn random_costmaps_and_poses_always_get_a_status() {
+    for seed in ["1", "2", "3"] {
+        let out = compile_and_run_with(
+            "cc",
+            &["-std=c99", "-Wall", "-Wextra", "-Werror", "-O1"],
+            "tests/c/random_test.c",
+            &[seed],
+        );
+        print!("seed {seed}: {out}");
+    }
+}
