@@ -334,7 +334,14 @@ fn build(
         [costmap.origin_x, costmap.origin_y, 0.0],
         cells,
     )
-    .and_then(|m| m.with_costs(costs))
+    .and_then(|m| {
+        // Graded costs only where some cell has one: a bare occupancy grid plans as one.
+        if costs.iter().any(|&c| c > 0) {
+            m.with_costs(costs)
+        } else {
+            Ok(m)
+        }
+    })
     .map_err(|e| invalid(e.to_string()))?;
     let unknown = if options.unknown_is_free != 0 {
         UnknownCells::Free
@@ -357,9 +364,12 @@ fn build(
         ));
     }
     // NavFn's tolerance: a blocked goal moves to the nearest clear cell within it.
-    let at = map
-        .nearest_clear_point([goal.x, goal.y], radius, unknown, options.goal_tolerance)
-        .unwrap_or([goal.x, goal.y]);
+    let at = if options.goal_tolerance > 0.0 {
+        map.nearest_clear_point([goal.x, goal.y], radius, unknown, options.goal_tolerance)
+            .unwrap_or([goal.x, goal.y])
+    } else {
+        [goal.x, goal.y]
+    };
     let mut planner_options = PlannerOptions::default();
     if let Some(check) = options.cancel {
         let hook = CancelHook {

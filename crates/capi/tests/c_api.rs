@@ -145,3 +145,283 @@ fn random_costmaps_and_poses_always_get_a_status() {
         print!("seed {seed}: {out}");
     }
 }
+
+/// One Nav2 map's request: the goal and NavFn's three starts.
+struct Nav2Case {
+    map: &'static str,
+    goal: [f64; 2],
+    starts: [[f64; 2]; 3],
+}
+
+const NAV2: [Nav2Case; 6] = [
+    Nav2Case {
+        map: "depot",
+        goal: [17.675, 8.675],
+        starts: [[0.725, 0.775], [27.425, 7.225], [11.025, 3.225]],
+    },
+    Nav2Case {
+        map: "tb3_sandbox",
+        goal: [-1.825, 0.125],
+        starts: [[2.225, -0.625], [1.825, -0.225], [-1.225, -1.525]],
+    },
+    Nav2Case {
+        map: "map_circular",
+        goal: [-2.375, 0.125],
+        starts: [[2.275, 0.525], [0.575, -0.175], [-0.425, -1.425]],
+    },
+    Nav2Case {
+        map: "warehouse",
+        goal: [-5.665, 1.355],
+        starts: [[14.615, -24.415], [10.445, -3.685], [3.575, -16.765]],
+    },
+    Nav2Case {
+        map: "100by100_10",
+        goal: [47.125, 52.775],
+        starts: [[99.525, 0.475], [14.475, 44.725], [81.925, 17.775]],
+    },
+    Nav2Case {
+        map: "100by100_20",
+        goal: [51.975, 52.875],
+        starts: [[0.475, 0.475], [10.075, 44.775], [55.525, 18.075]],
+    },
+];
+
+/// The costmap Nav2 builds from a map (`inflate`: its inflation layer for a robot of radius
+/// 0.22 padded 0.01, inflation radius 0.7, cost scaling 3.0: 254 lethal, 253 within the
+/// inscribed radius, 252·exp(−3 (d − r)) beyond) or the bare occupancy (0, 254, 255).
+fn nav2_costmap(map: &planner::map::OccupancyMap, inflate: bool) -> Vec<u8> {
+    use planner::map::Cell;
+    let (w, h) = (map.width(), map.height());
+    let mut costs: Vec<u8> = (0..h)
+        .flat_map(|r| (0..w).map(move |c| (c, r)))
+        .map(|(c, r)| match map.cell(c, r) {
+            Cell::Free => 0,
+            Cell::Occupied => 254,
+            Cell::Unknown => 255,
+        })
+        .collect();
+    if inflate {
+        let res = map.resolution();
+        let (inscribed, radius) = (0.23, 0.7);
+        let reach = (radius / res).ceil() as isize;
+        let lethal: Vec<(isize, isize)> = (0..h as isize)
+            .flat_map(|r| (0..w as isize).map(move |c| (c, r)))
+            .filter(|&(c, r)| costs[r as usize * w + c as usize] == 254)
+            .collect();
+        let mut out = costs.clone();
+        for (lc, lr) in lethal {
+            for r in (lr - reach).max(0)..(lr + reach + 1).min(h as isize) {
+                for c in (lc - reach).max(0)..(lc + reach + 1).min(w as isize) {
+                    let slot = &mut out[r as usize * w + c as usize];
+                    if *slot >= 253 {
+                        continue;
+                    }
+                    let d = ((c - lc) as f64).hypot((r - lr) as f64) * res;
+                    let cost = if d <= inscribed {
+                        253
+                    } else if d <= radius {
+                        (252.0 * (-3.0 * (d - inscribed)).exp()) as u8
+                    } else {
+                        0
+                    };
+                    *slot = (*slot).max(cost);
+                }
+            }
+        }
+        costs = out;
+    }
+    costs
+}
+
+/// A path as `nav2_compare` prints it: status, length, clearance, poses.
+struct CPath {
+    status: i32,
+    length: f64,
+    clearance: f64,
+    poses: Vec<[f64; 2]>,
+}
+
+/// Runs `nav2_compare` on `costs`: the best build time and the paths.
+fn c_plan(
+    map: &planner::map::OccupancyMap,
+    costs: &[u8],
+    radius: f64,
+    weight: f64,
+    case: &Nav2Case,
+) -> (f64, Vec<CPath>) {
+    let o = map.origin();
+    let file = std::env::temp_dir().join(format!(
+        "hp_nav2_{}_{}.costmap",
+        std::process::id(),
+        case.map
+    ));
+    let mut bytes = format!(
+        "{} {} {} {} {}\n",
+        map.width(),
+        map.height(),
+        map.resolution(),
+        o[0],
+        o[1]
+    )
+    .into_bytes();
+    bytes.extend_from_slice(costs);
+    std::fs::write(&file, bytes).expect("write the costmap");
+    let mut args: Vec<String> = vec![
+        file.display().to_string(),
+        radius.to_string(),
+        weight.to_string(),
+        case.goal[0].to_string(),
+        case.goal[1].to_string(),
+    ];
+    for s in &case.starts {
+        args.push(s[0].to_string());
+        args.push(s[1].to_string());
+    }
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = compile_and_run_with("cc", &["-std=c99", "-O2"], "tests/c/nav2_compare.c", &refs);
+    let _ = std::fs::remove_file(&file);
+    let mut lines = out.lines();
+    let build = lines
+        .next()
+        .and_then(|l| l.strip_prefix("build_ms "))
+        .and_then(|v| v.parse().ok())
+        .expect("build_ms");
+    let mut paths = Vec::new();
+    while let Some(l) = lines.next() {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        let n: usize = f[4].parse().expect("n");
+        let poses = (0..n)
+            .filter_map(|_| lines.next())
+            .map(|p| {
+                let v: Vec<f64> = p
+                    .split_whitespace()
+                    .filter_map(|x| x.parse().ok())
+                    .collect();
+                [v[0], v[1]]
+            })
+            .collect();
+        paths.push(CPath {
+            status: f[1].parse().expect("status"),
+            length: f[2].parse().expect("length"),
+            clearance: f[3].parse().expect("clearance"),
+            poses,
+        });
+    }
+    (build, paths)
+}
+
+/// The mean cost along a path (sampled every centimetre).
+fn mean_cost(map: &planner::map::OccupancyMap, costs: &[u8], poses: &[[f64; 2]]) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for s in poses.windows(2) {
+        let n = ((s[1][0] - s[0][0]).hypot(s[1][1] - s[0][1]) / 0.01).ceil() as usize + 1;
+        for k in 0..n {
+            let t = k as f64 / n as f64;
+            let p = [
+                s[0][0] + t * (s[1][0] - s[0][0]),
+                s[0][1] + t * (s[1][1] - s[0][1]),
+            ];
+            if let Some((c, r)) = map.cell_at(p) {
+                sum += f64::from(costs[r * map.width() + c]);
+                count += 1;
+            }
+        }
+    }
+    sum / count.max(1) as f64
+}
+
+/// Nav2's maps (read from `../shared/maps`; skipped when absent), NavFn's requests:
+/// - the bare occupancy with the robot radius 0.22: the C interface's paths are the library's
+///   (`hplan plan --map MAP --robot-radius 0.22`), lengths equal to 1e-9; both build times
+///   (best of three) are printed, not asserted (speed belongs to benchmarks);
+/// - Nav2's inflated costmap, radius 0: every path reaches the goal at cost weights 0 and 1;
+///   the clearance at the narrowest and the mean cost along each path are printed.
+#[test]
+fn nav2_maps_through_the_c_interface() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/maps");
+    if !std::path::Path::new(dir).join("depot.yaml").exists() {
+        println!("skipped: Nav2's maps are not in {dir}");
+        return;
+    }
+    let (mut cost0, mut cost1) = (0.0, 0.0);
+    for case in &NAV2 {
+        let map =
+            planner::map::OccupancyMap::load(format!("{dir}/{}.yaml", case.map)).expect("map");
+        // The library, as `hplan plan --map` builds it.
+        // The library's own time for the same job: the grid from the same cells, then the
+        // planner, as `hplan plan --map MAP --robot-radius 0.22` builds it.
+        let cells: Vec<planner::map::Cell> = (0..map.height())
+            .flat_map(|r| (0..map.width()).map(move |c| (c, r)))
+            .map(|(c, r)| map.cell(c, r))
+            .collect();
+        let mut lib_ms = f64::INFINITY;
+        let mut lib = None;
+        for _ in 0..3 {
+            let cells = cells.clone();
+            let t = std::time::Instant::now();
+            let grid = planner::map::OccupancyMap::from_cells(
+                map.width(),
+                map.height(),
+                map.resolution(),
+                map.origin(),
+                cells,
+            )
+            .expect("grid");
+            let p = grid
+                .planner(
+                    case.goal,
+                    0.22,
+                    &planner::map::MapOptions::default(),
+                    &Default::default(),
+                )
+                .expect("library planner");
+            lib_ms = lib_ms.min(t.elapsed().as_secs_f64() * 1e3);
+            lib = Some(p);
+        }
+        let lib = lib.expect("planner");
+        let bare = nav2_costmap(&map, false);
+        let (c_ms, c_paths) = c_plan(&map, &bare, 0.22, 0.0, case);
+        for (s, c) in case.starts.iter().zip(&c_paths) {
+            let l = lib.plan(*s);
+            assert!(
+                l.status.reached_goal() && c.status == 0,
+                "{}: {s:?}",
+                case.map
+            );
+            assert!(
+                (l.length - c.length).abs() < 1e-9,
+                "{}: {} vs {}",
+                case.map,
+                l.length,
+                c.length
+            );
+        }
+        println!(
+            "{}: first plan, library {lib_ms:.2} ms, C interface {c_ms:.2} ms ({:+.1} %)",
+            case.map,
+            100.0 * (c_ms / lib_ms - 1.0)
+        );
+        // Nav2's inflated costmap at weights 0 and 1.
+        let inflated = nav2_costmap(&map, true);
+        let (_, w0) = c_plan(&map, &inflated, 0.0, 0.0, case);
+        let (_, w1) = c_plan(&map, &inflated, 0.0, 1.0, case);
+        for ((s, a), b) in case.starts.iter().zip(&w0).zip(&w1) {
+            assert!(a.status == 0 && b.status == 0, "{}: {s:?}", case.map);
+            let (m0, m1) = (
+                mean_cost(&map, &inflated, &a.poses),
+                mean_cost(&map, &inflated, &b.poses),
+            );
+            println!(
+                "  from {s:?}: weight 0: {:.2} m, clearance {:.3} m, mean cost {m0:.1}; weight 1: {:.2} m, clearance {:.3} m, mean cost {m1:.1}",
+                a.length, a.clearance, b.length, b.clearance
+            );
+            cost0 += m0;
+            cost1 += m1;
+        }
+    }
+    println!(
+        "mean cost over all paths: weight 0 {:.2}, weight 1 {:.2}",
+        cost0 / 18.0,
+        cost1 / 18.0
+    );
+}
