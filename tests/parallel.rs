@@ -42,3 +42,61 @@ fn one_thread_and_two_give_the_same_paths() {
         );
     }
 }
+
+/// Volumes and configuration spaces too: the stuffing, the face sort, the edge weights and
+/// recovered gradients on every core, and the clamped solve tried beside the Galerkin one
+/// give the same paths on one thread as on two (to 1e-9).
+#[test]
+fn volumes_and_configuration_spaces_plan_the_same_on_one_thread_and_two() {
+    use harmonic_planner::AnyScene;
+    use harmonic_planner::cspace::ConfigPlanner;
+    use harmonic_planner::volume::VolumePlanner;
+    let in_pool = |threads: usize, f: &(dyn Fn() -> Vec<Vec<f64>> + Sync)| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(f)
+    };
+    let flat = |points: Vec<Vec<f64>>| points.into_iter().flatten().collect::<Vec<f64>>();
+    let same = |name: &str, a: Vec<f64>, b: Vec<f64>| {
+        assert_eq!(a.len(), b.len(), "{name}");
+        let worst = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{name}: paths differ by {worst:e}");
+    };
+    for name in ["torus3d.json", "maze3d.json"] {
+        let text = std::fs::read_to_string(harmonic_fixtures::mesh_file(name)).unwrap();
+        let Ok(AnyScene::Volume(scene)) = AnyScene::from_json(&text) else {
+            panic!("{name} is a volume scene")
+        };
+        let paths = || {
+            let planner = VolumePlanner::new(&scene).unwrap();
+            scene
+                .starts
+                .iter()
+                .flat_map(|&s| planner.plan(s).points)
+                .map(|p| p.to_vec())
+                .collect()
+        };
+        same(name, flat(in_pool(1, &paths)), flat(in_pool(2, &paths)));
+    }
+    for name in ["piano.json", "arm_aperture.json"] {
+        let text = std::fs::read_to_string(harmonic_fixtures::mesh_file(name)).unwrap();
+        let Ok(AnyScene::Config(scene)) = AnyScene::from_json(&text) else {
+            panic!("{name} is a configuration-space scene")
+        };
+        let paths = || {
+            let planner = ConfigPlanner::new(&scene).unwrap();
+            scene
+                .starts
+                .iter()
+                .flat_map(|s| planner.plan(s).configurations())
+                .collect()
+        };
+        same(name, flat(in_pool(1, &paths)), flat(in_pool(2, &paths)));
+    }
+}

@@ -35,6 +35,10 @@ use harmonic_planner::{
         Example:  hplan plan meshes/reference.json --svg reference.svg"
 )]
 struct Cli {
+    /// Threads for every stage (default: all cores, or `RAYON_NUM_THREADS`); the paths are
+    /// the same at any count.
+    #[arg(long, global = true, value_name = "N")]
+    threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
@@ -285,6 +289,19 @@ fn main() -> ExitCode {
         }
     };
     let order = ArgOrder::of(&matches);
+    if let Some(n) = cli.threads {
+        if n == 0 {
+            eprintln!("hplan: --threads must be at least 1");
+            return ExitCode::from(2);
+        }
+        if let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+        {
+            eprintln!("hplan: cannot start {n} threads: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
     match run(cli, &order) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
