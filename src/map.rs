@@ -77,11 +77,12 @@ pub enum Cell {
 pub enum Mode {
     /// Occupied, free or unknown by the two thresholds (the default).
     Trinary,
-    /// As trinary; values between the thresholds would be costs, and a binary planner treats
-    /// them as unknown.
+    /// As trinary, but a value between the thresholds is a free cell with a graded cost (1 at
+    /// the free threshold … 252 at the occupied one; [`MapOptions::cost_weight`]).
     Scale,
     /// The pixel value is the occupancy in percent (0 free … 100 occupied, above 100 unknown),
-    /// compared with the thresholds; `negate` does not apply.
+    /// compared with the thresholds (between them: graded costs, as `Scale`); `negate` does
+    /// not apply.
     Raw,
 }
 
