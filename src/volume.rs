@@ -349,7 +349,7 @@ impl VolumePlanner {
             path.status,
             VolumeTraceStatus::StartInObstacle | VolumeTraceStatus::OutsideWorkspace
         );
-        let blocked_by = if blocked {
+        let mut blocked_by = if blocked {
             match self
                 .domain
                 .classify(&Point::new(start[0], start[1], start[2]), 0.0)
@@ -361,9 +361,24 @@ impl VolumePlanner {
         } else {
             None
         };
+        // A path that reached the goal but whose robot touches a solid on the way (a chord of
+        // the stuffed boundary across something thinner than the mesh) is not reached.
+        let mut status = path.status;
+        let mut clearance = clearance;
+        if status.reached_goal()
+            && let Some((q, what)) = self.first_contact(&path.points)
+        {
+            status = VolumeTraceStatus::Collision;
+            clearance = 0.0;
+            blocked_by = Some(format!(
+                "{what} at ({:.4}, {:.4}, {:.4}), where it is thinner than the mesh; a smaller \
+                 mesh.max_volume resolves it",
+                q.x, q.y, q.z
+            ));
+        }
         VolumePlannedPath {
             start,
-            status: path.status,
+            status,
             goal: path.goal,
             blocked_by,
             tracer,
@@ -372,6 +387,67 @@ impl VolumePlanner {
             min_gradient: finite_or_zero(path.min_gradient),
             points: path.points.iter().map(|q| [q.x, q.y, q.z]).collect(),
         }
+    }
+
+    /// The first segment of the polyline `points` along which the robot comes closer than its
+    /// radius (less 1e-6 of the scene) to an obstacle or leaves the workspace shrunk by it —
+    /// exact segment-to-solid distances (parry), so no obstacle however thin is stepped over
+    /// — as the point of the segment nearest to the offending solid's surface, and which
+    /// solid that is.
+    fn first_contact(&self, points: &[Point]) -> Option<(Point, String)> {
+        let radius = self.domain.robot_radius();
+        let tol = 1e-6 * self.scale;
+        for w in points.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            // A distance of 0 is a touch or a crossing: a crossing has points inside, found
+            // by sampling the segment finely (only then).
+            let inside = || self.closest_to_solids(&a, &b).1 < radius - tol;
+            let hit = self
+                .domain
+                .obstacles()
+                .iter()
+                .enumerate()
+                .find(|(_, o)| {
+                    let d = o.distance_to_segment(&a, &b);
+                    d < radius - tol || (d <= 0.0 && inside())
+                })
+                .map(|(i, _)| format!("obstacle {i}"))
+                .or_else(|| {
+                    // The workspace's boundary (large, not thin) by sampling the signed
+                    // distance (1-Lipschitz): steps as long as the gap, at least 1e-3 of the
+                    // scene.
+                    let min_step = 1e-3 * self.scale;
+                    let len = (b - a).norm();
+                    let mut t = 0.0;
+                    loop {
+                        let q = a + (b - a) * (t / len.max(f64::MIN_POSITIVE)).min(1.0);
+                        let gap = -self.domain.workspace().signed_distance(&q) - radius;
+                        if gap < -tol {
+                            return Some("the workspace boundary".to_string());
+                        }
+                        if t >= len {
+                            return None;
+                        }
+                        t = (t + gap.max(min_step)).min(len);
+                    }
+                });
+            if let Some(what) = hit {
+                return Some((self.closest_to_solids(&a, &b).0, what));
+            }
+        }
+        None
+    }
+
+    /// The point of the segment a–b with the smallest clearance, and that clearance, sampled
+    /// at 1e-4 of the segment.
+    fn closest_to_solids(&self, a: &Point, b: &Point) -> (Point, f64) {
+        (0..=10_000)
+            .map(|k| {
+                let p = a + (b - a) * (k as f64 / 10_000.0);
+                (p, self.clearance(&p))
+            })
+            .min_by(|p, q| p.1.total_cmp(&q.1))
+            .unwrap_or((*a, f64::INFINITY))
     }
 
     /// Distance from `q` to the nearest wall or obstacle surface (exact solids).

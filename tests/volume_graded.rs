@@ -79,3 +79,25 @@ fn a_plate_thinner_than_the_lattice_is_not_crossed() {
     // On the goal's side, a start still reaches it.
     assert!(planner.plan([8.0, 2.0, 3.0]).status.reached_goal());
 }
+
+/// A plate of 0.1 mm, thinner than the grading's floor: the mesh misses it and the field
+/// leads through it. Every reached path is checked against the exact solids segment by
+/// segment (parry's segment distances), so those starts are `collision`, naming the plate,
+/// never `reached_goal`; a start beside the plate still reaches the goal.
+#[test]
+fn a_path_through_a_plate_thinner_than_any_mesh_is_a_collision() {
+    let planner = planner(
+        r#"{"dimension": 3, "workspace": {"box": {"min": [0, 0, 0], "max": [4, 4, 4]}},
+        "obstacles": [{"box": {"min": [2.0, 1.4, 1.4], "max": [2.0001, 2.6, 2.6]}}],
+        "goal": {"sphere": {"center": [3.5, 2, 2], "radius": 0.3}},
+        "mesh": {"max_volume": 0.01}}"#,
+    );
+    for start in [[0.5, 2.0, 2.0], [0.8, 1.9, 2.1]] {
+        let path = planner.plan(start);
+        assert_eq!(path.status.as_str(), "collision", "from {start:?}");
+        let why = path.blocked_by.clone().unwrap_or_default();
+        assert!(why.contains("obstacle 0"), "from {start:?}: {why}");
+        assert_eq!(path.min_clearance, 0.0);
+    }
+    assert!(planner.plan([3.2, 0.8, 1.0]).status.reached_goal());
+}

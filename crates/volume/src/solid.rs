@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::{Ball, Cuboid, Shape, TriMesh, TriMeshFlags, Triangle};
+use parry3d_f64::shape::{Ball, Cuboid, Segment, Shape, TriMesh, TriMeshFlags, Triangle};
 
 use crate::error::{SolidRole, VolumeError};
 
@@ -355,8 +355,27 @@ impl Solid {
     /// intersect; for a surface solid also 0 when a corner of the triangle is inside it).
     pub fn distance_to_triangle(&self, tri: [Point; 3]) -> f64 {
         let t = Triangle::new(pv(&tri[0]), pv(&tri[1]), pv(&tri[2]));
+        self.distance_to_shape(&t, &tri)
+    }
+
+    /// The exact distance between the segment `a`–`b` and the solid (0 if it touches or
+    /// crosses it; for a surface solid also 0 when an end is inside it).
+    pub fn distance_to_segment(&self, a: &Point, b: &Point) -> f64 {
+        let s = Segment::new(pv(a), pv(b));
+        self.distance_to_shape(&s, &[*a, *b])
+    }
+
+    /// The distance between `shape` (in world coordinates, with these `corners`) and the
+    /// solid, by parry; where parry has no algorithm, the corners' distances (an upper bound).
+    fn distance_to_shape(&self, shape: &dyn Shape, corners: &[Point]) -> f64 {
         let id = Pose::IDENTITY;
-        let (pose, shape): (Pose, Box<dyn Shape>) = match self {
+        let corner_bound = |d: &dyn Fn(&Point) -> f64| {
+            corners
+                .iter()
+                .map(|p| d(p).max(0.0))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let (pose, solid): (Pose, Box<dyn Shape>) = match self {
             Solid::Box(b) => {
                 let c = nalgebra::center(&b.min, &b.max);
                 let h = (b.max - b.min) / 2.0;
@@ -370,27 +389,18 @@ impl Solid {
                 Box::new(Ball::new(s.radius)),
             ),
             Solid::Surface(s) => {
-                if tri.iter().any(|p| s.signed_distance(p) <= 0.0) {
+                if corners.iter().any(|p| s.signed_distance(p) <= 0.0) {
                     return 0.0;
                 }
-                match parry3d_f64::query::distance(&id, &t, &id, &s.shape) {
-                    Ok(d) => return d.distance,
-                    // Fall back on the corners (an upper bound) if parry has no algorithm.
-                    Err(_) => {
-                        return tri
-                            .iter()
-                            .map(|p| s.signed_distance(p))
-                            .fold(f64::INFINITY, f64::min);
-                    }
-                }
+                return match parry3d_f64::query::distance(&id, shape, &id, &s.shape) {
+                    Ok(d) => d.distance,
+                    Err(_) => corner_bound(&|p| s.signed_distance(p)),
+                };
             }
         };
-        match parry3d_f64::query::distance(&id, &t, &pose, shape.as_ref()) {
+        match parry3d_f64::query::distance(&id, shape, &pose, solid.as_ref()) {
             Ok(d) => d.distance,
-            Err(_) => tri
-                .iter()
-                .map(|p| self.signed_distance(p).max(0.0))
-                .fold(f64::INFINITY, f64::min),
+            Err(_) => corner_bound(&|p| self.signed_distance(p)),
         }
     }
 }
