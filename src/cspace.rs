@@ -641,15 +641,16 @@ impl ConfigPlanner {
                 (path, configs)
             })
             .filter(|(_, configs)| self.first_collision(configs).is_none());
-        let (path, configs, tracer) = match smooth {
-            Some((path, configs)) => (path, configs, Tracer::Smooth),
+        // The smooth path kept above has no collision; only the exact one is still checked.
+        let (path, configs, tracer, collision) = match smooth {
+            Some((path, configs)) => (path, configs, Tracer::Smooth, None),
             None => {
                 let path = trace_exact_volume(&field, p, &ExactVolumeOptions::default());
                 let configs = to_configs(&path);
-                (path, configs, Tracer::Exact)
+                let collision = self.first_collision(&configs);
+                (path, configs, Tracer::Exact, collision)
             }
         };
-        let collision = self.first_collision(&configs);
         let mut out = self.planned(start, Some((path, configs)), tracer);
         if let Some(first) = out.poses.as_mut().and_then(|p| p.first_mut()) {
             first.copy_from_slice(&start[..3]);
