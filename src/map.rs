@@ -106,7 +106,9 @@ pub enum MapMesher {
     /// The traced mesher where its tracing margin changes nothing a path needs (the goal's
     /// cell keeps the margin, every clear cell connected to the goal is within a lead-in of
     /// the traced region, and the margin closes no loop of the free space: the same Euler
-    /// number), else the quadtree. The default.
+    /// number), else the quadtree. A map with graded costs (free cells of cost > 0) is
+    /// always meshed by the quadtree, at every [`MapOptions::cost_weight`], 0 included, so
+    /// that two weights give two fields on one mesh. The default.
     #[default]
     Auto,
     /// The robot's free configuration space on the map's own grid: the cells whose square
@@ -1135,8 +1137,11 @@ impl OccupancyMap {
             });
         }
         // Graded costs shape the field through a conductivity, on the quadtree's right
-        // triangles (any positive conductivity keeps their system an M-matrix).
-        let graded = opts.cost_weight > 0.0 && self.has_graded_costs(opts.unknown);
+        // triangles (any positive conductivity keeps their system an M-matrix). A map with
+        // graded costs is meshed that way at every weight, 0 included, so that the weight
+        // alone tells two fields apart.
+        let has_costs = self.has_graded_costs(opts.unknown);
+        let graded = opts.cost_weight > 0.0 && has_costs;
         let with_costs;
         let planner = if graded {
             with_costs = PlannerOptions {
@@ -1152,6 +1157,7 @@ impl OccupancyMap {
             _ if graded => (false, Known::default()),
             MapMesher::Traced => (true, Known::default()),
             MapMesher::Quadtree => (false, Known::default()),
+            MapMesher::Auto if has_costs => (false, Known::default()),
             MapMesher::Auto => self.traced_is_complete(goal, robot_radius, opts)?,
         };
         let check_ms = checked.elapsed().as_secs_f64() * 1e3;

@@ -9,11 +9,11 @@
 //!   system stays an M-matrix (the accurate solve accepts only those), no interior local
 //!   minimum, every start on a clear cell connected to the goal reaches it, and no path
 //!   crosses a blocked cell.
-//! - Weight 0 plans exactly as the same map without costs.
+//! - Weight 0 plans exactly as the same map without costs, meshed alike.
 
 use harmonic_fixtures::Rng;
 use harmonic_planner::PlannerOptions;
-use harmonic_planner::map::{Cell, MapOptions, OccupancyMap, UnknownCells};
+use harmonic_planner::map::{Cell, MapMesher, MapOptions, OccupancyMap, UnknownCells};
 
 fn bundled(name: &str) -> String {
     format!("{}/meshes/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -165,17 +165,23 @@ fn weight_zero_plans_as_the_map_without_costs() {
     let without =
         OccupancyMap::from_cells(with.width(), with.height(), 0.05, [0.0, 0.0, 0.0], cells)
             .expect("map");
-    let opts = MapOptions {
+    // A map with graded costs is meshed on its grid at every weight (the default mesher
+    // picks the quadtree), so weight 0 there is the bare map's field on the quadtree.
+    let weight0 = MapOptions {
         cost_weight: 0.0,
         ..MapOptions::default()
     };
+    let quadtree = MapOptions {
+        mesher: MapMesher::Quadtree,
+        ..MapOptions::default()
+    };
     let starts = [[0.5, 0.5], [0.5, 2.0], [0.5, 3.5]];
-    let plan = |m: &OccupancyMap| {
-        m.planner([7.5, 2.0], 0.0, &opts, &PlannerOptions::default())
+    let plan = |m: &OccupancyMap, opts: &MapOptions| {
+        m.planner([7.5, 2.0], 0.0, opts, &PlannerOptions::default())
             .expect("planner")
             .plan_report(&starts)
     };
-    let (a, b) = (plan(&with), plan(&without));
+    let (a, b) = (plan(&with, &weight0), plan(&without, &quadtree));
     for (p, q) in a.paths.iter().zip(&b.paths) {
         assert!(
             (p.length - q.length).abs() < 1e-9,

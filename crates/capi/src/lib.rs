@@ -251,8 +251,8 @@ pub unsafe extern "C" fn hp_planner_new(
     })
 }
 
-/// The costmap's cells as the library's, and the graded costs of the free ones (checked
-/// first).
+/// The costmap's cells as the library's, and the graded costs of the free ones (empty when
+/// no free cell has one), after checking the costmap and options.
 fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<(Vec<Cell>, Vec<u8>), Failure> {
     if map.size_x == 0 || map.size_y == 0 {
         return Err(invalid(format!(
@@ -301,15 +301,25 @@ fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<(Vec<Cell>, Vec
         .ok_or_else(|| invalid("the costmap's size overflows"))?;
     // SAFETY: `data` holds `size_x * size_y` bytes by the contract.
     let data = unsafe { std::slice::from_raw_parts(map.data, n) };
-    Ok(data
+    let cells = data
         .iter()
         .map(|&cost| match cost {
-            255 if options.unknown_is_free != 0 => (Cell::Free, 0),
-            255 => (Cell::Unknown, 0),
-            c if c >= options.obstacle_cost => (Cell::Occupied, 0),
-            c => (Cell::Free, c.min(MAX_GRADED_COST)),
+            255 if options.unknown_is_free != 0 => Cell::Free,
+            255 => Cell::Unknown,
+            c if c >= options.obstacle_cost => Cell::Occupied,
+            _ => Cell::Free,
         })
-        .unzip())
+        .collect();
+    // Graded costs only where some free cell has one: a bare occupancy grid is copied once.
+    let graded = |c: u8| c > 0 && c < options.obstacle_cost && c != 255;
+    let costs = if data.iter().any(|&c| graded(c)) {
+        data.iter()
+            .map(|&c| if graded(c) { c.min(MAX_GRADED_COST) } else { 0 })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Ok((cells, costs))
 }
 
 /// The planner: the map, the goal (moved within the tolerance where it is blocked), the
@@ -336,7 +346,7 @@ fn build(
     )
     .and_then(|m| {
         // Graded costs only where some cell has one: a bare occupancy grid plans as one.
-        if costs.iter().any(|&c| c > 0) {
+        if !costs.is_empty() {
             m.with_costs(costs)
         } else {
             Ok(m)
