@@ -373,6 +373,8 @@ pub struct ConfigMeshSummary {
     pub cells: [Option<usize>; 3],
     /// Slab end faces identified.
     pub seam_faces: usize,
+    /// Lattice edges bisected where its vertices missed a sliver of collision.
+    pub graded: usize,
     /// Safety margin ε.
     pub margin: f64,
     /// Edges clamped by the planning solve.
@@ -775,6 +777,7 @@ impl ConfigPlanner {
                 scale: self.report.scale,
                 cells: self.report.cells,
                 seam_faces: self.report.seam_faces,
+                graded: self.report.graded,
                 margin: self.space.margin(),
                 clamped_edges: self.clamped_edges,
             },

@@ -31,8 +31,9 @@ use std::f64::consts::{PI, TAU};
 
 use harmonic_mesh::BoundaryTag;
 use harmonic_volume::{
-    CarveReport, GoalHole, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point, SEAM_PART,
-    StuffingOptions, carve_goals, periodic_lattice_tetrahedra, stuff_periodic,
+    CarveReport, GoalHole, Grading, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point,
+    SEAM_PART, StuffingOptions, carve_goals, longest_edge, periodic_lattice_tetrahedra,
+    stuff_periodic,
 };
 
 use crate::error::CspaceError;
@@ -141,6 +142,9 @@ pub struct CspaceMeshReport {
     pub lattice_tetrahedra: u64,
     /// Slab end faces identified across the period.
     pub seam_faces: usize,
+    /// Lattice edges bisected before stuffing where the lattice's vertices missed a sliver of
+    /// collision ([`ImplicitDomain::grading`]); 0 on the uniform lattice.
+    pub graded: usize,
     /// Edges bisected to grade the mesh down to the goal region.
     pub refined: usize,
     /// Tetrahedra carved out of the goal region.
@@ -523,7 +527,7 @@ impl ConfigSpace {
                     .iter()
                     .any(|f| f.tag == BoundaryTag::Goal(0))
                 {
-                    let report = self.report(estimated, &mesh, None, start);
+                    let report = self.report(estimated, &mesh, stuffed.stuffed.graded, None, start);
                     return Ok((mesh, report));
                 }
             }
@@ -540,7 +544,8 @@ impl ConfigSpace {
         }
         let mut mesh = PeriodicMesh::new(&stuffed, 1, &|p| self.tag(p))?;
         self.goal_faces_by_corners(&mut mesh);
-        let report = self.report(estimated, &mesh, Some(&carved), start);
+        let graded = stuffed.stuffed.graded;
+        let report = self.report(estimated, &mesh, graded, Some(&carved), start);
         Ok((mesh, report))
     }
 }
@@ -683,6 +688,7 @@ impl ConfigSpace {
         &self,
         estimated: u64,
         mesh: &PeriodicMesh,
+        graded: usize,
         carved: Option<&CarveReport>,
         start: std::time::Instant,
     ) -> CspaceMeshReport {
@@ -692,6 +698,7 @@ impl ConfigSpace {
             cells: self.cells,
             lattice_tetrahedra: estimated,
             seam_faces: mesh.seam_faces,
+            graded,
             refined: carved.map_or(0, |c| c.refine.bisections),
             goal_tetrahedra: carved.and_then(|c| c.carved.first().copied()).unwrap_or(0),
             seconds: start.elapsed().as_secs_f64(),
@@ -706,6 +713,9 @@ impl ImplicitDomain for WithGoal<'_> {
     fn value(&self, p: &Point) -> f64 {
         self.0.terms(p, true).0
     }
+    fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
+        self.0.grading(spacing)
+    }
     fn tag(&self, p: &Point) -> BoundaryTag {
         self.0.tag(p)
     }
@@ -717,6 +727,60 @@ impl ImplicitDomain for WithGoal<'_> {
 impl ImplicitDomain for ConfigSpace {
     fn value(&self, p: &Point) -> f64 {
         self.terms(p, false).0
+    }
+    /// Grades the lattice (periodic or not) where its vertices miss a sliver of collision: a
+    /// tetrahedron whose four corners are free and whose centroid collides is bisected, down
+    /// to a quarter of the spacing. Such slivers are where the configuration-space image of
+    /// an obstacle is thinner than the lattice: a small obstacle, or the tip of an arm at full
+    /// reach grazing one. The centroid is looked at only where every corner is free by less
+    /// than the robot moves from that corner to the centroid ([`Robot::sweep_bound`]):
+    /// elsewhere it is free for certain.
+    fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
+        use std::sync::{Arc, RwLock};
+        let floor = spacing / 4.0;
+        // The value at a point, once per point (asked from every core).
+        type Cache = std::collections::HashMap<[u64; 3], f64>;
+        let cache = Arc::new(RwLock::new(Cache::new()));
+        let value = move |p: &Point| -> f64 {
+            let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            if let Some(&v) = cache.read().ok().and_then(|c| c.get(&k).copied()).as_ref() {
+                return v;
+            }
+            let v = self.terms(p, false).0;
+            if let Ok(mut c) = cache.write() {
+                c.insert(k, v);
+            }
+            v
+        };
+        let value = Arc::new(value);
+        let want = {
+            let value = Arc::clone(&value);
+            move |p: &[Point; 4]| -> bool {
+                let mut f = [0.0; 4];
+                for (fk, x) in f.iter_mut().zip(p) {
+                    *fk = value(x);
+                    if *fk >= 0.0 {
+                        return false;
+                    }
+                }
+                if longest_edge(p) <= floor {
+                    return false;
+                }
+                // The centroid can collide only if every corner is free by less than the
+                // robot moves from that corner to the centroid.
+                let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
+                let qc = self.config(&c);
+                if (0..4).any(|k| -f[k] >= self.robot.sweep_bound(&self.config(&p[k]), &qc)) {
+                    return false;
+                }
+                self.terms(&c, false).0 > 0.0
+            }
+        };
+        let rank = move |c: &Point| value(c).abs();
+        Some(Grading {
+            want: Box::new(want),
+            rank: Box::new(rank),
+        })
     }
     /// The part whose term is largest, the goal's included (the goal's faces are then
     /// settled by their corners: `ConfigSpace::goal_faces_by_corners`).

@@ -24,7 +24,7 @@ const COARSEST: f64 = 8.0;
 pub struct GoalHole<'a> {
     /// The goal's function: ≤ 0 exactly in the goal, and outside it at most `lipschitz`
     /// times the distance to the goal.
-    pub value: &'a dyn Fn(&Point) -> f64,
+    pub value: &'a (dyn Fn(&Point) -> f64 + Sync),
     /// The Lipschitz constant of `value` (1 for a signed distance).
     pub lipschitz: f64,
     /// The smallest longest edge refinement goes down to at the goal: small enough that

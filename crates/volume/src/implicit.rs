@@ -101,13 +101,14 @@ pub trait ImplicitDomain {
 }
 
 /// A test on a tetrahedron's corners.
-pub type TetTest<'a> = dyn Fn(&[Point; 4]) -> bool + 'a;
+pub type TetTest<'a> = dyn Fn(&[Point; 4]) -> bool + Sync + 'a;
 
 /// A refinement criterion for the stuffing lattice (see [`ImplicitDomain::grading`]).
 pub struct Grading<'a> {
-    /// Whether a lattice tetrahedron (its corners) should be bisected.
+    /// Whether a lattice tetrahedron (its corners) should be bisected (asked of the
+    /// lattice's tetrahedra on every core).
     pub want: Box<TetTest<'a>>,
     /// A rank of points, smaller near what is refined for: among edges of equal length the
     /// one nearer is bisected first, which keeps the refinement local.
-    pub rank: Box<dyn Fn(&Point) -> f64 + 'a>,
+    pub rank: Box<dyn Fn(&Point) -> f64 + Sync + 'a>,
 }

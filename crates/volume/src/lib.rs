@@ -23,7 +23,9 @@
 //! * [`io`]: `.vtu` output and an SVG of the three orthographic projections.
 //! * [`stuff_periodic`] and [`PeriodicMesh`]: stuffing of a domain periodic along some axes
 //!   (configuration-space angles) on a lattice that closes on itself, as a slab of one period
-//!   with its ends identified (for the FEM) and a covering of several periods (for tracing).
+//!   with its ends identified (for the FEM) and a covering of several periods (for tracing);
+//!   graded where the domain asks by [`refine_periodic`], bisection on the quotient mesh, so
+//!   both ends of the period are refined alike.
 //! * [`VolumeSceneSpec`]: the serde form of a `"dimension": 3` scene.
 //!
 //! ## Measured
@@ -82,7 +84,7 @@ pub use periodic::{
     PeriodicMesh, PeriodicStuffed, SEAM_PART, periodic_lattice_tetrahedra, stuff_periodic,
 };
 pub use quality::{EDGES, QualityReport, quality, tet_angles_and_weights};
-pub use refine::{RefineReport, longest_edge, refine_where};
+pub use refine::{PeriodicTets, RefineReport, longest_edge, refine_periodic, refine_where};
 pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
 pub use spec::{
     BoundarySpec, BoxSpec, ConditionSpec, GoalSpec, GoalsSpec, ObstacleSpec, RobotSpec, SphereSpec,

@@ -31,9 +31,12 @@ use harmonic_mesh::BoundaryTag;
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
 use crate::mesh::{NO_NEIGHBOR, TetMesh};
+use crate::quality::EDGES;
+use crate::refine::{PeriodicTets, refine_periodic};
 use crate::solid::{Point, Vector};
 use crate::stuffing::{
-    ALPHA_LONG, ALPHA_SHORT, Lattice, NONE, Stuffed, StuffingOptions, Sv, emit_stencils, key,
+    ALPHA_LONG, ALPHA_SHORT, Cuts, Lattice, NONE, Stuffed, StuffingOptions, Sv, emit_over,
+    emit_stencils, key,
 };
 
 /// The obstacle index given to the slab's end faces (see the module docs): the FEM gives
@@ -187,82 +190,46 @@ pub fn stuff_periodic(
     };
     let nv = lattice.count();
     let canon: Vec<(u32, [i32; 3])> = (0..nv as u32).map(|v| wrapped.canonical(v)).collect();
+    let period_of = [0, 1, 2].map(|a| cells[a].map(|c| c as f64 * h));
+
+    if let Some(grading) = domain.grading(h) {
+        // The lattice's tetrahedra of one period as a quotient mesh, graded by bisection.
+        let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
+        let mut background = PeriodicTets {
+            vertices: (0..nv as u32).map(|v| lattice.position(v)).collect(),
+            period: period_of,
+            origin: lattice.origin,
+            ..PeriodicTets::default()
+        };
+        lattice.for_each_tet(&keep, &mut |t| {
+            background.tets.push(t.map(|v| canon[v as usize].0));
+            background.wraps.push(t.map(|v| canon[v as usize].1));
+        });
+        let budget = usize::try_from(opts.max_tetrahedra).unwrap_or(usize::MAX);
+        let report = refine_periodic(&mut background, &*grading.want, &*grading.rank, budget);
+        if report.bisections > 0 {
+            let mut out = stuff_quotient(domain, h, &background);
+            out.stuffed.graded = report.bisections;
+            return Ok(out);
+        }
+    }
+
+    // 1–2. Cut points and warping on the canonical vertices, their neighbourhoods wrapped.
     let is_canonical = |v: u32| canon[v as usize].0 == v;
-    let mut pos: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
-    let zero = 1e-12 * h;
-    let mut f = vec![0.0f64; nv];
-    {
-        use rayon::prelude::*;
-        let values: Vec<(usize, f64)> = (0..nv as u32)
-            .into_par_iter()
-            .filter(|&v| is_canonical(v))
-            .map(|v| {
-                let x = domain.value(&pos[v as usize]);
-                (v as usize, if x.abs() <= zero { 0.0 } else { x })
-            })
-            .collect();
-        for (v, x) in values {
-            f[v] = x;
-        }
-    }
-
-    // 1. Cut points on canonical edges, each stored in the frame of its lower-numbered end.
-    let mut cuts: HashMap<(u32, u32), Point> = HashMap::new();
-    {
-        use rayon::prelude::*;
-        let edges: Vec<(u32, u32, [i32; 3])> = (0..nv as u32)
-            .filter(|&v| is_canonical(v) && f[v as usize] < 0.0)
-            .flat_map(|v| {
-                wrapped
-                    .neighbours(v)
-                    .filter(|&(w, _, _)| f[w as usize] > 0.0)
-                    .map(move |(w, _, s)| (v, w, s))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-        let found: Vec<((u32, u32), Point)> = edges
-            .par_iter()
-            .map(|&(v, w, s)| {
-                let c = domain.cut(&pos[v as usize], &(pos[w as usize] + wrapped.offset(s)));
-                let c = if v < w { c } else { c - wrapped.offset(s) };
-                (key(v, w), c)
-            })
-            .collect();
-        cuts.extend(found);
-    }
-
-    // 2. Warping, on canonical vertices with their wrapped neighbourhoods.
-    let long_len = h;
-    let short_len = 0.5 * 3f64.sqrt() * h;
-    let mut warped = 0;
-    for v in 0..nv as u32 {
-        if !is_canonical(v) || f[v as usize] == 0.0 {
-            continue;
-        }
-        let mut best: Option<(f64, Point)> = None;
-        for (w, long, s) in wrapped.neighbours(v) {
-            if let Some(c) = cuts.get(&key(v, w)) {
-                let c = if v < w { *c } else { c + wrapped.offset(s) };
-                let dist = (c - pos[v as usize]).norm();
-                let (alpha, len) = if long {
-                    (ALPHA_LONG, long_len)
-                } else {
-                    (ALPHA_SHORT, short_len)
-                };
-                if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
-                    best = Some((dist, c));
-                }
+    let positions: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
+    let active: Vec<u32> = (0..nv as u32).filter(|&v| is_canonical(v)).collect();
+    let (pos, f, cuts, warped) = cut_and_warp_quotient(
+        domain,
+        h,
+        &positions,
+        &active,
+        &|v, k| {
+            for (w, long, s) in wrapped.neighbours(v) {
+                k(w, if long { ALPHA_LONG } else { ALPHA_SHORT }, s);
             }
-        }
-        if let Some((_, c)) = best {
-            pos[v as usize] = c;
-            f[v as usize] = 0.0;
-            warped += 1;
-            for (w, _, _) in wrapped.neighbours(v) {
-                cuts.remove(&key(v, w));
-            }
-        }
-    }
+        },
+        period_of,
+    );
 
     // The unwrapped lattice: every copy where its class's canonical member is, shifted.
     let mut f_ext = vec![0.0; nv];
@@ -293,8 +260,272 @@ pub fn stuff_periodic(
     let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
     let (stuffed, sources) =
         emit_stencils(&lattice, &pos_ext, &f_ext, &cuts_ext, domain, warped, &keep);
+    let (orbit, wrap) = classes(&sources, &|e| canon[e as usize]);
+    Ok(PeriodicStuffed {
+        stuffed,
+        orbit,
+        wrap,
+        period: period_of,
+    })
+}
 
-    // Classes of the output vertices.
+/// Lists a canonical vertex's neighbours: (neighbour, warping threshold α, the neighbour's
+/// offset in periods relative to the vertex's frame).
+type QuotientNeighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64, [i32; 3])) + 'a;
+
+/// Steps 1 and 2 of stuffing on the canonical vertices `active` of a periodic background
+/// (positions `positions`, edges `neighbours`): the vertices after warping, their signs, the
+/// cut points left (each in the frame of its edge's lower-numbered end) and how many
+/// vertices were warped. Every copy of a vertex is warped alike and every copy of an edge cut
+/// at the same point, because each is computed once, on its class.
+fn cut_and_warp_quotient(
+    domain: &(dyn ImplicitDomain + Sync),
+    h: f64,
+    positions: &[Point],
+    active: &[u32],
+    neighbours: &QuotientNeighbours<'_>,
+    period: [Option<f64>; 3],
+) -> (Vec<Point>, Vec<f64>, Cuts, usize) {
+    use rayon::prelude::*;
+    let offset = |w: [i32; 3]| {
+        Vector::new(
+            period[0].map_or(0.0, |l| w[0] as f64 * l),
+            period[1].map_or(0.0, |l| w[1] as f64 * l),
+            period[2].map_or(0.0, |l| w[2] as f64 * l),
+        )
+    };
+    let mut pos = positions.to_vec();
+    let zero = 1e-12 * h;
+    let mut f = vec![0.0f64; positions.len()];
+    let values: Vec<f64> = active
+        .par_iter()
+        .map(|&v| {
+            let x = domain.value(&pos[v as usize]);
+            if x.abs() <= zero { 0.0 } else { x }
+        })
+        .collect();
+    for (&v, x) in active.iter().zip(values) {
+        f[v as usize] = x;
+    }
+
+    // 1. Cut points on edges with strictly opposite signs, each stored in the frame of its
+    //    lower-numbered end.
+    let mut edges: Vec<(u32, u32, [i32; 3])> = Vec::new();
+    for &v in active {
+        if f[v as usize] < 0.0 {
+            neighbours(v, &mut |w, _, s| {
+                if f[w as usize] > 0.0 {
+                    edges.push((v, w, s));
+                }
+            });
+        }
+    }
+    let found: Vec<((u32, u32), Point)> = edges
+        .par_iter()
+        .map(|&(v, w, s)| {
+            let c = domain.cut(&pos[v as usize], &(pos[w as usize] + offset(s)));
+            let c = if v < w { c } else { c - offset(s) };
+            (key(v, w), c)
+        })
+        .collect();
+    let mut cuts: Cuts = found.into_iter().collect();
+
+    // 2. Warping: the threshold is α times the edge's length before any warping.
+    let mut warped = 0;
+    for &v in active {
+        if f[v as usize] == 0.0 {
+            continue;
+        }
+        let mut best: Option<(f64, Point)> = None;
+        neighbours(v, &mut |w, alpha, s| {
+            if let Some(c) = cuts.get(&key(v, w)) {
+                let c = if v < w { *c } else { c + offset(s) };
+                let dist = (c - pos[v as usize]).norm();
+                let len = (positions[w as usize] + offset(s) - positions[v as usize]).norm();
+                if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
+                    best = Some((dist, c));
+                }
+            }
+        });
+        if let Some((_, c)) = best {
+            pos[v as usize] = c;
+            f[v as usize] = 0.0;
+            warped += 1;
+            neighbours(v, &mut |w, _, _| {
+                cuts.remove(&key(v, w));
+            });
+        }
+    }
+    (pos, f, cuts, warped)
+}
+
+/// Stuffing over a graded quotient background (see [`refine_periodic`]): cut points and
+/// warping on its canonical vertices, then the stencils of its tetrahedra over the copies
+/// of the vertices they use (vertex `c` shifted `w` periods is one output copy).
+fn stuff_quotient(
+    domain: &(dyn ImplicitDomain + Sync),
+    h: f64,
+    background: &PeriodicTets,
+) -> PeriodicStuffed {
+    use rayon::prelude::*;
+    let period = background.period;
+    let nv = background.vertices.len();
+    // The quotient's edges, each once: (a, b, b's offset from a), a < b, found per vertex
+    // among the tetrahedra around it (on every core).
+    let mut around_start = vec![0usize; nv + 1];
+    for tet in &background.tets {
+        for &v in tet {
+            around_start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..nv {
+        around_start[v + 1] += around_start[v];
+    }
+    let mut around = vec![0u32; around_start[nv]];
+    let mut next = around_start.clone();
+    for (t, tet) in background.tets.iter().enumerate() {
+        for &v in tet {
+            around[next[v as usize]] = t as u32;
+            next[v as usize] += 1;
+        }
+    }
+    drop(next);
+    let edges: Vec<(u32, u32, [i32; 3])> = (0..nv as u32)
+        .into_par_iter()
+        .flat_map_iter(|a| {
+            let mut list: Vec<(u32, [i32; 3])> = Vec::new();
+            for &t in &around[around_start[a as usize]..around_start[a as usize + 1]] {
+                let (tet, w) = (background.tets[t as usize], background.wraps[t as usize]);
+                let ia = tet.iter().position(|&v| v == a).unwrap_or(0);
+                for j in 0..4 {
+                    if tet[j] > a {
+                        list.push((tet[j], [0, 1, 2].map(|k| w[j][k] - w[ia][k])));
+                    }
+                }
+            }
+            list.sort_unstable_by_key(|&(b, _)| b);
+            list.dedup_by_key(|&mut (b, _)| b);
+            list.into_iter().map(move |(b, rel)| (a, b, rel))
+        })
+        .collect();
+    let used: Vec<bool> = (0..nv)
+        .map(|v| around_start[v + 1] > around_start[v])
+        .collect();
+    let mut start = vec![0usize; nv + 1];
+    for &(a, b, _) in &edges {
+        start[a as usize + 1] += 1;
+        start[b as usize + 1] += 1;
+    }
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut adjacent = vec![(0u32, 0.0f64, [0i32; 3]); start[nv]];
+    for &(a, b, rel) in &edges {
+        let d = background.vertices[b as usize] + background.offset(rel)
+            - background.vertices[a as usize];
+        // Axis-parallel: the lattice's long-edge threshold; diagonals: its short-edge one.
+        let tiny = 1e-9 * d.norm();
+        let alpha = match d.iter().filter(|c| c.abs() <= tiny).count() {
+            2 => ALPHA_LONG,
+            _ => ALPHA_SHORT,
+        };
+        adjacent[fill[a as usize]] = (b, alpha, rel);
+        fill[a as usize] += 1;
+        adjacent[fill[b as usize]] = (a, alpha, rel.map(|x| -x));
+        fill[b as usize] += 1;
+    }
+    let active: Vec<u32> = (0..nv as u32).filter(|&v| used[v as usize]).collect();
+    let (pos, f, cuts, warped) = cut_and_warp_quotient(
+        domain,
+        h,
+        &background.vertices,
+        &active,
+        &|v, k| {
+            for &(w, alpha, s) in &adjacent[start[v as usize]..start[v as usize + 1]] {
+                k(w, alpha, s);
+            }
+        },
+        period,
+    );
+
+    // The copies the tetrahedra use, numbered in the order of (class, shift): two copies of a
+    // face then order their corners alike, and split their quadrilaterals alike.
+    let mut keys: Vec<u64> = background
+        .tets
+        .par_iter()
+        .zip(&background.wraps)
+        .flat_map_iter(|(tet, w)| (0..4).map(move |i| (tet[i] as u64) << 32 | pack(w[i]) as u64))
+        .collect();
+    keys.par_sort_unstable();
+    keys.dedup();
+    let id = |c: u32, w: [i32; 3]| {
+        keys.binary_search(&((c as u64) << 32 | pack(w) as u64))
+            .unwrap_or(0) as u32
+    };
+    let copies: Vec<(u32, [i32; 3])> = keys
+        .iter()
+        .map(|&k| ((k >> 32) as u32, unpack(k as u32)))
+        .collect();
+    let pos_ext: Vec<Point> = copies
+        .iter()
+        .map(|&(c, w)| pos[c as usize] + background.offset(w))
+        .collect();
+    let f_ext: Vec<f64> = copies.iter().map(|&(c, _)| f[c as usize]).collect();
+    let tets: Vec<[u32; 4]> = background
+        .tets
+        .par_iter()
+        .zip(&background.wraps)
+        .map(|(tet, w)| [0, 1, 2, 3].map(|i| id(tet[i], w[i])))
+        .collect();
+    let mut cuts_ext: Cuts = HashMap::new();
+    for t in &tets {
+        for [i, j] in EDGES {
+            let (e, x) = if f_ext[t[i] as usize] < 0.0 {
+                (t[i], t[j])
+            } else {
+                (t[j], t[i])
+            };
+            if !(f_ext[e as usize] < 0.0 && f_ext[x as usize] > 0.0) {
+                continue;
+            }
+            let ((ce, we), (cx, wx)) = (copies[e as usize], copies[x as usize]);
+            if let Some(c) = cuts.get(&key(ce, cx)) {
+                let w = if ce < cx { we } else { wx };
+                cuts_ext.insert(key(e, x), c + background.offset(w));
+            }
+        }
+    }
+    let (stuffed, sources) = emit_over(&pos_ext, &f_ext, &cuts_ext, domain, warped, h, &mut |e| {
+        for &t in &tets {
+            e(t);
+        }
+    });
+    let (orbit, wrap) = classes(&sources, &|e| copies[e as usize]);
+    PeriodicStuffed {
+        stuffed,
+        orbit,
+        wrap,
+        period,
+    }
+}
+
+/// A shift in periods as one integer whose order is the shifts' order (each component in
+/// −128..128; a mesh's shifts are a few periods at most).
+fn pack(w: [i32; 3]) -> u32 {
+    w.iter()
+        .fold(0u32, |acc, &c| acc << 8 | (c + 128).clamp(0, 255) as u32)
+}
+
+/// The shift [`pack`] packed.
+fn unpack(k: u32) -> [i32; 3] {
+    [16, 8, 0].map(|s| ((k >> s) & 0xFF) as i32 - 128)
+}
+
+/// The class of every output vertex and its offset in periods, from where it came from
+/// (`canon` gives a background vertex's class and shift): a background vertex's class, or
+/// the class of the edge a cut point lies on (in the frame of its lower class).
+fn classes(sources: &[Sv], canon: &dyn Fn(u32) -> (u32, [i32; 3])) -> (Vec<u32>, Vec<[i32; 3]>) {
     #[derive(Hash, PartialEq, Eq)]
     enum Class {
         Lattice(u32),
@@ -303,14 +534,14 @@ pub fn stuff_periodic(
     let mut class_of: HashMap<Class, u32> = HashMap::new();
     let mut orbit = Vec::with_capacity(sources.len());
     let mut wrap = Vec::with_capacity(sources.len());
-    for s in &sources {
+    for s in sources {
         let (class, w) = match *s {
             Sv::Lattice(e) => {
-                let (c, w) = canon[e as usize];
+                let (c, w) = canon(e);
                 (Class::Lattice(c), w)
             }
             Sv::Cut(a, b) => {
-                let ((ca, wa), (cb, wb)) = (canon[a as usize], canon[b as usize]);
+                let ((ca, wa), (cb, wb)) = (canon(a), canon(b));
                 if ca < cb {
                     (Class::Cut(ca, cb), wa)
                 } else {
@@ -322,13 +553,7 @@ pub fn stuff_periodic(
         orbit.push(*class_of.entry(class).or_insert(next));
         wrap.push(w);
     }
-    let period = [0, 1, 2].map(|a| cells[a].map(|c| c as f64 * h));
-    Ok(PeriodicStuffed {
-        stuffed,
-        orbit,
-        wrap,
-        period,
-    })
+    (orbit, wrap)
 }
 
 /// A mesh of a periodic domain: the slab of one period for the FEM and a covering of

@@ -19,6 +19,12 @@
 //! identical) are never on a bisected edge's tetrahedra: a tetrahedron whose propagation
 //! path reaches one stays as it is.
 //!
+//! [`refine_periodic`] refines a mesh of a periodic domain as the quotient it is: every
+//! vertex is stored once, at its canonical place in one period, and every tetrahedron
+//! carries, per corner, the periods to shift that vertex by to give the tetrahedron its true
+//! shape. An edge is then one edge however many periods apart its copies lie, its midpoint
+//! one new vertex, and both ends of a period are refined alike: nothing is frozen.
+//!
 //! ```
 //! use harmonic_volume::{Point, refine_where, longest_edge, signed_volume};
 //! // One tetrahedron, refined until every edge is shorter than 0.3.
@@ -46,7 +52,7 @@
 //! assert!(t.iter().all(|k| longest_edge(&k.map(|i| v[i as usize])) <= 0.3));
 //! ```
 
-use crate::solid::Point;
+use crate::solid::{Point, Vector};
 
 /// What [`refine_where`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -82,23 +88,101 @@ pub fn refine_where(
     vertices: &mut Vec<Point>,
     tets: &mut Vec<[u32; 4]>,
     frozen: &dyn Fn(u32) -> bool,
-    want: &dyn Fn(&[Point; 4]) -> bool,
+    want: &(dyn Fn(&[Point; 4]) -> bool + Sync),
     rank: &dyn Fn(&Point) -> f64,
     max_tets: usize,
 ) -> RefineReport {
+    let mut wraps = Vec::new();
     let mut r = Refiner {
         vertices,
         tets,
+        wraps: &mut wraps,
+        period: None,
         around: Vec::new(),
         frozen,
         rank,
         touched: Vec::new(),
     };
+    refine(&mut r, want, max_tets)
+}
+
+/// A mesh of a domain periodic along some axes, stored as its quotient (see the module
+/// docs): canonical vertices in the period that starts at `origin`, and per tetrahedron the
+/// offsets, in periods, that give each corner its place.
+#[derive(Clone, Debug, Default)]
+pub struct PeriodicTets {
+    /// Vertices, each at its canonical place.
+    pub vertices: Vec<Point>,
+    /// Tetrahedra (positively oriented with their corners shifted).
+    pub tets: Vec<[u32; 4]>,
+    /// Per tetrahedron and corner: the periods that corner is shifted by.
+    pub wraps: Vec<[[i32; 3]; 4]>,
+    /// The period along each axis (`None`: not periodic).
+    pub period: [Option<f64>; 3],
+    /// The lower corner of the canonical period.
+    pub origin: Point,
+}
+
+impl PeriodicTets {
+    /// The shift of `w` periods.
+    pub fn offset(&self, w: [i32; 3]) -> Vector {
+        offset(self.period, w)
+    }
+
+    /// A tetrahedron's corners, shifted to give it its true shape.
+    pub fn corners(&self, t: usize) -> [Point; 4] {
+        let tet = self.tets[t];
+        let w = self.wraps[t];
+        [0, 1, 2, 3].map(|i| self.vertices[tet[i] as usize] + self.offset(w[i]))
+    }
+}
+
+fn offset(period: [Option<f64>; 3], w: [i32; 3]) -> Vector {
+    Vector::new(
+        period[0].map_or(0.0, |l| w[0] as f64 * l),
+        period[1].map_or(0.0, |l| w[1] as f64 * l),
+        period[2].map_or(0.0, |l| w[2] as f64 * l),
+    )
+}
+
+/// [`refine_where`] on the quotient mesh of a periodic domain (see the module docs): `want`
+/// sees each tetrahedron's shifted corners, `rank` canonical points; new vertices are
+/// appended at their canonical places. Every period must be longer than twice the longest
+/// edge, so that two vertices share at most one edge.
+pub fn refine_periodic(
+    mesh: &mut PeriodicTets,
+    want: &(dyn Fn(&[Point; 4]) -> bool + Sync),
+    rank: &dyn Fn(&Point) -> f64,
+    max_tets: usize,
+) -> RefineReport {
+    let mut r = Refiner {
+        vertices: &mut mesh.vertices,
+        tets: &mut mesh.tets,
+        wraps: &mut mesh.wraps,
+        period: Some((mesh.period, mesh.origin)),
+        around: Vec::new(),
+        frozen: &|_| false,
+        rank,
+        touched: Vec::new(),
+    };
+    refine(&mut r, want, max_tets)
+}
+
+fn refine(
+    r: &mut Refiner<'_>,
+    want: &(dyn Fn(&[Point; 4]) -> bool + Sync),
+    max_tets: usize,
+) -> RefineReport {
     let mut report = RefineReport::default();
-    let corners = |r: &Refiner, t: u32| r.tets[t as usize].map(|v| r.vertices[v as usize]);
-    let mut candidates: Vec<u32> = (0..r.tets.len() as u32)
-        .filter(|&t| want(&corners(&r, t)))
-        .collect();
+    let corners = |r: &Refiner, t: u32| r.corners(t);
+    let mut candidates: Vec<u32> = {
+        use rayon::prelude::*;
+        let (vertices, tets, wraps, period) = (&*r.vertices, &*r.tets, &*r.wraps, r.period);
+        (0..tets.len() as u32)
+            .into_par_iter()
+            .filter(|&t| want(&corners_of(vertices, tets, wraps, period, t)))
+            .collect()
+    };
     if candidates.is_empty() {
         return report;
     }
@@ -111,7 +195,7 @@ pub fn refine_where(
                 report.budget_reached = true;
                 return report;
             }
-            if !want(&corners(&r, t)) {
+            if !want(&corners(r, t)) {
                 continue;
             }
             match r.bisect_longest(t) {
@@ -122,7 +206,7 @@ pub fn refine_where(
         let mut next = std::mem::take(&mut r.touched);
         next.sort_unstable();
         next.dedup();
-        next.retain(|&t| want(&corners(&r, t)));
+        next.retain(|&t| want(&corners(r, t)));
         candidates = next;
     }
     report
@@ -145,6 +229,11 @@ fn greater(k: EdgeKey, l: EdgeKey) -> bool {
 struct Refiner<'a> {
     vertices: &'a mut Vec<Point>,
     tets: &'a mut Vec<[u32; 4]>,
+    /// Per tetrahedron and corner, its shift in periods; empty for a mesh that is not
+    /// periodic.
+    wraps: &'a mut Vec<[[i32; 3]; 4]>,
+    /// The periods and the canonical period's lower corner, for a periodic mesh.
+    period: Option<([Option<f64>; 3], Point)>,
     /// Per vertex, the tetrahedra that have it.
     around: Vec<Vec<u32>>,
     frozen: &'a dyn Fn(u32) -> bool,
@@ -163,35 +252,69 @@ impl Refiner<'_> {
         }
     }
 
+    /// A tetrahedron's corners, shifted to give it its true shape.
+    fn corners(&self, t: u32) -> [Point; 4] {
+        corners_of(self.vertices, self.tets, self.wraps, self.period, t)
+    }
+
+    /// Edge `(i, j)` of `t` as its vertex pair `(a, b)` with `a < b`, and `b`'s position in
+    /// the frame of `a`'s canonical place: the same numbers whichever tetrahedron around the
+    /// edge asks (so lengths and midpoints are computed alike on every copy).
+    fn edge(&self, t: u32, (i, j): (usize, usize)) -> ((u32, u32), Point, Point) {
+        let tet = self.tets[t as usize];
+        let (i, j) = if tet[i] < tet[j] { (i, j) } else { (j, i) };
+        let (a, b) = (tet[i], tet[j]);
+        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
+        match self.period {
+            None => ((a, b), pa, pb),
+            Some((period, _)) => {
+                let w = self.wraps[t as usize];
+                let rel = [0, 1, 2].map(|k| w[j][k] - w[i][k]);
+                ((a, b), pa, pb + offset(period, rel))
+            }
+        }
+    }
+
+    /// A point moved into the canonical period.
+    fn canonical(&self, p: Point) -> (Point, [i32; 3]) {
+        let Some((period, origin)) = self.period else {
+            return (p, [0; 3]);
+        };
+        let mut q = p;
+        let mut w = [0i32; 3];
+        for k in 0..3 {
+            if let Some(l) = period[k] {
+                let n = ((p[k] - origin[k]) / l).floor();
+                w[k] = n as i32;
+                q[k] = p[k] - n * l;
+            }
+        }
+        (q, w)
+    }
+
     /// The longest edge of `t` in the strict order of [`Refiner::key`]. The rank (a call to
     /// the caller's function) is asked only of the edges tied for the longest.
     fn longest(&self, t: u32) -> (u32, u32) {
-        let tet = self.tets[t as usize];
-        let edges = EDGES.map(|(i, j)| (tet[i].min(tet[j]), tet[i].max(tet[j])));
-        let lens = edges.map(|e| self.length_key(e));
+        let edges = EDGES.map(|e| self.edge(t, e));
+        let lens = edges.map(|(_, pa, pb)| length_key(&pa, &pb));
         let top = lens.iter().copied().max().unwrap_or(0);
         let mut tied = edges
             .iter()
             .zip(&lens)
             .filter(|&(_, &l)| l == top)
-            .map(|(&e, _)| e);
-        let first = tied.next().unwrap_or((tet[0], tet[1]));
+            .map(|(e, _)| *e);
+        let Some(first) = tied.next() else {
+            return edges[0].0;
+        };
         let mut best: Option<(EdgeKey, (u32, u32))> = None;
         for e in tied {
-            let (b, _) = *best.get_or_insert_with(|| (self.key(first), first));
+            let (b, _) = *best.get_or_insert_with(|| (self.key(first), first.0));
             let k = self.key(e);
             if greater(k, b) {
-                best = Some((k, e));
+                best = Some((k, e.0));
             }
         }
-        best.map_or(first, |(_, e)| e)
-    }
-
-    /// The first part of [`Refiner::key`]: the squared length with the last 20 bits of the
-    /// mantissa dropped.
-    fn length_key(&self, (a, b): (u32, u32)) -> u64 {
-        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
-        (pa - pb).norm_squared().to_bits() >> 20
+        best.map_or(first.0, |(_, e)| e)
     }
 
     /// An edge's place in the order that decides which edge of a tetrahedron is bisected:
@@ -200,14 +323,9 @@ impl Refiner<'_> {
     /// then its vertex numbers. Ranking ties by the distance to where refinement is wanted
     /// keeps the propagation path local: every step moves towards it, never across a
     /// uniform lattice.
-    fn key(&self, (a, b): (u32, u32)) -> EdgeKey {
-        let (pa, pb) = (self.vertices[a as usize], self.vertices[b as usize]);
-        (
-            self.length_key((a, b)),
-            (self.rank)(&nalgebra::center(&pa, &pb)),
-            a,
-            b,
-        )
+    fn key(&self, ((a, b), pa, pb): ((u32, u32), Point, Point)) -> EdgeKey {
+        let (mid, _) = self.canonical(nalgebra::center(&pa, &pb));
+        (length_key(&pa, &pb), (self.rank)(&mid), a, b)
     }
 
     fn tets_around(&self, (a, b): (u32, u32)) -> Vec<u32> {
@@ -236,16 +354,25 @@ impl Refiner<'_> {
                 stack.push(w);
                 continue;
             }
-            self.bisect(e, &around);
+            self.bisect(u, e, &around);
             done += 1;
             stack.pop();
         }
         Some(done)
     }
 
-    fn bisect(&mut self, (a, b): (u32, u32), around: &[u32]) {
+    /// Bisects edge `(a, b)` of `t` and every tetrahedron `around` it.
+    fn bisect(&mut self, t: u32, (a, b): (u32, u32), around: &[u32]) {
         let m = self.vertices.len() as u32;
-        let mid = nalgebra::center(&self.vertices[a as usize], &self.vertices[b as usize]);
+        let (ia, ib) = {
+            let tet = self.tets[t as usize];
+            let find = |v: u32| tet.iter().position(|&x| x == v).unwrap_or(0);
+            (find(a), find(b))
+        };
+        let (_, pa, pb) = self.edge(t, (ia, ib));
+        // The midpoint in the frame of `a`'s canonical place, moved into the canonical
+        // period: `shift` periods from there.
+        let (mid, shift) = self.canonical(nalgebra::center(&pa, &pb));
         self.vertices.push(mid);
         self.around.push(Vec::with_capacity(2 * around.len()));
         for &t in around {
@@ -255,6 +382,21 @@ impl Refiner<'_> {
             let n = self.tets.len() as u32;
             self.tets[t as usize] = first;
             self.tets.push(second);
+            if self.period.is_some() {
+                // In this tetrahedron's frame the midpoint lies `shift` periods from `a`'s.
+                let w = self.wraps[t as usize];
+                let wa = w[tet.iter().position(|&x| x == a).unwrap_or(0)];
+                let wm = [0, 1, 2].map(|k| wa[k] + shift[k]);
+                let put = |x: u32, wrap: [[i32; 3]; 4]| {
+                    let mut wrap = wrap;
+                    if let Some(i) = tet.iter().position(|&v| v == x) {
+                        wrap[i] = wm;
+                    }
+                    wrap
+                };
+                self.wraps[t as usize] = put(b, w);
+                self.wraps.push(put(a, w));
+            }
             let list = &mut self.around[b as usize];
             if let Some(k) = list.iter().position(|&x| x == t) {
                 list.swap_remove(k);
@@ -269,4 +411,28 @@ impl Refiner<'_> {
             self.touched.extend([t, n]);
         }
     }
+}
+
+/// Tetrahedron `t`'s corners, shifted by their periods when the mesh is periodic.
+fn corners_of(
+    vertices: &[Point],
+    tets: &[[u32; 4]],
+    wraps: &[[[i32; 3]; 4]],
+    period: Option<([Option<f64>; 3], Point)>,
+    t: u32,
+) -> [Point; 4] {
+    let tet = tets[t as usize];
+    match period {
+        None => tet.map(|v| vertices[v as usize]),
+        Some((period, _)) => {
+            let w = wraps[t as usize];
+            [0, 1, 2, 3].map(|i| vertices[tet[i] as usize] + offset(period, w[i]))
+        }
+    }
+}
+
+/// The first part of [`Refiner::key`]: the squared length with the last 20 bits of the
+/// mantissa dropped.
+fn length_key(pa: &Point, pb: &Point) -> u64 {
+    (pa - pb).norm_squared().to_bits() >> 20
 }

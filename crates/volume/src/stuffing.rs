@@ -247,7 +247,7 @@ fn lattice_neighbours(lattice: &Lattice, v: u32, k: &mut dyn FnMut(u32, f64)) {
 type Neighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64)) + 'a;
 
 /// Hands every tetrahedron of a background to a callback.
-type Tets<'a> = dyn FnMut(&mut dyn FnMut([u32; 4])) + 'a;
+pub(crate) type Tets<'a> = dyn FnMut(&mut dyn FnMut([u32; 4])) + 'a;
 
 /// The cut points of the edges whose ends have strictly opposite signs.
 pub(crate) type Cuts = HashMap<(u32, u32), Point>;
@@ -332,7 +332,7 @@ pub(crate) fn emit_stencils(
 
 /// Step 3 over the tetrahedra `tets` hands out (vertex numbers into `pos`), with, per output
 /// vertex, the background vertex or edge it came from.
-fn emit_over(
+pub(crate) fn emit_over(
     pos: &[Point],
     f: &[f64],
     cuts: &Cuts,
