@@ -10,6 +10,8 @@
 //! left around the hole have all their corners in the goal: a path that reaches one has
 //! reached the goal, and the goal's boundary condition holds on vertices inside it.
 
+use rayon::prelude::*;
+
 use crate::refine::{RefineReport, longest_edge, refine_where};
 use crate::solid::Point;
 
@@ -89,9 +91,10 @@ pub fn carve_goals(
             if settled[j] {
                 continue;
             }
+            let inside: Vec<bool> = vertices.par_iter().map(|p| (g.value)(p) <= 0.0).collect();
             let fits = tets
-                .iter()
-                .any(|tet| tet.iter().all(|&v| (g.value)(&vertices[v as usize]) <= 0.0));
+                .par_iter()
+                .any(|tet| tet.iter().all(|&v| inside[v as usize]));
             if fits || sizes[j] <= g.size {
                 settled[j] = true;
             } else {
@@ -106,7 +109,7 @@ pub fn carve_goals(
     let mut carved = vec![0; goals.len()];
     let inside: Vec<Vec<bool>> = goals
         .iter()
-        .map(|g| vertices.iter().map(|p| (g.value)(p) <= 0.0).collect())
+        .map(|g| vertices.par_iter().map(|p| (g.value)(p) <= 0.0).collect())
         .collect();
     tets.retain(|tet| {
         for (j, ins) in inside.iter().enumerate() {
