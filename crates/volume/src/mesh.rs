@@ -27,6 +27,34 @@ pub fn signed_volume(a: &Point, b: &Point, c: &Point, d: &Point) -> f64 {
 /// triples, packed with the tetrahedron and local face into one `u128` key (a parallel sort:
 /// keys are unique, so the result is the same on any number of threads). A face shared by more
 /// than two tetrahedra is an error.
+/// Checks a mesh's parts: finite vertices, tetrahedra that refer to them and are positively
+/// oriented.
+pub(crate) fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), VolumeError> {
+    let nv = vertices.len();
+    if let Some(i) = vertices
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(VolumeError::InvalidMesh(format!(
+            "vertex {i} is not finite"
+        )));
+    }
+    for (t, tet) in tets.iter().enumerate() {
+        if let Some(&v) = tet.iter().find(|&&v| v as usize >= nv) {
+            return Err(VolumeError::InvalidMesh(format!(
+                "tetrahedron {t} refers to vertex {v}, but there are {nv} vertices"
+            )));
+        }
+        let [a, b, c, d] = tet.map(|v| vertices[v as usize]);
+        if signed_volume(&a, &b, &c, &d) <= 0.0 {
+            return Err(VolumeError::InvalidMesh(format!(
+                "tetrahedron {t} {tet:?} is not positively oriented"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, VolumeError> {
     use rayon::slice::ParallelSliceMut;
     let mut faces: Vec<u128> = Vec::with_capacity(4 * tets.len());
@@ -142,27 +170,7 @@ impl TetMesh {
                 tets.len()
             )));
         }
-        if let Some(i) = vertices
-            .iter()
-            .position(|p| !p.iter().all(|c| c.is_finite()))
-        {
-            return Err(VolumeError::InvalidMesh(format!(
-                "vertex {i} is not finite"
-            )));
-        }
-        for (t, tet) in tets.iter().enumerate() {
-            if let Some(&v) = tet.iter().find(|&&v| v as usize >= nv) {
-                return Err(VolumeError::InvalidMesh(format!(
-                    "tetrahedron {t} refers to vertex {v}, but there are {nv} vertices"
-                )));
-            }
-            let [a, b, c, d] = tet.map(|v| vertices[v as usize]);
-            if signed_volume(&a, &b, &c, &d) <= 0.0 {
-                return Err(VolumeError::InvalidMesh(format!(
-                    "tetrahedron {t} {tet:?} is not positively oriented"
-                )));
-            }
-        }
+        check_tetrahedra(&vertices, &tets)?;
         let neighbors = face_neighbors(&tets)?;
         Ok(Self::with_neighbors(
             vertices,

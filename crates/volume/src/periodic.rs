@@ -22,7 +22,9 @@
 //! * [`PeriodicMesh::covering`] is `2c + 1` copies of the slab laid end to end along every
 //!   periodic axis and glued (a finite piece of the universal cover), on which a tracer
 //!   follows the periodic potential with the angles unwrapped: a path crosses θ = 2π as any
-//!   other face.
+//!   other face. Its adjacency is the slab's, copied, with each seam face joined to its
+//!   partner (the face at the other end whose corners are of the same classes) in the
+//!   neighbouring copy: only the slab's faces are ever sorted.
 
 use std::collections::HashMap;
 
@@ -583,7 +585,7 @@ impl PeriodicMesh {
     pub fn new(
         stuffed: &PeriodicStuffed,
         copies: i32,
-        tag: &dyn Fn(&Point) -> BoundaryTag,
+        tag: &(dyn Fn(&Point) -> BoundaryTag + Sync),
     ) -> Result<PeriodicMesh, VolumeError> {
         let s = &stuffed.stuffed;
         let periodic: Vec<usize> = (0..3).filter(|&a| stuffed.period[a].is_some()).collect();
@@ -627,65 +629,142 @@ impl PeriodicMesh {
             }
             shifts = next;
         }
-        let mut index: HashMap<(u32, [i32; 3]), u32> = HashMap::new();
-        let mut vertices = Vec::new();
-        let mut slab_vertex = Vec::new();
-        let mut tets = Vec::with_capacity(s.tetrahedra.len() * shifts.len());
-        for sh in &shifts {
-            let mut local = vec![NONE; s.vertices.len()];
-            for tet in &s.tetrahedra {
-                let mapped = tet.map(|v| {
-                    if local[v as usize] != NONE {
-                        return local[v as usize];
-                    }
-                    let w = stuffed.wrap[v as usize];
-                    let k = (
-                        stuffed.orbit[v as usize],
-                        [w[0] + sh[0], w[1] + sh[1], w[2] + sh[2]],
-                    );
-                    let id = *index.entry(k).or_insert_with(|| {
-                        vertices.push(s.vertices[v as usize] + offset(*sh));
-                        slab_vertex.push(v);
-                        (vertices.len() - 1) as u32
-                    });
-                    local[v as usize] = id;
-                    id
-                });
-                tets.push(mapped);
+        // One covering vertex per (class, periods from the class's canonical member): the
+        // slab's vertices in every copy, numbered in the order of those keys.
+        use rayon::prelude::*;
+        let nsv = s.vertices.len();
+        let key = |v: usize, sh: &[i32; 3]| {
+            let w = stuffed.wrap[v];
+            (stuffed.orbit[v] as u64) << 32
+                | pack([w[0] + sh[0], w[1] + sh[1], w[2] + sh[2]]) as u64
+        };
+        let keys: Vec<u64> = shifts
+            .iter()
+            .flat_map(|sh| (0..nsv).map(move |v| key(v, sh)))
+            .collect();
+        let mut unique = keys.clone();
+        unique.par_sort_unstable();
+        unique.dedup();
+        let ids: Vec<u32> = keys
+            .par_iter()
+            .map(|k| unique.binary_search(k).unwrap_or(0) as u32)
+            .collect();
+        let mut vertices = vec![Point::origin(); unique.len()];
+        let mut slab_vertex = vec![NONE; unique.len()];
+        for (c, sh) in shifts.iter().enumerate() {
+            for v in 0..nsv {
+                let id = ids[c * nsv + v] as usize;
+                if slab_vertex[id] == NONE {
+                    vertices[id] = s.vertices[v] + offset(*sh);
+                    slab_vertex[id] = v as u32;
+                }
             }
         }
-        // The covering's adjacency; its tags come from the slab's below.
-        let covering = TetMesh::new(vertices, tets, &|_| BoundaryTag::Wall)?;
-
-        // The slab is the covering's middle copy: its tetrahedra, in order, at `middle`. A face
-        // whose neighbour there lies in another copy is a slab end (a seam), one without a
-        // neighbour is real boundary; only those are tagged by `tag`.
-        let nt = s.tetrahedra.len();
-        let middle = nt * shifts.iter().position(|sh| *sh == [0; 3]).unwrap_or(0);
-        let inside = |n: u32| (middle..middle + nt).contains(&(n as usize));
-        let neighbors: Vec<[u32; 4]> = covering.neighbors()[middle..middle + nt]
-            .iter()
-            .map(|across| {
-                across.map(|n| {
-                    if inside(n) {
-                        n - middle as u32
-                    } else {
-                        NO_NEIGHBOR
-                    }
-                })
+        let tets: Vec<[u32; 4]> = (0..shifts.len())
+            .flat_map(|c| {
+                let ids = &ids[c * nsv..(c + 1) * nsv];
+                s.tetrahedra.iter().map(move |t| t.map(|v| ids[v as usize]))
             })
             .collect();
+        // The slab's own adjacency; its ends are left without neighbours there. A face
+        // without a neighbour whose corners' classes are those of another such face is a
+        // slab end, one of a pair of seam faces (`d` periods apart); the others are real
+        // boundary.
+        crate::mesh::check_tetrahedra(&s.vertices, &s.tetrahedra)?;
+        let nt = s.tetrahedra.len();
+        let slab_neighbors = crate::mesh::face_neighbors(&s.tetrahedra)?;
+        let face_of = |t: usize, k: usize| crate::mesh::FACES[k].map(|l| s.tetrahedra[t][l]);
+        let mut open: HashMap<[u32; 3], (u32, u8)> = HashMap::new();
+        // Per slab tetrahedron and face: its seam partner (tetrahedron, face) and the shift
+        // `d` in periods from this face's copy to the partner's.
+        let mut seam: HashMap<(u32, u8), (u32, u8, [i32; 3])> = HashMap::new();
+        for (t, across) in slab_neighbors.iter().enumerate() {
+            for (k, &n) in across.iter().enumerate() {
+                if n != NO_NEIGHBOR {
+                    continue;
+                }
+                let mut classes = face_of(t, k).map(|v| stuffed.orbit[v as usize]);
+                classes.sort_unstable();
+                let Some((t2, k2)) = open.remove(&classes) else {
+                    open.insert(classes, (t as u32, k as u8));
+                    continue;
+                };
+                // The same class on both faces: the shift between the two copies.
+                let v1 = face_of(t, k)[0];
+                let o = stuffed.orbit[v1 as usize];
+                let v2 = face_of(t2 as usize, k2 as usize)
+                    .into_iter()
+                    .find(|&v| stuffed.orbit[v as usize] == o)
+                    .unwrap_or(v1);
+                let (w1, w2) = (stuffed.wrap[v1 as usize], stuffed.wrap[v2 as usize]);
+                let d = [0, 1, 2].map(|a| w2[a] - w1[a]);
+                seam.insert((t as u32, k as u8), (t2, k2, d));
+                seam.insert((t2, k2), (t as u32, k as u8, d.map(|x| -x)));
+            }
+        }
+        // The covering's adjacency, copy by copy: inside a copy the slab's, across a seam
+        // the partner's in the copy `d` periods back (none past the covering's ends).
+        let copy_index = |sh: [i32; 3]| shifts.iter().position(|x| *x == sh);
+        let mut neighbors = Vec::with_capacity(tets.len());
+        for sh in &shifts {
+            let base = (copy_index(*sh).unwrap_or(0) * nt) as u32;
+            for (t, across) in slab_neighbors.iter().enumerate() {
+                let mut row = [NO_NEIGHBOR; 4];
+                for k in 0..4 {
+                    row[k] = if across[k] != NO_NEIGHBOR {
+                        base + across[k]
+                    } else if let Some(&(t2, _, d)) = seam.get(&(t as u32, k as u8)) {
+                        let there = [0, 1, 2].map(|a| sh[a] - d[a]);
+                        copy_index(there).map_or(NO_NEIGHBOR, |c| (c * nt) as u32 + t2)
+                    } else {
+                        NO_NEIGHBOR
+                    };
+                }
+                neighbors.push(row);
+            }
+        }
+        // Tags come from the slab's below.
+        let covering =
+            TetMesh::with_neighbors(vertices, tets, neighbors, &mut |_, _, _| BoundaryTag::Wall);
+
+        // The slab: its seam faces tagged as such, its real boundary by `tag` (on every core).
+        let boundary: Vec<(u32, usize, Point)> = slab_neighbors
+            .iter()
+            .enumerate()
+            .flat_map(|(t, across)| {
+                (0..4)
+                    .filter(move |&k| across[k] == NO_NEIGHBOR)
+                    .map(move |k| (t as u32, k))
+            })
+            .filter(|&(t, k)| !seam.contains_key(&(t, k as u8)))
+            .map(|(t, k)| {
+                let f = face_of(t as usize, k);
+                let c = Point::from(
+                    f.iter()
+                        .map(|&v| s.vertices[v as usize].coords)
+                        .sum::<Vector>()
+                        / 3.0,
+                );
+                (t, k, c)
+            })
+            .collect();
+        let tags: HashMap<(u32, usize), BoundaryTag> = {
+            use rayon::prelude::*;
+            boundary
+                .par_iter()
+                .map(|&(t, k, c)| ((t, k), tag(&c)))
+                .collect()
+        };
         let mut seam_faces = 0;
         let slab = TetMesh::with_neighbors(
             s.vertices.clone(),
             s.tetrahedra.clone(),
-            neighbors,
-            &mut |t, k, c| {
-                if covering.neighbors()[middle + t as usize][k] != NO_NEIGHBOR {
+            slab_neighbors,
+            &mut |t, k, _| match tags.get(&(t, k)) {
+                Some(&tag) => tag,
+                None => {
                     seam_faces += 1;
                     BoundaryTag::Obstacle(SEAM_PART)
-                } else {
-                    tag(c)
                 }
             },
         );
