@@ -706,6 +706,47 @@ impl ConfigSpace {
     }
 }
 
+/// A hash of a point's bits: the coordinates mixed by multiplication (the table's keys are
+/// lattice points and midpoints, which need no protection from chosen collisions).
+fn bits_hash(k: &[u64; 3]) -> u64 {
+    let mut h = 0u64;
+    for &x in k {
+        h = (h.rotate_left(21) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+    h ^ (h >> 29)
+}
+
+/// The hasher of [`bits_hash`] for the grading's table.
+#[derive(Clone, Copy, Default)]
+struct BuildBitsHasher;
+
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl std::hash::Hasher for BitsHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(21) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 29)
+    }
+}
+
+impl std::hash::BuildHasher for BuildBitsHasher {
+    type Hasher = BitsHasher;
+    fn build_hasher(&self) -> BitsHasher {
+        BitsHasher::default()
+    }
+}
+
 /// The configuration space with its goal region stuffed too (for goals thick enough).
 struct WithGoal<'a>(&'a ConfigSpace);
 
@@ -738,21 +779,34 @@ impl ImplicitDomain for ConfigSpace {
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
         use std::sync::{Arc, RwLock};
         let floor = spacing / 4.0;
-        // The value at a point, once per point (asked from every core).
-        type Cache = std::collections::HashMap<[u64; 3], f64>;
-        let cache = Arc::new(RwLock::new(Cache::new()));
+        // The value at a point, once per point (asked from every core): a table keyed by the
+        // point's bits, in shards so that cores seldom wait for each other.
+        type Cache = std::collections::HashMap<[u64; 3], f64, BuildBitsHasher>;
+        let shards: Arc<Vec<RwLock<Cache>>> =
+            Arc::new((0..64).map(|_| RwLock::new(Cache::default())).collect());
         let value = move |p: &Point| -> f64 {
             let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            if let Some(&v) = cache.read().ok().and_then(|c| c.get(&k).copied()).as_ref() {
+            let shard = &shards[(bits_hash(&k) >> 58) as usize];
+            if let Some(v) = shard.read().ok().and_then(|c| c.get(&k).copied()) {
                 return v;
             }
             let v = self.terms(p, false).0;
-            if let Ok(mut c) = cache.write() {
+            if let Ok(mut c) = shard.write() {
                 c.insert(k, v);
             }
             v
         };
         let value = Arc::new(value);
+        let dof = self.dof();
+        let config = move |p: &Point| -> [f64; 3] {
+            [0, 1, 2].map(|a| {
+                if a < dof {
+                    p[a] / self.scale[a] + self.origin[a]
+                } else {
+                    0.0
+                }
+            })
+        };
         let want = {
             let value = Arc::clone(&value);
             move |p: &[Point; 4]| -> bool {
@@ -769,8 +823,10 @@ impl ImplicitDomain for ConfigSpace {
                 // The centroid can collide only if every corner is free by less than the
                 // robot moves from that corner to the centroid.
                 let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
-                let qc = self.config(&c);
-                if (0..4).any(|k| -f[k] >= self.robot.sweep_bound(&self.config(&p[k]), &qc)) {
+                let qc = config(&c);
+                if (0..4)
+                    .any(|k| -f[k] >= self.robot.sweep_bound(&config(&p[k])[..dof], &qc[..dof]))
+                {
                     return false;
                 }
                 self.terms(&c, false).0 > 0.0
