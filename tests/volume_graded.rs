@@ -101,3 +101,29 @@ fn a_path_through_a_plate_thinner_than_any_mesh_is_a_collision() {
     }
     assert!(planner.plan([3.2, 0.8, 1.0]).status.reached_goal());
 }
+
+/// A plate of 0.2 mm across a whole 10 m box is thinner than the grading's finest size too:
+/// it is not refined for (over its 100 m² that took minutes and gigabytes), the mesh stays
+/// the lattice's size, and the start behind it is a `collision` naming it.
+#[test]
+fn a_plate_thinner_than_the_finest_grading_is_not_refined_for() {
+    let planner = planner(
+        r#"{"dimension": 3, "workspace": {"box": {"min": [0, 0, 0], "max": [10, 10, 10]}},
+        "obstacles": [{"box": {"min": [5, -1, -1], "max": [5.0002, 11, 11]}}],
+        "goal": {"sphere": {"center": [8, 5, 5], "radius": 0.3}}}"#,
+    );
+    assert!(
+        planner.mesh().tetrahedra().len() < 600_000,
+        "{} tetrahedra",
+        planner.mesh().tetrahedra().len()
+    );
+    let path = planner.plan([2.0, 5.0, 5.0]);
+    assert_eq!(path.status.as_str(), "collision");
+    assert!(
+        path.blocked_by
+            .clone()
+            .unwrap_or_default()
+            .contains("obstacle 0")
+    );
+    assert!(planner.plan([8.0, 2.0, 2.0]).status.reached_goal());
+}
