@@ -38,6 +38,7 @@ pub mod map;
 pub mod planner;
 pub mod render;
 pub mod scene;
+mod threads;
 pub mod volume;
 pub mod workspace;
 

@@ -25,6 +25,14 @@ use crate::scene::{Condition, Region, Scene};
 /// Why a planner could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
+    /// [`PlannerOptions::threads`] could not be had.
+    #[error("cannot plan on {threads} threads: {message}")]
+    Threads {
+        /// The threads asked for.
+        threads: usize,
+        /// Why not.
+        message: String,
+    },
     /// The scene's geometry is invalid or cannot be meshed.
     #[error(transparent)]
     Mesh(#[from] harmonic_mesh::MeshError),
@@ -110,6 +118,11 @@ pub struct PlannerOptions {
     /// paths, go around (a map's graded costs, [`crate::map::MapOptions::cost_weight`]).
     /// Direct solves only: the multigrid route and the blend refuse it.
     pub conductivity: Option<Conductivity>,
+    /// Threads for the whole build (meshing, assembly, the solve) and for tracing many
+    /// starts ([`Planner::plan_many`], [`Planner::plan_report`]): `None` (the default) uses
+    /// rayon's global pool, every core or `RAYON_NUM_THREADS`; `Some(n)` a pool of `n`
+    /// threads the planner keeps. Paths are the same at any count.
+    pub threads: Option<usize>,
 }
 
 impl PlannerOptions {
@@ -259,6 +272,7 @@ impl std::fmt::Debug for PlannerOptions {
             .field("multigrid", &self.multigrid)
             .field("cancel", &self.cancel.as_ref().map(|_| "check"))
             .field("conductivity", &self.conductivity.as_ref().map(|_| "k(x)"))
+            .field("threads", &self.threads)
             .finish()
     }
 }
@@ -311,6 +325,9 @@ pub struct Planner {
     pub(crate) smooth: SmoothOptions,
     /// What produced ψ (`potential.solved_by` in the report).
     pub(crate) solved_by: &'static str,
+    /// The pool of [`PlannerOptions::threads`], for tracing many starts (`None`: the global
+    /// pool).
+    pub(crate) pool: Option<Arc<rayon::ThreadPool>>,
 }
 
 /// A way into a planner's mesh from a start outside it where the robot is nonetheless safe
@@ -781,15 +798,17 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing)?;
-        let refinements = options.multigrid.unwrap_or(0);
-        let meshed = Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
-        Planner::solved(
-            meshed,
-            &scene.boundary_conditions(),
-            scene.blend_conditions(),
-            options,
-        )
+        Planner::in_threads(options, |options| {
+            options.stage(Stage::Meshing)?;
+            let refinements = options.multigrid.unwrap_or(0);
+            let meshed = Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
+            Planner::solved(
+                meshed,
+                &scene.boundary_conditions(),
+                scene.blend_conditions(),
+                options,
+            )
+        })
     }
 
     /// [`Planner::with_options`] on a scene whose mesh must also hold interior constraint
@@ -801,16 +820,18 @@ impl Planner {
         points: &[Point],
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing)?;
-        let refinements = options.multigrid.unwrap_or(0);
-        let meshed =
-            Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
-        Planner::solved(
-            meshed,
-            &scene.boundary_conditions(),
-            scene.blend_conditions(),
-            options,
-        )
+        Planner::in_threads(options, |options| {
+            options.stage(Stage::Meshing)?;
+            let refinements = options.multigrid.unwrap_or(0);
+            let meshed =
+                Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
+            Planner::solved(
+                meshed,
+                &scene.boundary_conditions(),
+                scene.blend_conditions(),
+                options,
+            )
+        })
     }
 
     /// A planner on a validated free space ([`Domain::of_rings`], say: a map's configuration
@@ -821,18 +842,22 @@ impl Planner {
         mesh_options: &MeshOptions,
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing)?;
-        let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
-        Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+        Planner::in_threads(options, |options| {
+            options.stage(Stage::Meshing)?;
+            let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
+            Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+        })
     }
 
     /// A planner on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]), solved as
     /// it is: goal-tagged boundary edges ([`BoundaryTag::Goal`]) held at φ = 0, every other
     /// boundary edge at φ = 1 (the default conditions). The mesh must have goal edges.
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        options.stage(Stage::Meshing)?;
-        let meshed = Meshed::of_mesh(mesh)?;
-        Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+        Planner::in_threads(options, |options| {
+            options.stage(Stage::Meshing)?;
+            let meshed = Meshed::of_mesh(mesh)?;
+            Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+        })
     }
 
     /// Assembles and solves on `meshed` under `bcs` (or the blend), the stages after
@@ -927,7 +952,27 @@ impl Planner {
             entry: None,
             smooth: SmoothOptions::for_scale(meshed.scale),
             solved_by,
+            pool: None,
         })
+    }
+
+    /// Builds with `build` in the pool of [`PlannerOptions::threads`], which the planner then
+    /// keeps; `build` gets the options with `threads` taken (one pool, not one per layer).
+    pub(crate) fn in_threads(
+        options: &PlannerOptions,
+        build: impl FnOnce(&PlannerOptions) -> Result<Planner, PlanError> + Send,
+    ) -> Result<Planner, PlanError> {
+        if options.threads.is_none() {
+            return build(options);
+        }
+        let pool = crate::threads::pool(options.threads)?;
+        let inner = PlannerOptions {
+            threads: None,
+            ..options.clone()
+        };
+        let mut planner = crate::threads::install(pool.as_deref(), || build(&inner))?;
+        planner.pool = pool;
+        Ok(planner)
     }
 
     /// Leads starts outside the mesh in through `entry`.
@@ -1067,7 +1112,9 @@ impl Planner {
 
     /// Plans from every start (points or `[x, y]` arrays), in parallel.
     pub fn plan_many<P: Copy + Into<Point> + Sync>(&self, starts: &[P]) -> Vec<PlannedPath> {
-        starts.par_iter().map(|&s| self.plan(s)).collect()
+        crate::threads::install(self.pool.as_deref(), || {
+            starts.par_iter().map(|&s| self.plan(s)).collect()
+        })
     }
 
     fn planned(

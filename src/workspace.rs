@@ -464,6 +464,7 @@ impl Workspace {
                 ..scene
             },
             solved_by: "goal superposition",
+            pool: None,
         })
     }
 }

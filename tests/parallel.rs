@@ -100,3 +100,44 @@ fn volumes_and_configuration_spaces_plan_the_same_on_one_thread_and_two() {
         same(name, flat(in_pool(1, &paths)), flat(in_pool(2, &paths)));
     }
 }
+
+/// The `threads` option: a scene and a map planned on one thread and on two (the whole
+/// build and `plan_many` in the planner's own pool) give the same paths to 1e-9, and zero
+/// threads is refused in one line.
+#[test]
+fn the_threads_option_gives_the_same_paths_at_any_count() {
+    use harmonic_planner::map::{MapOptions, OccupancyMap};
+    let mut scene = Scene::from_file(harmonic_fixtures::mesh_file("reference.json")).unwrap();
+    scene.mesh.max_area = Some(0.002);
+    let options = |threads| PlannerOptions {
+        threads: Some(threads),
+        ..PlannerOptions::default()
+    };
+    let starts = scene.starts.clone();
+    let one = Planner::with_options(&scene, &options(1)).unwrap();
+    let two = Planner::with_options(&scene, &options(2)).unwrap();
+    let (a, b) = (one.plan_many(&starts), two.plan_many(&starts));
+    let map = OccupancyMap::load(harmonic_fixtures::mesh_file("costly_band.yaml")).unwrap();
+    let map_starts = [[0.5, 0.5], [0.5, 2.0], [0.5, 3.5]];
+    let on_map = |threads| {
+        map.planner([7.5, 2.0], 0.0, &MapOptions::default(), &options(threads))
+            .unwrap()
+            .plan_many(&map_starts)
+    };
+    let (c, d) = (on_map(1), on_map(2));
+    for (p, q) in a.iter().zip(&b).chain(c.iter().zip(&d)) {
+        assert_eq!(p.status, q.status);
+        assert!(p.status.reached_goal());
+        assert!(
+            (p.length - q.length).abs() <= 1e-9 * p.length,
+            "{} vs {}",
+            p.length,
+            q.length
+        );
+    }
+    let refused = Planner::with_options(&scene, &options(0)).unwrap_err();
+    assert_eq!(
+        refused.to_string(),
+        "cannot plan on 0 threads: at least one thread is needed"
+    );
+}

@@ -111,7 +111,9 @@ class CarRun:
     def __len__(self) -> int: ...
 
 class Planner:
-    """A planner for one plane scene: meshed, assembled and solved once (GIL released)."""
+    """A planner for one plane scene: meshed, assembled and solved once (GIL released).
+    ``threads``: cores for the build and for ``plan_many`` (default: all, or
+    ``RAYON_NUM_THREADS``); paths are the same at any count."""
 
     def __init__(
         self,
@@ -119,6 +121,7 @@ class Planner:
         *,
         max_area: Optional[float] = None,
         multigrid: Optional[int] = None,
+        threads: Optional[int] = None,
     ) -> None: ...
     @staticmethod
     def from_map(
@@ -128,6 +131,7 @@ class Planner:
         *,
         max_area: Optional[float] = None,
         cost_weight: float = 1.0,
+        threads: Optional[int] = None,
     ) -> "Planner":
         """A planner on a ROS map_server YAML map towards ``goal`` (world coordinates);
         a ``scale``/``raw`` map's graded costs shape the field by ``cost_weight``."""

@@ -75,10 +75,12 @@ impl PyPlanner {
         scene: Scene,
         source: Option<String>,
         multigrid: Option<usize>,
+        threads: Option<usize>,
     ) -> PyResult<PyPlanner> {
         let shown = source.clone();
         let options = PlannerOptions {
             multigrid,
+            threads,
             ..PlannerOptions::default()
         };
         let planner = py.detach(move || {
@@ -122,12 +124,13 @@ pub(crate) const PARALLEL_FROM: usize = 4096;
 #[pymethods]
 impl PyPlanner {
     #[new]
-    #[pyo3(signature = (scene, *, max_area = None, multigrid = None))]
+    #[pyo3(signature = (scene, *, max_area = None, multigrid = None, threads = None))]
     fn new(
         py: Python<'_>,
         scene: &PyScene,
         max_area: Option<f64>,
         multigrid: Option<usize>,
+        threads: Option<usize>,
     ) -> PyResult<PyPlanner> {
         let mut plane = scene.plane("Planner")?;
         if let Some(a) = positive("max_area", max_area)? {
@@ -138,7 +141,7 @@ impl PyPlanner {
                 "multigrid must be 1 to 8 refinements, got {k}"
             )));
         }
-        PyPlanner::build(py, plane, scene.source.clone(), multigrid)
+        PyPlanner::build(py, plane, scene.source.clone(), multigrid, threads)
     }
 
     /// A planner on a ROS map_server occupancy map (`map.yaml` with its PGM/PNG image)
@@ -150,7 +153,7 @@ impl PyPlanner {
     /// 1 / (1 + w·0.016·c) of a free cell's flow; 0 plans them as free cells). The GIL is
     /// released while the map is read and the planner built.
     #[staticmethod]
-    #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None, cost_weight = 1.0))]
+    #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None, cost_weight = 1.0, threads = None))]
     fn from_map(
         py: Python<'_>,
         yaml: PathBuf,
@@ -158,6 +161,7 @@ impl PyPlanner {
         robot_radius: f64,
         max_area: Option<f64>,
         cost_weight: f64,
+        threads: Option<usize>,
     ) -> PyResult<PyPlanner> {
         let goal = finite(arrays::point::<2>(goal, "goal")?, "goal")?;
         let opts = MapOptions {
@@ -168,7 +172,13 @@ impl PyPlanner {
         let planner = py.detach(|| {
             guarded(|| {
                 OccupancyMap::load(&yaml)
-                    .and_then(|m| m.planner(goal, robot_radius, &opts, &PlannerOptions::default()))
+                    .and_then(|m| {
+                        let options = PlannerOptions {
+                            threads,
+                            ..PlannerOptions::default()
+                        };
+                        m.planner(goal, robot_radius, &opts, &options)
+                    })
                     .map_err(|e| scene_error(e.to_string()))
             })
         })?;

@@ -182,3 +182,23 @@ def test_graded_costs_turn_paths_away_by_weight():
     assert through == sorted(through, reverse=True) and through[-1] == 0, through
     with pytest.raises(hp.SceneError, match="cost_weight"):
         hp.Planner.from_map(band, goal=(7.5, 2.0), cost_weight=-1.0)
+
+
+def test_threads_option_plans_the_same_paths(reference_path):
+    """``threads``: the build and ``plan_many`` on one core or two give the same paths;
+    zero threads is a SceneError naming the count."""
+    scene = hp.Scene.from_file(reference_path)
+    starts = [[1.0, 9.0], [1.0, 1.0]]
+    one = hp.Planner(scene, max_area=0.01, threads=1).plan_many(starts)
+    two = hp.Planner(scene, max_area=0.01, threads=2).plan_many(starts)
+    for a, b in zip(one, two):
+        assert a.status == b.status
+        assert abs(a.length - b.length) <= 1e-9 * max(a.length, 1.0)
+    band = ROOT / "meshes" / "costly_band.yaml"
+    lengths = [
+        [p.length for p in hp.Planner.from_map(band, goal=(7.5, 2.0), threads=n).plan_many(starts[:1])]
+        for n in (1, 2)
+    ]
+    assert abs(lengths[0][0] - lengths[1][0]) <= 1e-9 * lengths[0][0]
+    with pytest.raises(hp.SceneError, match="0 threads"):
+        hp.Planner(scene, threads=0)

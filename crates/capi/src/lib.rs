@@ -393,17 +393,10 @@ fn build(
         cost_weight: options.cost_weight,
         ..MapOptions::default()
     };
-    let make = || map.planner(at, radius, &map_options, &planner_options);
-    let planner = if options.threads == 0 {
-        make()
-    } else {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads as usize)
-            .build()
-            .map_err(|e| (HpStatus::HP_INTERNAL, format!("cannot start threads: {e}")))?
-            .install(make)
-    }
-    .map_err(|e| map_failure(e, options.goal_tolerance))?;
+    planner_options.threads = (options.threads > 0).then_some(options.threads as usize);
+    let planner = map
+        .planner(at, radius, &map_options, &planner_options)
+        .map_err(|e| map_failure(e, options.goal_tolerance))?;
     Ok(HpPlanner {
         map,
         planner,

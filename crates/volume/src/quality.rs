@@ -67,25 +67,64 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
         negative_weight_edges: 0,
         obtuse_tetrahedra: 0,
     };
-    let mut edges: Vec<(u64, f64)> = Vec::with_capacity(6 * mesh.tetrahedra().len());
-    for (t, tet) in mesh.tetrahedra().iter().enumerate() {
-        let (angles, weights) = tet_angles_and_weights(mesh, t as u32);
-        let vol = mesh.tet_volume(t as u32);
-        report.min_volume = report.min_volume.min(vol);
-        report.max_volume = report.max_volume.max(vol);
-        let mut obtuse = false;
-        for e in 0..6 {
-            let deg = angles[e].to_degrees();
-            report.min_dihedral_deg = report.min_dihedral_deg.min(deg);
-            report.max_dihedral_deg = report.max_dihedral_deg.max(deg);
-            obtuse |= deg > 90.0 + 1e-9;
-            let [i, j] = EDGES[e];
-            let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
-            edges.push((a << 32 | b, weights[e]));
-        }
-        report.obtuse_tetrahedra += obtuse as usize;
+    // Per tetrahedron (on every core): its angles, volume and edge weights.
+    use rayon::prelude::*;
+    struct Part {
+        min_deg: f64,
+        max_deg: f64,
+        min_vol: f64,
+        max_vol: f64,
+        obtuse: usize,
     }
-    edges.sort_unstable_by_key(|e| e.0);
+    // (edges with their weights, volume, smallest and largest angle, obtuse)
+    type PerTet = ([(u64, f64); 6], f64, f64, f64, bool);
+    let per_tet: Vec<PerTet> = mesh
+        .tetrahedra()
+        .par_iter()
+        .enumerate()
+        .map(|(t, tet)| {
+            let (angles, weights) = tet_angles_and_weights(mesh, t as u32);
+            let vol = mesh.tet_volume(t as u32);
+            let mut lo = f64::INFINITY;
+            let mut hi: f64 = 0.0;
+            let mut obtuse = false;
+            let edges = [0, 1, 2, 3, 4, 5].map(|e| {
+                let deg = angles[e].to_degrees();
+                lo = lo.min(deg);
+                hi = hi.max(deg);
+                obtuse |= deg > 90.0 + 1e-9;
+                let [i, j] = EDGES[e];
+                let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
+                (a << 32 | b, weights[e])
+            });
+            (edges, vol, lo, hi, obtuse)
+        })
+        .collect();
+    let part = per_tet.iter().fold(
+        Part {
+            min_deg: f64::INFINITY,
+            max_deg: 0.0,
+            min_vol: f64::INFINITY,
+            max_vol: 0.0,
+            obtuse: 0,
+        },
+        |p, &(_, vol, lo, hi, obtuse)| Part {
+            min_deg: p.min_deg.min(lo),
+            max_deg: p.max_deg.max(hi),
+            min_vol: p.min_vol.min(vol),
+            max_vol: p.max_vol.max(vol),
+            obtuse: p.obtuse + usize::from(obtuse),
+        },
+    );
+    report.min_dihedral_deg = part.min_deg;
+    report.max_dihedral_deg = part.max_deg;
+    report.min_volume = part.min_vol;
+    report.max_volume = part.max_vol;
+    report.obtuse_tetrahedra = part.obtuse;
+    let mut edges: Vec<(u64, f64)> = per_tet.iter().flat_map(|p| p.0).collect();
+    drop(per_tet);
+    // A stable sort: each edge's weights are summed in the tetrahedra's order at any thread count.
+    edges.par_sort_by_key(|e| e.0);
     // Largest |weight| at each vertex, for the round-off tolerance.
     let mut scale = vec![0.0f64; mesh.vertices().len()];
     for &(k, w) in &edges {
