@@ -43,7 +43,7 @@ use harmonic_trajectory::volume::{
     VolumeTraceStatus, trace_exact_volume, trace_smooth_volume,
 };
 use harmonic_trajectory::{Locate, TraceError, Tracer};
-use harmonic_volume::{PeriodicMesh, Point, TetMesh, quality};
+use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, quality};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -183,6 +183,14 @@ pub enum ConfigPlanError {
     /// A mesh could not be built.
     #[error(transparent)]
     Volume(#[from] harmonic_volume::VolumeError),
+    /// The robot touches nothing in any configuration and every axis wraps around, so
+    /// nothing but the goal bounds the space a potential could flow through.
+    #[error(
+        "the robot touches nothing in any configuration (no obstacle in reach, no joint limit, \
+         no link that can meet another), so nothing but the goal bounds the configuration \
+         space: add a joint limit or an obstacle"
+    )]
+    NothingToAvoid,
 }
 
 fn invalid(path: &str, message: impl Into<String>) -> ConfigPlanError {
@@ -295,6 +303,7 @@ impl ConfigScene {
         }
         bcs.obstacle_overrides
             .insert(EXTRUDE_PART, BoundaryCondition::Neumann(0.0));
+        bcs.obstacle_overrides.insert(ANTIGOAL_PART, bcs.walls);
         bcs
     }
 }
@@ -429,13 +438,84 @@ fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
+/// The part the slab faces around a free two-link arm's anti-goal get: held at the walls'
+/// value (see [`free_everywhere`]).
+pub const ANTIGOAL_PART: u32 = u32::MAX - 2;
+
+/// A configuration space bounded by nothing but its goal (an arm whose joints all wrap and
+/// that touches nothing anywhere): every configuration is free and a potential held only at
+/// the goal is constant. A two-link arm's slab faces within 1.5 spacings of the point of the
+/// torus farthest from the goal are then held at the walls' value: φ rises from the goal to
+/// there with no interior extremum, and every start but that very point flows to the goal.
+/// A space without such faces (three wrapping joints) is refused, saying why.
+fn free_everywhere(
+    space: &ConfigSpace,
+    mesh: &mut PeriodicMesh,
+    spacing: f64,
+) -> Result<(), ConfigPlanError> {
+    let bounded = mesh.slab.boundary_faces().iter().any(|f| {
+        !matches!(f.tag, BoundaryTag::Goal(_))
+            && f.tag != BoundaryTag::Obstacle(harmonic_volume::SEAM_PART)
+            && f.tag != BoundaryTag::Obstacle(EXTRUDE_PART)
+    });
+    if bounded {
+        return Ok(());
+    }
+    let centroid = |f: &harmonic_volume::BoundaryFace| {
+        let v = mesh.slab.vertices();
+        f.vertices
+            .iter()
+            .map(|&i| v[i as usize].coords)
+            .sum::<harmonic_volume::Vector>()
+            / 3.0
+    };
+    let goals: Vec<_> = mesh
+        .slab
+        .boundary_faces()
+        .iter()
+        .filter(|f| matches!(f.tag, BoundaryTag::Goal(_)))
+        .map(centroid)
+        .collect();
+    let extruded = space
+        .axes()
+        .iter()
+        .any(|a| matches!(a, harmonic_cspace::Axis::Extruded { .. }));
+    if goals.is_empty() || !extruded {
+        return Err(ConfigPlanError::NothingToAvoid);
+    }
+    let goal = goals.iter().sum::<harmonic_volume::Vector>() / goals.len() as f64;
+    let period = mesh.period;
+    let anti = [0, 1, 2].map(|a| period[a].map(|l| (goal[a] + 0.5 * l).rem_euclid(l)));
+    let radius = 1.5 * spacing;
+    let near = move |c: &[Point; 3]| {
+        let m = (c[0].coords + c[1].coords + c[2].coords) / 3.0;
+        let d2: f64 = (0..3)
+            .filter_map(|a| {
+                let (l, x) = (period[a]?, anti[a]?);
+                let d = (m[a] - x).rem_euclid(l);
+                Some(d.min(l - d).powi(2))
+            })
+            .sum();
+        d2 <= radius * radius
+    };
+    mesh.retag(&|c, tag| {
+        if tag == BoundaryTag::Obstacle(EXTRUDE_PART) && near(c) {
+            BoundaryTag::Obstacle(ANTIGOAL_PART)
+        } else {
+            tag
+        }
+    });
+    Ok(())
+}
+
 impl ConfigPlanner {
     /// Builds the planner: validates the scene, meshes its configuration space, solves.
     pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, ConfigPlanError> {
         let t = Instant::now();
         let space = scene.build()?;
         let budget = scene.mesh.max_tetrahedra.unwrap_or(DEFAULT_MAX_TETRAHEDRA);
-        let (mesh, report) = space.mesh(budget)?;
+        let (mut mesh, report) = space.mesh(budget)?;
+        free_everywhere(&space, &mut mesh, report.spacing)?;
         let PeriodicMesh {
             slab,
             images,

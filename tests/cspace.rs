@@ -131,6 +131,54 @@ fn a_two_link_arm_plans_in_its_joint_plane() {
     assert!(planner.check(&p) > 0.0);
 }
 
+/// A two-link arm in an empty room touches nothing anywhere: its configuration space is the
+/// whole torus, bounded by nothing but the goal. The faces around the point farthest from
+/// the goal are held at the walls' value, so the field has no interior extremum and every
+/// start (wrapping either way round) reaches the goal, within its tolerance.
+#[test]
+fn an_arm_that_touches_nothing_anywhere_still_plans() {
+    let scene = parse_config_scene(
+        r#"{"workspace": [[-5, -5], [5, -5], [5, 5], [-5, 5]],
+        "robot": {"arm": {"base": [0, 0], "links": [2.0, 1.0], "width": 0.02}},
+        "goal": {"joints": [1.2, 0.0], "tolerance": 0.05},
+        "starts": [[0.0, 0.0]]}"#,
+    )
+    .expect("parses");
+    let planner = ConfigPlanner::new(&scene).expect("plannable");
+    let starts = [
+        vec![0.0, 0.0],
+        vec![0.0, 0.3],
+        vec![-2.0, 3.0],
+        vec![3.0, 1.0],
+        vec![-1.9, 3.14],
+    ];
+    let report = planner.plan_report(&starts);
+    assert_eq!(report.potential.interior_local_minima, 0);
+    for p in &report.paths {
+        assert!(p.status.reached_goal(), "{:?}: {:?}", p.start, p.status);
+        let end = p.joints.as_ref().and_then(|j| j.last()).expect("joints");
+        let off = |q: f64, g: f64| {
+            (q - g + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+        };
+        assert!(
+            off(end[0], 1.2).abs() <= 0.05 + 1e-9 && off(end[1], 0.0).abs() <= 0.05 + 1e-9,
+            "{end:?}"
+        );
+    }
+    // Three wrapping joints that can never meet, in an empty room: nothing bounds the
+    // space, and the refusal says so.
+    let error = error_of(
+        r#"{"workspace": [[-10, -10], [10, -10], [10, 10], [-10, 10]],
+        "robot": {"arm": {"base": [0, 0], "links": [1.0, 3.0, 1.0], "width": 0.02}},
+        "goal": {"joints": [1.2, 0.0, 0.0], "tolerance": 0.1},
+        "starts": [[0, 0, 0]], "mesh": {"spacing": 1.0}}"#,
+    );
+    assert!(
+        error.contains("touches nothing in any configuration"),
+        "{error}"
+    );
+}
+
 fn error_of(text: &str) -> String {
     match parse_config_scene(text) {
         Err(e) => e.to_string(),
