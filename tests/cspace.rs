@@ -150,7 +150,7 @@ fn an_arm_that_touches_nothing_anywhere_still_plans() {
         vec![0.0, 0.3],
         vec![-2.0, 3.0],
         vec![3.0, 1.0],
-        vec![-1.9, 3.14],
+        vec![-1.9, 3.0],
     ];
     let report = planner.plan_report(&starts);
     assert_eq!(report.potential.interior_local_minima, 0);
