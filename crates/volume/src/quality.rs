@@ -67,8 +67,10 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
         negative_weight_edges: 0,
         obtuse_tetrahedra: 0,
     };
-    // Per tetrahedron (on every core): its angles, volume and edge weights.
+    // Per tetrahedron (on every core): its angles and volume folded into the extremes, then
+    // its edges with their stiffness weights.
     use rayon::prelude::*;
+    #[derive(Clone, Copy)]
     struct Part {
         min_deg: f64,
         max_deg: f64,
@@ -76,55 +78,55 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
         max_vol: f64,
         obtuse: usize,
     }
-    // (edges with their weights, volume, smallest and largest angle, obtuse)
-    type PerTet = ([(u64, f64); 6], f64, f64, f64, bool);
-    let per_tet: Vec<PerTet> = mesh
-        .tetrahedra()
-        .par_iter()
-        .enumerate()
-        .map(|(t, tet)| {
-            let (angles, weights) = tet_angles_and_weights(mesh, t as u32);
-            let vol = mesh.tet_volume(t as u32);
-            let mut lo = f64::INFINITY;
-            let mut hi: f64 = 0.0;
-            let mut obtuse = false;
-            let edges = [0, 1, 2, 3, 4, 5].map(|e| {
-                let deg = angles[e].to_degrees();
-                lo = lo.min(deg);
-                hi = hi.max(deg);
-                obtuse |= deg > 90.0 + 1e-9;
-                let [i, j] = EDGES[e];
-                let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
-                (a << 32 | b, weights[e])
-            });
-            (edges, vol, lo, hi, obtuse)
+    let empty = Part {
+        min_deg: f64::INFINITY,
+        max_deg: 0.0,
+        min_vol: f64::INFINITY,
+        max_vol: 0.0,
+        obtuse: 0,
+    };
+    let join = |p: Part, q: Part| Part {
+        min_deg: p.min_deg.min(q.min_deg),
+        max_deg: p.max_deg.max(q.max_deg),
+        min_vol: p.min_vol.min(q.min_vol),
+        max_vol: p.max_vol.max(q.max_vol),
+        obtuse: p.obtuse + q.obtuse,
+    };
+    let part = (0..mesh.tetrahedra().len() as u32)
+        .into_par_iter()
+        .map(|t| {
+            let (angles, _) = tet_angles_and_weights(mesh, t);
+            let vol = mesh.tet_volume(t);
+            let deg = angles.map(f64::to_degrees);
+            Part {
+                min_deg: deg.iter().copied().fold(f64::INFINITY, f64::min),
+                max_deg: deg.iter().copied().fold(0.0, f64::max),
+                min_vol: vol,
+                max_vol: vol,
+                obtuse: usize::from(deg.iter().any(|&d| d > 90.0 + 1e-9)),
+            }
         })
-        .collect();
-    let part = per_tet.iter().fold(
-        Part {
-            min_deg: f64::INFINITY,
-            max_deg: 0.0,
-            min_vol: f64::INFINITY,
-            max_vol: 0.0,
-            obtuse: 0,
-        },
-        |p, &(_, vol, lo, hi, obtuse)| Part {
-            min_deg: p.min_deg.min(lo),
-            max_deg: p.max_deg.max(hi),
-            min_vol: p.min_vol.min(vol),
-            max_vol: p.max_vol.max(vol),
-            obtuse: p.obtuse + usize::from(obtuse),
-        },
-    );
+        .reduce(|| empty, join);
     report.min_dihedral_deg = part.min_deg;
     report.max_dihedral_deg = part.max_deg;
     report.min_volume = part.min_vol;
     report.max_volume = part.max_vol;
     report.obtuse_tetrahedra = part.obtuse;
-    let mut edges: Vec<(u64, f64)> = per_tet.iter().flat_map(|p| p.0).collect();
-    drop(per_tet);
-    // A stable sort: each edge's weights are summed in the tetrahedra's order at any thread count.
-    edges.par_sort_by_key(|e| e.0);
+    let mut edges: Vec<(u64, f64)> = vec![(0, 0.0); 6 * mesh.tetrahedra().len()];
+    edges
+        .par_chunks_mut(6)
+        .zip(mesh.tetrahedra().par_iter())
+        .enumerate()
+        .for_each(|(t, (out, tet))| {
+            let (_, weights) = tet_angles_and_weights(mesh, t as u32);
+            for (e, slot) in out.iter_mut().enumerate() {
+                let [i, j] = EDGES[e];
+                let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
+                *slot = (a << 32 | b, weights[e]);
+            }
+        });
+    // In place, and in one order at any thread count: by edge, then by the weight's bits.
+    edges.par_sort_unstable_by_key(|e| (e.0, e.1.to_bits()));
     // Largest |weight| at each vertex, for the round-off tolerance.
     let mut scale = vec![0.0f64; mesh.vertices().len()];
     for &(k, w) in &edges {
