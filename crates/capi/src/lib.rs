@@ -301,18 +301,25 @@ fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<(Vec<Cell>, Vec
         .ok_or_else(|| invalid("the costmap's size overflows"))?;
     // SAFETY: `data` holds `size_x * size_y` bytes by the contract.
     let data = unsafe { std::slice::from_raw_parts(map.data, n) };
+    // Every cost byte's cell and whether it is a graded cost, tabled once; then one pass
+    // over the costmap (a bare occupancy grid is copied once, its costs not at all).
+    let cell_of: [Cell; 256] = std::array::from_fn(|c| match c as u8 {
+        255 if options.unknown_is_free != 0 => Cell::Free,
+        255 => Cell::Unknown,
+        c if c >= options.obstacle_cost => Cell::Occupied,
+        _ => Cell::Free,
+    });
+    let graded = |c: u8| c > 0 && c < options.obstacle_cost && c != 255;
+    let mut seen = [false; 256];
     let cells = data
         .iter()
-        .map(|&cost| match cost {
-            255 if options.unknown_is_free != 0 => Cell::Free,
-            255 => Cell::Unknown,
-            c if c >= options.obstacle_cost => Cell::Occupied,
-            _ => Cell::Free,
+        .map(|&c| {
+            seen[c as usize] = true;
+            cell_of[c as usize]
         })
         .collect();
-    // Graded costs only where some free cell has one: a bare occupancy grid is copied once.
-    let graded = |c: u8| c > 0 && c < options.obstacle_cost && c != 255;
-    let costs = if data.iter().any(|&c| graded(c)) {
+    let any_graded = (0..=255u8).any(|c| seen[c as usize] && graded(c));
+    let costs = if any_graded {
         data.iter()
             .map(|&c| if graded(c) { c.min(MAX_GRADED_COST) } else { 0 })
             .collect()
