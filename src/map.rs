@@ -780,8 +780,7 @@ impl OccupancyMap {
                 "origin must be finite, got {origin:?}"
             )));
         }
-        let bits =
-            |kind: Cell| BitGrid::from_fn(width, height, |i, j| cells[j * width + i] == kind);
+        let bits = |kind: Cell| BitGrid::from_slice(width, height, &cells, |c| c == kind);
         Ok(OccupancyMap {
             width,
             height,
@@ -1370,7 +1369,7 @@ impl OccupancyMap {
         let too_close = || self.goal_too_close(goal, robot_radius, 0.0, &clear_bits, &blocked);
         // The 4-connected component of `cells` holding the goal's cell.
         let fill = |cells: &[bool]| {
-            bits::component(&BitGrid::from_fn(w, h, |i, j| cells[j * w + i]), gc, gr).to_bools()
+            bits::component(&BitGrid::from_slice(w, h, cells, |c| c), gc, gr).to_bools()
         };
         if !clear[gr * w + gc] {
             return Err(too_close());

@@ -49,6 +49,30 @@ impl BitGrid {
         g
     }
 
+    /// The grid of the cells of `cells` (row by row, `width` per row) for which `set` holds:
+    /// [`BitGrid::from_fn`] over a slice, a word at a time from 64 consecutive cells.
+    pub(crate) fn from_slice<T: Copy>(
+        width: usize,
+        height: usize,
+        cells: &[T],
+        set: impl Fn(T) -> bool,
+    ) -> BitGrid {
+        let mut g = BitGrid::new(width, height);
+        if width == 0 {
+            return g;
+        }
+        for (j, row) in cells.chunks_exact(width).take(height).enumerate() {
+            let words = &mut g.words[j * g.stride..(j + 1) * g.stride];
+            for (word, chunk) in words.iter_mut().zip(row.chunks(64)) {
+                *word = chunk
+                    .iter()
+                    .enumerate()
+                    .fold(0u64, |bits, (b, &c)| bits | u64::from(set(c)) << b);
+            }
+        }
+        g
+    }
+
     pub(crate) fn width(&self) -> usize {
         self.width
     }
@@ -617,7 +641,7 @@ mod tests {
     use crate::map::trace::ring_area as area;
 
     fn bits(cells: &[bool], w: usize, h: usize) -> BitGrid {
-        BitGrid::from_fn(w, h, |i, j| cells[j * w + i])
+        BitGrid::from_slice(w, h, cells, |c| c)
     }
 
     /// The exact rule, by brute force: the smallest square-to-square distance to a blocked
