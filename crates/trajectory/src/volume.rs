@@ -248,19 +248,24 @@ impl<'a> P1VolumeField<'a> {
                 })
                 .collect()
         };
-        let mut nodal = vec![Vector::zeros(); nv];
-        let mut weight = vec![0.0; nv];
-        for (tet, &(gv, vol)) in tets.iter().zip(&per_tet) {
-            for &v in tet {
-                nodal[v as usize] += gv;
-                weight[v as usize] += vol;
-            }
-        }
-        for (n, w) in nodal.iter_mut().zip(&weight) {
-            if *w > 0.0 {
-                *n /= *w;
-            }
-        }
+        // Per vertex, its tetrahedra's sums in the order the vertex → tetrahedra table lists
+        // them (the tetrahedra's own order), on every core.
+        let nodal: Vec<Vector> = {
+            use rayon::prelude::*;
+            (0..nv)
+                .into_par_iter()
+                .map(|v| {
+                    let around = &vt[vt_start[v] as usize..vt_start[v + 1] as usize];
+                    let (mut n, mut w) = (Vector::zeros(), 0.0);
+                    for &t in around {
+                        let (gv, vol) = per_tet[t as usize];
+                        n += gv;
+                        w += vol;
+                    }
+                    if w > 0.0 { n / w } else { n }
+                })
+                .collect()
+        };
         // Components and their goals.
         let mut component = vec![u32::MAX; tets.len()];
         let mut component_goal = Vec::new();
