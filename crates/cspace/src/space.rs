@@ -754,8 +754,11 @@ impl ImplicitDomain for WithGoal<'_> {
     fn value(&self, p: &Point) -> f64 {
         self.0.terms(p, true).0
     }
+    /// The space's grading, without its stored values: they leave the goal out.
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
-        self.0.grading(spacing)
+        self.0
+            .grading(spacing)
+            .map(|g| Grading { known: None, ..g })
     }
     fn tag(&self, p: &Point) -> BoundaryTag {
         self.0.tag(p)
@@ -784,6 +787,7 @@ impl ImplicitDomain for ConfigSpace {
         type Cache = std::collections::HashMap<[u64; 3], f64, BuildBitsHasher>;
         let shards: Arc<Vec<RwLock<Cache>>> =
             Arc::new((0..64).map(|_| RwLock::new(Cache::default())).collect());
+        let stored = Arc::clone(&shards);
         let value = move |p: &Point| -> f64 {
             let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
             let shard = &shards[(bits_hash(&k) >> 58) as usize];
@@ -832,10 +836,16 @@ impl ImplicitDomain for ConfigSpace {
                 self.terms(&c, false).0 > 0.0
             }
         };
+        let known = move |p: &Point| {
+            let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+            let shard = &stored[(bits_hash(&k) >> 58) as usize];
+            shard.read().ok().and_then(|c| c.get(&k).copied())
+        };
         let rank = move |c: &Point| value(c).abs();
         Some(Grading {
             want: Box::new(want),
             rank: Box::new(rank),
+            known: Some(Box::new(known)),
         })
     }
     /// The part whose term is largest, the goal's included (the goal's faces are then

@@ -531,6 +531,7 @@ impl ImplicitDomain for DomainImplicit<'_> {
         Some(Grading {
             want: Box::new(want),
             rank: Box::new(rank),
+            known: None,
         })
     }
 

@@ -103,6 +103,9 @@ pub trait ImplicitDomain {
 /// A test on a tetrahedron's corners.
 pub type TetTest<'a> = dyn Fn(&[Point; 4]) -> bool + Sync + 'a;
 
+/// Values of the domain already computed, by point (`None` where there is none).
+pub type KnownValues<'a> = dyn Fn(&Point) -> Option<f64> + Sync + 'a;
+
 /// A refinement criterion for the stuffing lattice (see [`ImplicitDomain::grading`]).
 pub struct Grading<'a> {
     /// Whether a lattice tetrahedron (its corners) should be bisected (asked of the
@@ -111,4 +114,8 @@ pub struct Grading<'a> {
     /// A rank of points, smaller near what is refined for: among edges of equal length the
     /// one nearer is bisected first, which keeps the refinement local.
     pub rank: Box<dyn Fn(&Point) -> f64 + Sync + 'a>,
+    /// The domain's values the criterion already computed, by point (`None` where it has
+    /// none): stuffing the graded lattice reads them instead of asking
+    /// [`ImplicitDomain::value`] again. `None` (no such store) asks for every value.
+    pub known: Option<Box<KnownValues<'a>>>,
 }

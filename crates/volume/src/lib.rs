@@ -77,7 +77,7 @@ mod stuffing;
 pub use carve::{CarveReport, GRADING, GoalHole, carve_goals};
 pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
 pub use error::{SolidRole, VolumeError};
-pub use implicit::{Grading, ImplicitDomain};
+pub use implicit::{Grading, ImplicitDomain, KnownValues, TetTest};
 pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
 pub use periodic::{

@@ -210,7 +210,7 @@ pub fn stuff_periodic(
         let budget = usize::try_from(opts.max_tetrahedra).unwrap_or(usize::MAX);
         let report = refine_periodic(&mut background, &*grading.want, &*grading.rank, budget);
         if report.bisections > 0 {
-            let mut out = stuff_quotient(domain, h, &background);
+            let mut out = stuff_quotient(domain, h, &background, grading.known.as_deref());
             out.stuffed.graded = report.bisections;
             return Ok(out);
         }
@@ -222,6 +222,7 @@ pub fn stuff_periodic(
     let active: Vec<u32> = (0..nv as u32).filter(|&v| is_canonical(v)).collect();
     let (pos, f, cuts, warped) = cut_and_warp_quotient(
         domain,
+        None,
         h,
         &positions,
         &active,
@@ -271,17 +272,22 @@ pub fn stuff_periodic(
     })
 }
 
+/// Values a grading already computed, by point ([`crate::Grading::known`]).
+type Known<'a> = crate::implicit::KnownValues<'a>;
+
 /// Lists a canonical vertex's neighbours: (neighbour, warping threshold α, the neighbour's
 /// offset in periods relative to the vertex's frame).
 type QuotientNeighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64, [i32; 3])) + 'a;
 
 /// Steps 1 and 2 of stuffing on the canonical vertices `active` of a periodic background
-/// (positions `positions`, edges `neighbours`): the vertices after warping, their signs, the
+/// (positions `positions`, edges `neighbours`; values from `known` where it has them, else
+/// from the domain): the vertices after warping, their signs, the
 /// cut points left (each in the frame of its edge's lower-numbered end) and how many
 /// vertices were warped. Every copy of a vertex is warped alike and every copy of an edge cut
 /// at the same point, because each is computed once, on its class.
 fn cut_and_warp_quotient(
     domain: &(dyn ImplicitDomain + Sync),
+    known: Option<&Known<'_>>,
     h: f64,
     positions: &[Point],
     active: &[u32],
@@ -302,7 +308,8 @@ fn cut_and_warp_quotient(
     let values: Vec<f64> = active
         .par_iter()
         .map(|&v| {
-            let x = domain.value(&pos[v as usize]);
+            let p = &pos[v as usize];
+            let x = known.and_then(|k| k(p)).unwrap_or_else(|| domain.value(p));
             if x.abs() <= zero { 0.0 } else { x }
         })
         .collect();
@@ -368,6 +375,7 @@ fn stuff_quotient(
     domain: &(dyn ImplicitDomain + Sync),
     h: f64,
     background: &PeriodicTets,
+    known: Option<&Known<'_>>,
 ) -> PeriodicStuffed {
     use rayon::prelude::*;
     let period = background.period;
@@ -440,6 +448,7 @@ fn stuff_quotient(
     let active: Vec<u32> = (0..nv as u32).filter(|&v| used[v as usize]).collect();
     let (pos, f, cuts, warped) = cut_and_warp_quotient(
         domain,
+        known,
         h,
         &background.vertices,
         &active,

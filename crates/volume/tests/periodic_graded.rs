@@ -50,6 +50,7 @@ impl ImplicitDomain for Plate {
                 s > floor && Self::plate(&c).abs() < s
             }),
             rank: Box::new(|c: &Point| Self::plate(c).abs()),
+            known: None,
         })
     }
 }
