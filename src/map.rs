@@ -1124,19 +1124,13 @@ impl OccupancyMap {
     ) -> Result<Planner, MapError> {
         // The whole build in the pool of `planner.threads` (the inner builds get none).
         if planner.threads.is_some() {
-            let pool = crate::threads::pool(planner.threads).map_err(|source| MapError::Plan {
+            let refused = |source| MapError::Plan {
                 file: self.source.clone(),
                 source,
-            })?;
-            let inner = PlannerOptions {
-                threads: None,
-                ..planner.clone()
             };
-            let mut built = crate::threads::install(pool.as_deref(), || {
-                self.planner(goal, robot_radius, opts, &inner)
-            })?;
-            built.pool = pool;
-            return Ok(built);
+            return crate::threads::build_in(planner, refused, |inner| {
+                self.planner(goal, robot_radius, opts, inner)
+            });
         }
         let plan_error = |source| MapError::Plan {
             file: self.source.clone(),

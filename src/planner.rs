@@ -798,17 +798,22 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        Planner::in_threads(options, |options| {
-            options.stage(Stage::Meshing)?;
-            let refinements = options.multigrid.unwrap_or(0);
-            let meshed = Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
-            Planner::solved(
-                meshed,
-                &scene.boundary_conditions(),
-                scene.blend_conditions(),
-                options,
-            )
-        })
+        crate::threads::build_in(
+            options,
+            |e| e,
+            |options| {
+                options.stage(Stage::Meshing)?;
+                let refinements = options.multigrid.unwrap_or(0);
+                let meshed =
+                    Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
+                Planner::solved(
+                    meshed,
+                    &scene.boundary_conditions(),
+                    scene.blend_conditions(),
+                    options,
+                )
+            },
+        )
     }
 
     /// [`Planner::with_options`] on a scene whose mesh must also hold interior constraint
@@ -820,18 +825,27 @@ impl Planner {
         points: &[Point],
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        Planner::in_threads(options, |options| {
-            options.stage(Stage::Meshing)?;
-            let refinements = options.multigrid.unwrap_or(0);
-            let meshed =
-                Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
-            Planner::solved(
-                meshed,
-                &scene.boundary_conditions(),
-                scene.blend_conditions(),
-                options,
-            )
-        })
+        crate::threads::build_in(
+            options,
+            |e| e,
+            |options| {
+                options.stage(Stage::Meshing)?;
+                let refinements = options.multigrid.unwrap_or(0);
+                let meshed = Meshed::constrained(
+                    scene,
+                    &scene.domain_spec(),
+                    segments,
+                    points,
+                    refinements,
+                )?;
+                Planner::solved(
+                    meshed,
+                    &scene.boundary_conditions(),
+                    scene.blend_conditions(),
+                    options,
+                )
+            },
+        )
     }
 
     /// A planner on a validated free space ([`Domain::of_rings`], say: a map's configuration
@@ -842,22 +856,30 @@ impl Planner {
         mesh_options: &MeshOptions,
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        Planner::in_threads(options, |options| {
-            options.stage(Stage::Meshing)?;
-            let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
-            Planner::solved(meshed, &BoundaryConditions::default(), None, options)
-        })
+        crate::threads::build_in(
+            options,
+            |e| e,
+            |options| {
+                options.stage(Stage::Meshing)?;
+                let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
+                Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+            },
+        )
     }
 
     /// A planner on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]), solved as
     /// it is: goal-tagged boundary edges ([`BoundaryTag::Goal`]) held at φ = 0, every other
     /// boundary edge at φ = 1 (the default conditions). The mesh must have goal edges.
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        Planner::in_threads(options, |options| {
-            options.stage(Stage::Meshing)?;
-            let meshed = Meshed::of_mesh(mesh)?;
-            Planner::solved(meshed, &BoundaryConditions::default(), None, options)
-        })
+        crate::threads::build_in(
+            options,
+            |e| e,
+            |options| {
+                options.stage(Stage::Meshing)?;
+                let meshed = Meshed::of_mesh(mesh)?;
+                Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+            },
+        )
     }
 
     /// Assembles and solves on `meshed` under `bcs` (or the blend), the stages after
@@ -954,25 +976,6 @@ impl Planner {
             solved_by,
             pool: None,
         })
-    }
-
-    /// Builds with `build` in the pool of [`PlannerOptions::threads`], which the planner then
-    /// keeps; `build` gets the options with `threads` taken (one pool, not one per layer).
-    pub(crate) fn in_threads(
-        options: &PlannerOptions,
-        build: impl FnOnce(&PlannerOptions) -> Result<Planner, PlanError> + Send,
-    ) -> Result<Planner, PlanError> {
-        if options.threads.is_none() {
-            return build(options);
-        }
-        let pool = crate::threads::pool(options.threads)?;
-        let inner = PlannerOptions {
-            threads: None,
-            ..options.clone()
-        };
-        let mut planner = crate::threads::install(pool.as_deref(), || build(&inner))?;
-        planner.pool = pool;
-        Ok(planner)
     }
 
     /// Leads starts outside the mesh in through `entry`.

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
-use crate::planner::PlanError;
+use crate::planner::{PlanError, Planner, PlannerOptions};
 
 /// The pool `threads` asks for (`None`: the global one).
 pub(crate) fn pool(threads: Option<usize>) -> Result<Option<Arc<ThreadPool>>, PlanError> {
@@ -34,4 +34,25 @@ pub(crate) fn install<R: Send>(pool: Option<&ThreadPool>, f: impl FnOnce() -> R 
         Some(p) => p.install(f),
         None => f(),
     }
+}
+
+/// Builds a planner with `build` in the pool of `options.threads`, which the planner then
+/// keeps; `build` gets the options with `threads` taken (one pool, not one per layer), and a
+/// pool that cannot be had is `refused`'s error.
+pub(crate) fn build_in<E: Send>(
+    options: &PlannerOptions,
+    refused: impl FnOnce(PlanError) -> E,
+    build: impl FnOnce(&PlannerOptions) -> Result<Planner, E> + Send,
+) -> Result<Planner, E> {
+    if options.threads.is_none() {
+        return build(options);
+    }
+    let pool = self::pool(options.threads).map_err(refused)?;
+    let inner = PlannerOptions {
+        threads: None,
+        ..options.clone()
+    };
+    let mut planner = install(pool.as_deref(), || build(&inner))?;
+    planner.pool = pool;
+    Ok(planner)
 }

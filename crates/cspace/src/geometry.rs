@@ -241,21 +241,6 @@ impl World {
     /// touching one: 0. Outside the workspace the distance is returned negated (so that
     /// `margin − d` stays continuous and positive there).
     pub fn clearance(&self, robot: &[(Pose, &Part)], point: [f64; 2]) -> (f64, Nearest) {
-        let (best, nearest) = self.distance_to(robot, true, &mut (0..self.obstacles.len()));
-        if !self.contains(point) {
-            return (-best, Nearest::Wall);
-        }
-        (best, nearest)
-    }
-
-    /// The distance from a placed robot to the nearest of `obstacles` (and of the walls, with
-    /// `walls`), and which that is; infinite when there is none.
-    pub fn distance_to(
-        &self,
-        robot: &[(Pose, &Part)],
-        walls: bool,
-        obstacles: &mut dyn Iterator<Item = usize>,
-    ) -> (f64, Nearest) {
         let placed: Vec<(Pose, &dyn Shape, Aabb)> = robot
             .iter()
             .map(|(pose, part)| (*pose, part.shape(), part.shape().compute_aabb(pose)))
@@ -282,13 +267,10 @@ impl World {
                     }
                 }
             };
-        if walls {
-            for (s, bb) in &self.walls {
-                measure(s, &Pose::IDENTITY, bb, Nearest::Wall, &mut best);
-            }
+        for (s, bb) in &self.walls {
+            measure(s, &Pose::IDENTITY, bb, Nearest::Wall, &mut best);
         }
-        for i in obstacles {
-            let o = &self.obstacles[i];
+        for (i, o) in self.obstacles.iter().enumerate() {
             for (p, bb) in &o.parts {
                 let pose = match o.disc {
                     Some((c, _)) => Pose::translation(c[0], c[1]),
@@ -297,27 +279,11 @@ impl World {
                 measure(p.shape(), &pose, bb, Nearest::Obstacle(i as u32), &mut best);
             }
         }
-        (best.max(0.0), nearest)
-    }
-
-    /// An obstacle's thickness: a disc's diameter, a polygon's bounding box's smaller side.
-    pub fn thickness(&self, i: usize) -> f64 {
-        let o = &self.obstacles[i];
-        match (o.disc, &o.ring) {
-            (Some((_, r)), _) => 2.0 * r,
-            (None, Some(ring)) => {
-                let extent = |a: usize| {
-                    let (lo, hi) = ring
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-                            (l.min(p[a]), h.max(p[a]))
-                        });
-                    hi - lo
-                };
-                extent(0).min(extent(1))
-            }
-            (None, None) => 0.0,
+        let best = best.max(0.0);
+        if !self.contains(point) {
+            return (-best, Nearest::Wall);
         }
+        (best, nearest)
     }
 }
 

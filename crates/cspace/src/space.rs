@@ -27,6 +27,7 @@
 //! combined by `max` with the joint-limit terms, the slab faces and `−g(q)`, `g` the goal
 //! region's own function (negative inside it). Its tag is the term that attains the max.
 
+use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 
 use harmonic_mesh::BoundaryTag;
@@ -347,9 +348,19 @@ impl ConfigSpace {
 
     /// The configuration of a mesh point (the slab coordinate of a two-link arm dropped).
     pub fn config(&self, p: &Point) -> Vec<f64> {
-        (0..self.dof())
-            .map(|a| p[a] / self.scale[a] + self.origin[a])
-            .collect()
+        self.config_array(p)[..self.dof()].to_vec()
+    }
+
+    /// [`ConfigSpace::config`] without allocating: the first `dof()` entries (the rest 0).
+    fn config_array(&self, p: &Point) -> [f64; 3] {
+        let dof = self.dof();
+        [0, 1, 2].map(|a| {
+            if a < dof {
+                p[a] / self.scale[a] + self.origin[a]
+            } else {
+                0.0
+            }
+        })
     }
 
     /// The mesh point of `q` with its periodic coordinates brought into the first period,
@@ -706,17 +717,35 @@ impl ConfigSpace {
     }
 }
 
-/// A hash of a point's bits: the coordinates mixed by multiplication (the table's keys are
-/// lattice points and midpoints, which need no protection from chosen collisions).
-fn bits_hash(k: &[u64; 3]) -> u64 {
-    let mut h = 0u64;
-    for &x in k {
-        h = (h.rotate_left(21) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+/// Values of the space at points, each computed once, shared by every core: tables keyed
+/// by the point's bits, in shards so that cores seldom wait for each other.
+struct ValueTable(Vec<std::sync::RwLock<HashMap<[u64; 3], f64, BuildBitsHasher>>>);
+
+impl ValueTable {
+    fn new() -> Self {
+        ValueTable((0..64).map(|_| Default::default()).collect())
     }
-    h ^ (h >> 29)
+
+    fn shard(&self, k: &[u64; 3]) -> &std::sync::RwLock<HashMap<[u64; 3], f64, BuildBitsHasher>> {
+        use std::hash::BuildHasher;
+        &self.0[(BuildBitsHasher.hash_one(k) >> 58) as usize]
+    }
+
+    fn get(&self, p: &Point) -> Option<f64> {
+        let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        self.shard(&k).read().ok()?.get(&k).copied()
+    }
+
+    fn insert(&self, p: &Point, v: f64) {
+        let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        if let Ok(mut shard) = self.shard(&k).write() {
+            shard.insert(k, v);
+        }
+    }
 }
 
-/// The hasher of [`bits_hash`] for the grading's table.
+/// The hasher of the [`ValueTable`]: the coordinates' bits mixed by multiplication (its keys
+/// are lattice points and midpoints, which need no protection from chosen collisions).
 #[derive(Clone, Copy, Default)]
 struct BuildBitsHasher;
 
@@ -780,37 +809,19 @@ impl ImplicitDomain for ConfigSpace {
     /// than the robot moves from that corner to the centroid ([`Robot::sweep_bound`]):
     /// elsewhere it is free for certain.
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
-        use std::sync::{Arc, RwLock};
+        use std::sync::Arc;
         let floor = spacing / 4.0;
-        // The value at a point, once per point (asked from every core): a table keyed by the
-        // point's bits, in shards so that cores seldom wait for each other.
-        type Cache = std::collections::HashMap<[u64; 3], f64, BuildBitsHasher>;
-        let shards: Arc<Vec<RwLock<Cache>>> =
-            Arc::new((0..64).map(|_| RwLock::new(Cache::default())).collect());
-        let stored = Arc::clone(&shards);
+        let table = Arc::new(ValueTable::new());
+        let stored = Arc::clone(&table);
         let value = move |p: &Point| -> f64 {
-            let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            let shard = &shards[(bits_hash(&k) >> 58) as usize];
-            if let Some(v) = shard.read().ok().and_then(|c| c.get(&k).copied()) {
-                return v;
-            }
-            let v = self.terms(p, false).0;
-            if let Ok(mut c) = shard.write() {
-                c.insert(k, v);
-            }
-            v
+            table.get(p).unwrap_or_else(|| {
+                let v = self.terms(p, false).0;
+                table.insert(p, v);
+                v
+            })
         };
         let value = Arc::new(value);
         let dof = self.dof();
-        let config = move |p: &Point| -> [f64; 3] {
-            [0, 1, 2].map(|a| {
-                if a < dof {
-                    p[a] / self.scale[a] + self.origin[a]
-                } else {
-                    0.0
-                }
-            })
-        };
         let want = {
             let value = Arc::clone(&value);
             move |p: &[Point; 4]| -> bool {
@@ -827,20 +838,19 @@ impl ImplicitDomain for ConfigSpace {
                 // The centroid can collide only if every corner is free by less than the
                 // robot moves from that corner to the centroid.
                 let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
-                let qc = config(&c);
-                if (0..4)
-                    .any(|k| -f[k] >= self.robot.sweep_bound(&config(&p[k])[..dof], &qc[..dof]))
-                {
+                let qc = self.config_array(&c);
+                if (0..4).any(|k| {
+                    -f[k]
+                        >= self
+                            .robot
+                            .sweep_bound(&self.config_array(&p[k])[..dof], &qc[..dof])
+                }) {
                     return false;
                 }
                 self.terms(&c, false).0 > 0.0
             }
         };
-        let known = move |p: &Point| {
-            let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-            let shard = &stored[(bits_hash(&k) >> 58) as usize];
-            shard.read().ok().and_then(|c| c.get(&k).copied())
-        };
+        let known = move |p: &Point| stored.get(p);
         let rank = move |c: &Point| value(c).abs();
         Some(Grading {
             want: Box::new(want),

@@ -34,11 +34,11 @@ use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
 use crate::mesh::{NO_NEIGHBOR, TetMesh};
 use crate::quality::EDGES;
-use crate::refine::{PeriodicTets, refine_periodic};
+use crate::refine::{PeriodicTets, offset, refine_periodic};
 use crate::solid::{Point, Vector};
 use crate::stuffing::{
-    ALPHA_LONG, ALPHA_SHORT, Cuts, Lattice, NONE, Stuffed, StuffingOptions, Sv, emit_over,
-    emit_stencils, key,
+    ALPHA_LONG, ALPHA_SHORT, Cuts, Lattice, NONE, Stuffed, StuffingOptions, Sv, edge_alpha,
+    emit_over, emit_stencils, key,
 };
 
 /// The obstacle index given to the slab's end faces (see the module docs): the FEM gives
@@ -95,7 +95,7 @@ const STEPS: [([i64; 3], bool); 14] = [
 struct Wrapped<'a> {
     lattice: &'a Lattice,
     cells: [Option<usize>; 3],
-    period: Vector,
+    period: [Option<f64>; 3],
 }
 
 impl Wrapped<'_> {
@@ -117,11 +117,7 @@ impl Wrapped<'_> {
             .unwrap_or((v, [0; 3]))
     }
     fn offset(&self, w: [i32; 3]) -> Vector {
-        Vector::new(
-            w[0] as f64 * self.period.x,
-            w[1] as f64 * self.period.y,
-            w[2] as f64 * self.period.z,
-        )
+        offset(self.period, w)
     }
     /// The 14 neighbours of `v` around the periodic axes: (canonical vertex, long edge,
     /// its offset in periods relative to `v`'s frame).
@@ -162,13 +158,11 @@ pub fn stuff_periodic(
     let d = bounds.1 - bounds.0;
     let mut n = [0usize; 3];
     let mut origin = bounds.0 - Vector::repeat(2.0 * h);
-    let mut period = Vector::zeros();
     for a in 0..3 {
         match cells[a] {
             Some(c) => {
                 n[a] = c + 1;
                 origin[a] = bounds.0[a];
-                period[a] = c as f64 * h;
             }
             None => n[a] = (d[a] / h).ceil().max(1.0) as usize + 4,
         }
@@ -185,20 +179,22 @@ pub fn stuff_periodic(
             budget: opts.max_tetrahedra,
         });
     }
+    let period_of = [0, 1, 2].map(|a| cells[a].map(|c| c as f64 * h));
     let wrapped = Wrapped {
         lattice: &lattice,
         cells,
-        period,
+        period: period_of,
     };
     let nv = lattice.count();
     let canon: Vec<(u32, [i32; 3])> = (0..nv as u32).map(|v| wrapped.canonical(v)).collect();
-    let period_of = [0, 1, 2].map(|a| cells[a].map(|c| c as f64 * h));
+    let positions: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
+    // One lattice tetrahedron per class: its first centre canonical.
+    let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
 
     if let Some(grading) = domain.grading(h) {
         // The lattice's tetrahedra of one period as a quotient mesh, graded by bisection.
-        let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
         let mut background = PeriodicTets {
-            vertices: (0..nv as u32).map(|v| lattice.position(v)).collect(),
+            vertices: positions.clone(),
             period: period_of,
             origin: lattice.origin,
             ..PeriodicTets::default()
@@ -218,7 +214,6 @@ pub fn stuff_periodic(
 
     // 1–2. Cut points and warping on the canonical vertices, their neighbourhoods wrapped.
     let is_canonical = |v: u32| canon[v as usize].0 == v;
-    let positions: Vec<Point> = (0..nv as u32).map(|v| lattice.position(v)).collect();
     let active: Vec<u32> = (0..nv as u32).filter(|&v| is_canonical(v)).collect();
     let (pos, f, cuts, warped) = cut_and_warp_quotient(
         domain,
@@ -259,8 +254,7 @@ pub fn stuff_periodic(
         }
     }
 
-    // 3. Stencils of one lattice tetrahedron per class: its first centre canonical.
-    let keep = |idx: [usize; 3]| (0..3).all(|a| cells[a].is_none_or(|c| idx[a] < c));
+    // 3. Stencils of one lattice tetrahedron per class.
     let (stuffed, sources) =
         emit_stencils(&lattice, &pos_ext, &f_ext, &cuts_ext, domain, warped, &keep);
     let (orbit, wrap) = classes(&sources, &|e| canon[e as usize]);
@@ -295,13 +289,6 @@ fn cut_and_warp_quotient(
     period: [Option<f64>; 3],
 ) -> (Vec<Point>, Vec<f64>, Cuts, usize) {
     use rayon::prelude::*;
-    let offset = |w: [i32; 3]| {
-        Vector::new(
-            period[0].map_or(0.0, |l| w[0] as f64 * l),
-            period[1].map_or(0.0, |l| w[1] as f64 * l),
-            period[2].map_or(0.0, |l| w[2] as f64 * l),
-        )
-    };
     let mut pos = positions.to_vec();
     let zero = 1e-12 * h;
     let mut f = vec![0.0f64; positions.len()];
@@ -332,8 +319,8 @@ fn cut_and_warp_quotient(
     let found: Vec<((u32, u32), Point)> = edges
         .par_iter()
         .map(|&(v, w, s)| {
-            let c = domain.cut(&pos[v as usize], &(pos[w as usize] + offset(s)));
-            let c = if v < w { c } else { c - offset(s) };
+            let c = domain.cut(&pos[v as usize], &(pos[w as usize] + offset(period, s)));
+            let c = if v < w { c } else { c - offset(period, s) };
             (key(v, w), c)
         })
         .collect();
@@ -348,9 +335,10 @@ fn cut_and_warp_quotient(
         let mut best: Option<(f64, Point)> = None;
         neighbours(v, &mut |w, alpha, s| {
             if let Some(c) = cuts.get(&key(v, w)) {
-                let c = if v < w { *c } else { c + offset(s) };
+                let c = if v < w { *c } else { c + offset(period, s) };
                 let dist = (c - pos[v as usize]).norm();
-                let len = (positions[w as usize] + offset(s) - positions[v as usize]).norm();
+                let len =
+                    (positions[w as usize] + offset(period, s) - positions[v as usize]).norm();
                 if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
                     best = Some((dist, c));
                 }
@@ -434,12 +422,7 @@ fn stuff_quotient(
     for &(a, b, rel) in &edges {
         let d = background.vertices[b as usize] + background.offset(rel)
             - background.vertices[a as usize];
-        // Axis-parallel: the lattice's long-edge threshold; diagonals: its short-edge one.
-        let tiny = 1e-9 * d.norm();
-        let alpha = match d.iter().filter(|c| c.abs() <= tiny).count() {
-            2 => ALPHA_LONG,
-            _ => ALPHA_SHORT,
-        };
+        let alpha = edge_alpha(&d);
         adjacent[fill[a as usize]] = (b, alpha, rel);
         fill[a as usize] += 1;
         adjacent[fill[b as usize]] = (a, alpha, rel.map(|x| -x));
@@ -598,18 +581,6 @@ impl PeriodicMesh {
     ) -> Result<PeriodicMesh, VolumeError> {
         let s = &stuffed.stuffed;
         let periodic: Vec<usize> = (0..3).filter(|&a| stuffed.period[a].is_some()).collect();
-        let period = Vector::new(
-            stuffed.period[0].unwrap_or(0.0),
-            stuffed.period[1].unwrap_or(0.0),
-            stuffed.period[2].unwrap_or(0.0),
-        );
-        let offset = |w: [i32; 3]| {
-            Vector::new(
-                w[0] as f64 * period.x,
-                w[1] as f64 * period.y,
-                w[2] as f64 * period.z,
-            )
-        };
         // Representative of each class: its first vertex.
         let classes = stuffed
             .orbit
@@ -664,7 +635,7 @@ impl PeriodicMesh {
             for v in 0..nsv {
                 let id = ids[c * nsv + v] as usize;
                 if slab_vertex[id] == NONE {
-                    vertices[id] = s.vertices[v] + offset(*sh);
+                    vertices[id] = s.vertices[v] + offset(stuffed.period, *sh);
                     slab_vertex[id] = v as u32;
                 }
             }
@@ -757,13 +728,10 @@ impl PeriodicMesh {
                 (t, k, c)
             })
             .collect();
-        let tags: HashMap<(u32, usize), BoundaryTag> = {
-            use rayon::prelude::*;
-            boundary
-                .par_iter()
-                .map(|&(t, k, c)| ((t, k), tag(&c)))
-                .collect()
-        };
+        let tags: HashMap<(u32, usize), BoundaryTag> = boundary
+            .par_iter()
+            .map(|&(t, k, c)| ((t, k), tag(&c)))
+            .collect();
         let mut seam_faces = 0;
         let slab = TetMesh::with_neighbors(
             s.vertices.clone(),

@@ -131,13 +131,19 @@ impl PeriodicTets {
 
     /// A tetrahedron's corners, shifted to give it its true shape.
     pub fn corners(&self, t: usize) -> [Point; 4] {
-        let tet = self.tets[t];
-        let w = self.wraps[t];
-        [0, 1, 2, 3].map(|i| self.vertices[tet[i] as usize] + self.offset(w[i]))
+        corners_of(
+            &self.vertices,
+            &self.tets,
+            &self.wraps,
+            Some((self.period, self.origin)),
+            t as u32,
+        )
     }
 }
 
-fn offset(period: [Option<f64>; 3], w: [i32; 3]) -> Vector {
+/// The shift of `w` periods (0 along an axis that is not periodic): the one place a shift
+/// in periods becomes a vector.
+pub(crate) fn offset(period: [Option<f64>; 3], w: [i32; 3]) -> Vector {
     Vector::new(
         period[0].map_or(0.0, |l| w[0] as f64 * l),
         period[1].map_or(0.0, |l| w[1] as f64 * l),

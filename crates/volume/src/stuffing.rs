@@ -408,6 +408,18 @@ impl Lattice {
     }
 }
 
+/// The warping threshold of a graded background's edge `d`: axis-parallel (two coordinates
+/// almost zero), the lattice's long-edge α; face and body diagonals, its short-edge one. (The
+/// paper's thresholds are for the lattice's own tetrahedra; on the bisected ones between two
+/// levels the angles are measured, not bounded.)
+pub(crate) fn edge_alpha(d: &Vector) -> f64 {
+    let tiny = 1e-9 * d.norm();
+    match d.iter().filter(|c| c.abs() <= tiny).count() {
+        2 => ALPHA_LONG,
+        _ => ALPHA_SHORT,
+    }
+}
+
 /// A background mesh given by its tetrahedra: a lattice graded by bisection.
 struct Explicit {
     vertices: Vec<Point>,
@@ -441,16 +453,7 @@ impl Explicit {
         let mut fill = start.clone();
         let mut adjacent = vec![(0u32, 0.0); start[nv]];
         for &(a, b) in &edges {
-            let d = vertices[b as usize] - vertices[a as usize];
-            // Axis-parallel (two coordinates almost zero): the lattice's long-edge threshold;
-            // face and body diagonals: its short-edge one. (The paper's thresholds are for
-            // the lattice's own tetrahedra; on the bisected ones between two levels the
-            // angles are measured, not bounded.)
-            let tiny = 1e-9 * d.norm();
-            let alpha = match d.iter().filter(|c| c.abs() <= tiny).count() {
-                2 => ALPHA_LONG,
-                _ => ALPHA_SHORT,
-            };
+            let alpha = edge_alpha(&(vertices[b as usize] - vertices[a as usize]));
             adjacent[fill[a as usize]] = (b, alpha);
             fill[a as usize] += 1;
             adjacent[fill[b as usize]] = (a, alpha);
