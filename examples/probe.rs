@@ -21,7 +21,7 @@ use std::time::Instant;
 use harmonic_planner::fem::{
     Assembler, AssemblyOptions, MULTIGRID_REL_TOL, MultigridOptions, MultilevelSystem, Potential,
 };
-use harmonic_planner::mesh::{Domain, MeshHierarchy};
+use harmonic_planner::mesh::Domain;
 use harmonic_planner::solver::{Parallelism, SymbolicCholesky};
 use harmonic_planner::{Point, Scene};
 
@@ -128,7 +128,7 @@ fn probe_multigrid(
     let mut opts = scene.mesh_options();
     opts.max_area = opts.max_area.map(|a| a * 4f64.powi(refinements as i32));
     let (coarse, _) = Domain::new(&scene.domain_spec(), &opts)?.mesh(&opts)?;
-    let hierarchy = MeshHierarchy::new(coarse, refinements as usize)?;
+    let hierarchy = harmonic_mesh::uniform_hierarchy(coarse, refinements as usize)?;
     let mesh_ms = t.elapsed().as_secs_f64() * 1e3;
 
     let t = Instant::now();

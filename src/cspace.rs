@@ -115,7 +115,7 @@ pub struct ConfigGoalSpec {
     pub tolerance: Option<ToleranceSpec>,
     /// The goal's boundary condition (default φ = 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub boundary: Option<crate::scene::Condition>,
+    pub boundary: Option<BoundaryCondition>,
 }
 
 /// Mesh options of a configuration-space scene.
@@ -285,22 +285,12 @@ impl ConfigScene {
     /// The boundary conditions: walls, obstacles (with per-obstacle overrides), the goal;
     /// joint limits are walls; a two-link arm's slab faces natural.
     pub fn boundary_conditions(&self) -> harmonic_fem::BoundaryConditions {
-        let mut bcs = harmonic_fem::BoundaryConditions::default();
-        let cond = crate::planner::condition;
-        if let Some(c) = self.boundary.walls {
-            bcs.walls = cond(c);
-        }
-        if let Some(c) = self.boundary.obstacles {
-            bcs.obstacles = cond(c);
-        }
-        if let Some(c) = self.goal.boundary.or(self.boundary.goal) {
-            bcs.goals = cond(c);
-        }
-        for (i, o) in self.obstacles.iter().enumerate() {
-            if let Some(c) = o.boundary {
-                bcs.obstacle_overrides.insert(i as u32, cond(c));
-            }
-        }
+        // The goal's own condition, where it has one, holds for the goal as a whole.
+        let boundary = BoundarySpec {
+            goal: self.goal.boundary.or(self.boundary.goal),
+            ..self.boundary
+        };
+        let mut bcs = boundary.conditions(self.obstacles.iter().map(|o| o.boundary), []);
         bcs.obstacle_overrides
             .insert(EXTRUDE_PART, BoundaryCondition::Neumann(0.0));
         bcs.obstacle_overrides.insert(ANTIGOAL_PART, bcs.walls);

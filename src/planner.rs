@@ -20,7 +20,7 @@ use harmonic_trajectory::{
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::scene::{Condition, Region, Scene};
+use crate::scene::{Region, Scene};
 
 /// Why a planner could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -185,7 +185,7 @@ impl Meshed {
         mesh_options.max_area = mesh_options.max_area.map(|a| a * factor);
         let mut meshed = Meshed::of_domain(domain, &mesh_options, t)?;
         let coarse = Arc::try_unwrap(meshed.mesh).unwrap_or_else(|shared| (*shared).clone());
-        let hierarchy = MeshHierarchy::new(coarse, refinements)?;
+        let hierarchy = harmonic_mesh::uniform_hierarchy(coarse, refinements)?;
         meshed.mesh = Arc::clone(hierarchy.finest());
         meshed.quality = Arc::new(OnceLock::new());
         meshed.hierarchy = Some(hierarchy);
@@ -635,14 +635,6 @@ fn point(p: [f64; 2]) -> Point {
     Point::new(p[0], p[1])
 }
 
-pub(crate) fn condition(c: Condition) -> BoundaryCondition {
-    match c {
-        Condition::Dirichlet(v) => BoundaryCondition::Dirichlet(v),
-        Condition::Neumann(g) => BoundaryCondition::Neumann(g),
-        Condition::Robin { a, b, g } => BoundaryCondition::Robin { a, b, g },
-    }
-}
-
 impl Scene {
     /// The geometry of the scene for the mesher.
     pub fn domain_spec(&self) -> DomainSpec {
@@ -689,27 +681,10 @@ impl Scene {
 
     /// The boundary conditions of the scene, per part, with per-obstacle and per-goal overrides.
     pub fn boundary_conditions(&self) -> BoundaryConditions {
-        let mut bcs = BoundaryConditions::default();
-        if let Some(c) = self.boundary.walls {
-            bcs.walls = condition(c);
-        }
-        if let Some(c) = self.boundary.obstacles {
-            bcs.obstacles = condition(c);
-        }
-        if let Some(c) = self.boundary.goal {
-            bcs.goals = condition(c);
-        }
-        for (i, o) in self.obstacles.iter().enumerate() {
-            if let Some(c) = o.boundary {
-                bcs.obstacle_overrides.insert(i as u32, condition(c));
-            }
-        }
-        for (j, g) in self.goals().iter().enumerate() {
-            if let Some(c) = g.boundary {
-                bcs.goal_overrides.insert(j as u32, condition(c));
-            }
-        }
-        bcs
+        self.boundary.conditions(
+            self.obstacles.iter().map(|o| o.boundary),
+            self.goals().iter().map(|g| g.boundary),
+        )
     }
 
     /// With `boundary.blend`: its weight `k` and the conditions of its Dirichlet and Neumann

@@ -23,8 +23,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::volume::{
-    VolumeAssembler, VolumeFemError, VolumePotential, scene_conditions,
-    solve_assembled_for_planning,
+    VolumeAssembler, VolumeFemError, VolumePotential, solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
@@ -34,7 +33,7 @@ use harmonic_trajectory::{Locate, TraceError, Tracer};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
     GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
-    VolumeSceneSpec, quality,
+    quality,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -42,13 +41,15 @@ use serde::Serialize;
 use crate::planner::{Timings, finite_or_zero, tag_name};
 use crate::scene::SceneError;
 
-/// A volume scene: the serde form of the format's "Three dimensions" section.
-pub type VolumeScene = VolumeSceneSpec;
+pub use crate::scene::VolumeScene;
 
 /// Why a volume planner could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum VolumePlanError {
-    /// The solids are invalid or the free space cannot be meshed.
+    /// The scene is invalid: a part given twice or not at all, solids that are not solids.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The free space cannot be meshed.
     #[error(transparent)]
     Volume(#[from] VolumeError),
     /// Assembly or solve failed.
@@ -190,7 +191,7 @@ impl VolumePlanner {
         let mesh_ms = millis(t);
 
         let t = Instant::now();
-        let bcs = scene_conditions(scene);
+        let bcs = scene.conditions();
         let assembler = VolumeAssembler::new(Arc::clone(&mesh), &bcs)?;
         let system = assembler.assemble(&bcs)?;
         let positive_offdiagonals = system.positive_offdiagonals();
@@ -273,7 +274,7 @@ impl VolumePlanner {
         if self.domain.classify(p, self.report.point_goal_radius) != PointClass::Free {
             return None;
         }
-        let (q, face) = self.mesh.nearest_boundary_point(p)?;
+        let (q, face) = harmonic_volume::nearest_boundary_point(&self.mesh, p)?;
         let tet = self.mesh.boundary_faces()[face].tet;
         let inner = Point::from(
             self.mesh

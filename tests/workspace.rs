@@ -157,8 +157,8 @@ fn bad_goals_and_scenes_get_clear_errors() {
     assert!(workspace.planner_for_any(&[]).is_err());
 
     let mut neumann = reference(0.2);
-    neumann.boundary.walls = Some(harmonic_planner::scene::Condition::Neumann(0.0));
-    neumann.boundary.obstacles = Some(harmonic_planner::scene::Condition::Neumann(0.0));
+    neumann.boundary.walls = Some(harmonic_planner::fem::BoundaryCondition::Neumann(0.0));
+    neumann.boundary.obstacles = Some(harmonic_planner::fem::BoundaryCondition::Neumann(0.0));
     let err = Workspace::new(&neumann).expect_err("walls hold nothing");
     assert!(matches!(err, PlanError::Fem(_)), "{err}");
     assert!(err.to_string().contains("hold nothing"), "{err}");

@@ -42,13 +42,14 @@ use harmonic_baselines::{
     Raster, SorOptions, Wavefront,
 };
 use harmonic_mesh::geom::{closest_point_on_segment, polygon_contains, ring_distance};
-use harmonic_mesh::{BoundaryTag, Domain, Point, orient2d};
+use harmonic_mesh::{BoundaryTag, Domain, Point, geom::twice_signed_area};
 use harmonic_trajectory::{SmoothOptions, TraceStatus, path_metrics, trace_smooth};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use harmonic_planner::fem::BoundaryCondition;
 use harmonic_planner::render::Picture;
-use harmonic_planner::scene::{Condition, Scene};
+use harmonic_planner::scene::Scene;
 use harmonic_planner::{PlanError, Planner};
 
 /// Why a comparison could not be set up.
@@ -186,7 +187,7 @@ impl<'d> VisibilityGraph<'d> {
                 }
                 // Edge k - 1 ends at v, edge k starts there; a corner on a goal edge is a goal
                 // point, not a corner to go around.
-                if is_goal(k + n - 1) || is_goal(k) || orient2d(prev, v, next) >= 0.0 {
+                if is_goal(k + n - 1) || is_goal(k) || twice_signed_area(prev, v, next) >= 0.0 {
                     continue;
                 }
                 let left = |d: harmonic_mesh::Vector| {
@@ -591,9 +592,9 @@ impl Shapes {
 fn fem_variant(scene: &Scene, kind: PlannerKind) -> Scene {
     let mut variant = scene.clone();
     let c = if kind == PlannerKind::FemDirichlet {
-        Condition::Dirichlet(1.0)
+        BoundaryCondition::Dirichlet(1.0)
     } else {
-        Condition::Robin {
+        BoundaryCondition::Robin {
             a: 1.0,
             b: 1.0,
             g: 1.0,
@@ -601,7 +602,7 @@ fn fem_variant(scene: &Scene, kind: PlannerKind) -> Scene {
     };
     variant.boundary.walls = Some(c);
     variant.boundary.obstacles = Some(c);
-    variant.boundary.goal = Some(Condition::Dirichlet(0.0));
+    variant.boundary.goal = Some(BoundaryCondition::Dirichlet(0.0));
     for o in &mut variant.obstacles {
         o.boundary = None;
     }
@@ -985,7 +986,7 @@ impl Arena {
 /// Signed area of a ring (positive when counter-clockwise).
 fn centroid_area(ring: &[Point]) -> f64 {
     0.5 * (0..ring.len())
-        .map(|k| orient2d(Point::origin(), ring[k], ring[(k + 1) % ring.len()]))
+        .map(|k| twice_signed_area(Point::origin(), ring[k], ring[(k + 1) % ring.len()]))
         .sum::<f64>()
 }
 

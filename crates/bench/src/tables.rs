@@ -5,7 +5,8 @@
 
 use serde::Serialize;
 
-use harmonic_planner::scene::{Condition, Scene};
+use harmonic_planner::fem::BoundaryCondition;
+use harmonic_planner::scene::Scene;
 use harmonic_planner::{PlanError, Planner};
 
 /// The kind of condition a row of the boundary-condition table puts on walls and obstacles.
@@ -112,11 +113,11 @@ pub const NEUMANN_INFLOW: f64 = 1.0;
 
 impl BcRow {
     /// The condition on walls and obstacles this row stands for.
-    pub fn condition(&self) -> Condition {
+    pub fn condition(&self) -> BoundaryCondition {
         match self.kind {
-            BcKind::Dirichlet => Condition::Dirichlet(1.0),
-            BcKind::Neumann => Condition::Neumann(NEUMANN_INFLOW),
-            BcKind::Robin => Condition::Robin {
+            BcKind::Dirichlet => BoundaryCondition::Dirichlet(1.0),
+            BcKind::Neumann => BoundaryCondition::Neumann(NEUMANN_INFLOW),
+            BcKind::Robin => BoundaryCondition::Robin {
                 a: 1.0,
                 b: self.k,
                 g: self.k,
@@ -153,8 +154,8 @@ pub fn bc_table(
     rows: &[BcRow],
 ) -> Result<Vec<BcResult>, PlanError> {
     let mut dirichlet = scene.clone();
-    dirichlet.boundary.walls = Some(Condition::Dirichlet(1.0));
-    dirichlet.boundary.obstacles = Some(Condition::Dirichlet(1.0));
+    dirichlet.boundary.walls = Some(BoundaryCondition::Dirichlet(1.0));
+    dirichlet.boundary.obstacles = Some(BoundaryCondition::Dirichlet(1.0));
     let reference: Vec<f64> = Planner::new(&dirichlet)?
         .plan_many(starts)
         .iter()
@@ -165,7 +166,7 @@ pub fn bc_table(
             let mut s = scene.clone();
             s.boundary.walls = Some(row.condition());
             s.boundary.obstacles = Some(row.condition());
-            s.boundary.goal = Some(Condition::Dirichlet(0.0));
+            s.boundary.goal = Some(BoundaryCondition::Dirichlet(0.0));
             for o in &mut s.obstacles {
                 o.boundary = None;
             }
@@ -191,11 +192,11 @@ impl BcRow {
     /// a·∂φ/∂n + b·φ = K on walls and obstacles (φ = K/b where a = 0). With the goal at
     /// φ = 0 this is linear in K, so every row with a = b = 1 and K > 0 gives K times one
     /// field (the same paths), and K = 0 gives φ ≡ 0 (no path).
-    pub fn literal_condition(&self) -> Condition {
+    pub fn literal_condition(&self) -> BoundaryCondition {
         if self.a == 0.0 {
-            Condition::Dirichlet(self.k / self.b)
+            BoundaryCondition::Dirichlet(self.k / self.b)
         } else {
-            Condition::Robin {
+            BoundaryCondition::Robin {
                 a: self.a,
                 b: self.b,
                 g: self.k,
@@ -230,7 +231,7 @@ pub fn bc_table_literal(
             let mut s = scene.clone();
             s.boundary.walls = Some(row.literal_condition());
             s.boundary.obstacles = Some(row.literal_condition());
-            s.boundary.goal = Some(Condition::Dirichlet(0.0));
+            s.boundary.goal = Some(BoundaryCondition::Dirichlet(0.0));
             for o in &mut s.obstacles {
                 o.boundary = None;
             }

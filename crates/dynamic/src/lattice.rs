@@ -648,7 +648,7 @@ impl Lattice {
         let p = Point::new(p[0], p[1]);
         [(a, b), (b, c), (c, a)]
             .iter()
-            .all(|&(u, w)| harmonic_mesh::orient2d(u, w, p) >= -tol)
+            .all(|&(u, w)| harmonic_mesh::geom::twice_signed_area(u, w, p) >= -tol)
     }
 
     /// A goal triangle whose closure holds `p` (for a path ending exactly on a vertex).

@@ -17,7 +17,6 @@ use harmonic_fem::{
     MultigridOptions, MultilevelSystem, Ordering,
 };
 use harmonic_fixtures::reference_mesh;
-use harmonic_mesh::MeshHierarchy;
 use harmonic_solver::SymbolicCholesky;
 
 /// The peers' Robin case (docs/peers.md, case (b)): ∂φ/∂n = 1 − φ on walls and obstacles.
@@ -104,9 +103,9 @@ fn multigrid(c: &mut Criterion) {
         let coarse_area = max_area * 4f64.powi(REFINEMENTS as i32);
         let coarse = reference_mesh(coarse_area);
         group.bench_function("refine", |b| {
-            b.iter(|| MeshHierarchy::new(coarse.clone(), REFINEMENTS))
+            b.iter(|| harmonic_mesh::uniform_hierarchy(coarse.clone(), REFINEMENTS))
         });
-        let hierarchy = MeshHierarchy::new(coarse, REFINEMENTS).expect("refine");
+        let hierarchy = harmonic_mesh::uniform_hierarchy(coarse, REFINEMENTS).expect("refine");
         let bcs = BoundaryConditions::default();
         group.bench_function("assemble", |b| {
             b.iter(|| MultilevelSystem::assemble(&hierarchy, &bcs))

@@ -8,8 +8,10 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use harmonic_mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, orient2d};
 use harmonic_solver::{MMatrix, Ordering, SymmetricCsc};
+use harmonic_types::{
+    BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, geom::twice_signed_area,
+};
 
 use crate::FemError;
 use crate::bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
@@ -931,7 +933,7 @@ impl Assembler {
         {
             let [p0, p1, p2] = tri.map(|v| vertices[v as usize]);
             let k = self.conductivity.as_ref().map_or(1.0, |c| c[t]);
-            let half_inv = 0.5 * k / orient2d(p0, p1, p2);
+            let half_inv = 0.5 * k / twice_signed_area(p0, p1, p2);
             let w = [
                 (p1 - p0).dot(&(p2 - p0)) * half_inv,
                 (p2 - p1).dot(&(p0 - p1)) * half_inv,

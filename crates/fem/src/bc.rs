@@ -2,13 +2,16 @@
 
 use std::collections::BTreeMap;
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::BoundaryTag;
 
 use crate::FemError;
 
 /// The condition imposed on one boundary part, with `n` the outward normal of free space
 /// (pointing into the wall, obstacle or goal).
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// In a scene file: `{"dirichlet": v}`, `{"neumann": g}` or `{"robin": {"a": a, "b": b, "g": g}}`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum BoundaryCondition {
     /// φ = value.
     Dirichlet(f64),

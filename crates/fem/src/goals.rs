@@ -31,8 +31,8 @@
 use std::collections::HashSet;
 use std::sync::Arc;
 
-use harmonic_mesh::Mesh;
 use harmonic_solver::{AccurateLdlt, Cholesky, MMatrix, Ordering, SymbolicCholesky, SymmetricCsc};
+use harmonic_types::Mesh;
 use nalgebra::{DMatrix, DVector};
 
 use crate::FemError;
@@ -169,7 +169,7 @@ impl GoalSolver {
         if mesh
             .boundary_edges()
             .iter()
-            .any(|e| matches!(e.tag, harmonic_mesh::BoundaryTag::Goal(_)))
+            .any(|e| matches!(e.tag, harmonic_types::BoundaryTag::Goal(_)))
         {
             return Err(FemError::GoalInMesh);
         }

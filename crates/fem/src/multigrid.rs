@@ -11,8 +11,8 @@
 
 use std::sync::Arc;
 
-use harmonic_mesh::{Mesh, MeshHierarchy};
 use harmonic_solver::{Multigrid, MultigridOptions, PcgReport, Prolongation, SymbolicCholesky};
+use harmonic_types::{Mesh, MeshHierarchy};
 
 use crate::{Assembler, AssemblyOptions, BoundaryConditions, FemError, LinearSystem, Potential};
 

@@ -3,7 +3,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use harmonic_mesh::{Mesh, NO_NEIGHBOR, Point, Vector, orient2d};
+use harmonic_types::{Mesh, NO_NEIGHBOR, Point, Vector, geom::twice_signed_area};
 
 use crate::FemError;
 use crate::solve::EXTENDED_BELOW;
@@ -182,7 +182,7 @@ impl Potential {
     fn gradient_from(&self, t: u32, [s0, s1, s2]: [f64; 3]) -> Vector {
         let [p0, p1, p2] = self.mesh.triangle_points(t);
         let rot = |d: Vector| Vector::new(-d.y, d.x);
-        (rot(p2 - p1) * s0 + rot(p0 - p2) * s1 + rot(p1 - p0) * s2) / orient2d(p0, p1, p2)
+        (rot(p2 - p1) * s0 + rot(p0 - p2) * s1 + rot(p1 - p0) * s2) / twice_signed_area(p0, p1, p2)
     }
 
     /// The mesh.
@@ -250,11 +250,11 @@ impl Potential {
     /// Barycentric coordinates of `p` in triangle `t` (negative outside it).
     fn barycentric(&self, t: u32, p: Point) -> [f64; 3] {
         let [a, b, c] = self.mesh.triangle_points(t);
-        let area = orient2d(a, b, c);
+        let area = twice_signed_area(a, b, c);
         [
-            orient2d(p, b, c) / area,
-            orient2d(a, p, c) / area,
-            orient2d(a, b, p) / area,
+            twice_signed_area(p, b, c) / area,
+            twice_signed_area(a, p, c) / area,
+            twice_signed_area(a, b, p) / area,
         ]
     }
 

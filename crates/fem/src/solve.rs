@@ -3,8 +3,8 @@
 
 use std::sync::{Arc, Mutex};
 
-use harmonic_mesh::Mesh;
 use harmonic_solver::{AccurateLdlt, Ordering, Parallelism, SymbolicCholesky, Wide, WideLdlt};
+use harmonic_types::Mesh;
 
 use crate::FemError;
 use crate::assemble::{Assembler, AssemblyOptions, LinearSystem, NotMMatrix};

@@ -370,7 +370,7 @@ impl StructuredGrid {
 mod tests {
     use std::sync::Arc;
 
-    use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point};
+    use harmonic_types::{BoundaryTag, Mesh, NO_NEIGHBOR, Point};
 
     use super::*;
     use crate::{Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions};

@@ -45,7 +45,6 @@ mod assemble;
 mod periodic;
 mod potential;
 mod solve;
-mod spec;
 
 pub use assemble::{
     NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeBoundaryData, VolumeSystem,
@@ -60,7 +59,6 @@ pub use solve::{
     VolumeSolveMethod, VolumeSolveReport, planning_method, solve_assembled_for_planning,
     solve_volume, solve_volume_potential, solve_volume_potential_with_report,
 };
-pub use spec::{condition, scene_conditions};
 
 use crate::FemError;
 

@@ -12,11 +12,11 @@ use harmonic_fem::{
     solve_potential,
 };
 use harmonic_fixtures::reference_mesh;
-use harmonic_mesh::MeshHierarchy;
 
 /// Largest |ψ_multigrid − ψ_direct| over the finest mesh's vertices, and the iterations taken.
 fn compare(coarse_area: f64, refinements: usize, bcs: &BoundaryConditions) -> (f64, usize) {
-    let hierarchy = MeshHierarchy::new(reference_mesh(coarse_area), refinements).expect("refine");
+    let hierarchy =
+        harmonic_mesh::uniform_hierarchy(reference_mesh(coarse_area), refinements).expect("refine");
     let levels = MultilevelSystem::assemble(&hierarchy, bcs).expect("assemble");
     let cycle = levels
         .multigrid(MultigridOptions::default())

@@ -14,7 +14,7 @@ use crate::frame::Frame;
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
 use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
-use crate::{BoundaryTag, MeshError, Part, Point, orient2d};
+use crate::{BoundaryTag, MeshError, Part, Point, geom::twice_signed_area};
 
 mod constraints;
 mod isolated;
@@ -242,7 +242,7 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
             let a = ring[(i + n - 1) % n].0;
             let b = ring[i].0;
             let c = ring[(i + 1) % n].0;
-            let o = orient2d(a, b, c);
+            let o = twice_signed_area(a, b, c);
             if o.abs() <= 1e-13 * (b - a).norm() * (c - b).norm() {
                 ring.remove(i);
                 removed = true;

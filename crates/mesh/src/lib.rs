@@ -42,7 +42,6 @@ pub mod geom;
 mod grading;
 mod halves;
 pub mod io;
-mod mesh;
 mod options;
 pub mod quadtree;
 mod refine_uniform;
@@ -52,9 +51,12 @@ mod triangulate;
 
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use frame::Frame;
-pub use mesh::{BoundaryEdge, BoundaryTag, Mesh, NO_NEIGHBOR, Point, QualityReport, Vector};
+pub use harmonic_types::{
+    BoundaryEdge, BoundaryTag, Mesh, MeshDataError, MeshHierarchy, NO_NEIGHBOR, Point,
+    QualityReport, Vector,
+};
 pub use options::{Bridges, Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
-pub use refine_uniform::{MeshHierarchy, Refinement};
+pub use refine_uniform::{RefineUniformly, Refinement, uniform_hierarchy};
 pub use triangulate::{HILBERT_FROM, MeshReport, SeamRefinements};
 
 /// A part of the input scene, used to say where an input error is.
@@ -83,7 +85,27 @@ impl std::fmt::Display for Part {
 pub enum MeshError {
     /// Mesh data handed to [`Mesh::from_parts`] (or read from a file) is inconsistent.
     #[error("invalid mesh: {0}")]
-    InvalidMesh(String),
+    InvalidMesh(#[from] MeshDataError),
+    /// A mesh to plan in, given as it is, has no closed boundary loop.
+    #[error("the mesh has no closed boundary loop")]
+    NoBoundaryLoop,
+    /// A quadtree's block grid does not hold `width × height` blocks, or more than it can mesh.
+    #[error(
+        "a {width} × {height} block grid with {blocks} blocks: it needs width × height blocks, at most {max}"
+    )]
+    BlockGridSize {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+        /// How many blocks were given.
+        blocks: usize,
+        /// The most blocks a grid may hold.
+        max: usize,
+    },
+    /// A quadtree's block grid has no free block: there is nothing to mesh.
+    #[error("the block grid has no free block")]
+    NoFreeBlock,
     /// A coordinate (or radius) is NaN or infinite.
     #[error("{part}: vertex {vertex} has a non-finite coordinate")]
     NonFinite {
@@ -288,9 +310,4 @@ pub enum MeshError {
         /// What is wrong.
         message: String,
     },
-}
-
-/// Twice the signed area of the triangle `a, b, c`: positive when counter-clockwise.
-pub fn orient2d(a: Point, b: Point, c: Point) -> f64 {
-    (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
 }

@@ -76,17 +76,17 @@ pub const MAX_BLOCKS: usize = 1 << 30;
 impl BlockGrid {
     /// A grid of `width × height` blocks listed row by row from the bottom.
     pub fn new(width: usize, height: usize, blocks: Vec<Block>) -> Result<BlockGrid, MeshError> {
-        if width == 0 || height == 0 || width.checked_mul(height) != Some(blocks.len()) {
-            return Err(MeshError::InvalidMesh(format!(
-                "a {width} × {height} block grid needs {} blocks, got {}",
-                width.saturating_mul(height),
-                blocks.len()
-            )));
-        }
-        if blocks.len() > MAX_BLOCKS {
-            return Err(MeshError::InvalidMesh(format!(
-                "a {width} × {height} block grid has more than {MAX_BLOCKS} blocks"
-            )));
+        if width == 0
+            || height == 0
+            || width.checked_mul(height) != Some(blocks.len())
+            || blocks.len() > MAX_BLOCKS
+        {
+            return Err(MeshError::BlockGridSize {
+                width,
+                height,
+                blocks: blocks.len(),
+                max: MAX_BLOCKS,
+            });
         }
         Ok(BlockGrid {
             width,
@@ -431,9 +431,7 @@ pub fn quadtree_mesh(
         });
     }
     if !grid.blocks.contains(&Block::Free) {
-        return Err(MeshError::InvalidMesh(
-            "the block grid has no free block".to_string(),
-        ));
+        return Err(MeshError::NoFreeBlock);
     }
     let pyramid = Pyramid::new(grid, opts.max_level);
     let mut todo = Vec::new();
@@ -521,7 +519,7 @@ pub fn quadtree_mesh(
             }
         }
     }
-    Mesh::from_parts(lattice.points, triangles, &boundary)
+    Ok(Mesh::from_parts(lattice.points, triangles, &boundary)?)
 }
 
 #[cfg(test)]

@@ -20,10 +20,10 @@
 //! Each fine vertex remembers the coarse edge it is the midpoint of (or the coarse vertex it
 //! is), which is what a geometric multigrid needs to move functions between the levels.
 
-use crate::mesh::{Mesh, NO_NEIGHBOR, Point};
 use crate::{BoundaryTag, MeshError};
+use crate::{Mesh, MeshHierarchy, NO_NEIGHBOR, Point};
 
-/// A mesh refined once by [`Mesh::refined_uniformly`].
+/// A mesh refined once by [`RefineUniformly::refined_uniformly`].
 #[derive(Clone, Debug)]
 pub struct Refinement {
     /// The refined mesh: four times the triangles of the coarse one.
@@ -33,7 +33,9 @@ pub struct Refinement {
     pub parents: Vec<[u32; 2]>,
 }
 
-impl Mesh {
+/// Uniform refinement of a triangle mesh (red refinement plus Delaunay flips), the step
+/// between the levels of a [`MeshHierarchy`].
+pub trait RefineUniformly {
     /// Splits every triangle into four through its edge midpoints and restores the
     /// (constrained) Delaunay property by edge flips. The triangles' smallest angle is kept,
     /// the largest area quartered, the boundary and its tags unchanged (each boundary edge is
@@ -44,7 +46,7 @@ impl Mesh {
     /// [`MeshError::TooManyTriangles`] if the refined mesh would not fit 32-bit indices.
     ///
     /// ```
-    /// use harmonic_mesh::{BoundaryTag, Mesh, Point};
+    /// use harmonic_mesh::{BoundaryTag, Mesh, Point, RefineUniformly};
     /// let square = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::new(0.0, 1.0)];
     /// let walls = [(0, 1, BoundaryTag::Wall), (1, 2, BoundaryTag::Wall), (2, 3, BoundaryTag::Wall), (3, 0, BoundaryTag::Wall)];
     /// let coarse = Mesh::from_parts(square, vec![[0, 1, 2], [0, 2, 3]], &walls)?;
@@ -56,7 +58,11 @@ impl Mesh {
     /// assert_eq!(fine.parents[centre], [2, 0]); // the midpoint of the diagonal 0-2
     /// # Ok::<(), harmonic_mesh::MeshError>(())
     /// ```
-    pub fn refined_uniformly(&self) -> Result<Refinement, MeshError> {
+    fn refined_uniformly(&self) -> Result<Refinement, MeshError>;
+}
+
+impl RefineUniformly for Mesh {
+    fn refined_uniformly(&self) -> Result<Refinement, MeshError> {
         let coarse = self.triangles();
         let fine_count = coarse.len().saturating_mul(4);
         if fine_count >= NO_NEIGHBOR as usize {
@@ -292,80 +298,51 @@ fn split_boundary(coarse: &Mesh, numbering: &Numbering) -> Vec<(u32, u32, Bounda
     halves
 }
 
-/// A coarse mesh and its uniform refinements, coarse to fine: the levels of a geometric
-/// multigrid.
-#[derive(Clone, Debug)]
-pub struct MeshHierarchy {
-    levels: Vec<std::sync::Arc<Mesh>>,
-    /// `parents[l]`: the parents (in level `l`) of level `l + 1`'s vertices.
-    parents: Vec<Vec<[u32; 2]>>,
-}
-
-impl MeshHierarchy {
-    /// `coarse` and `refinements` successive [`Mesh::refined_uniformly`] of it: the finest
-    /// level has `4^refinements` times the triangles, with the same smallest angle.
-    ///
-    /// Refuses up front, with [`MeshError::TooManyTriangles`], a finest level above the
-    /// mesher's default budget ([`crate::MeshOptions`]'s `max_triangles`, 20 M triangles),
-    /// before any memory is spent on it.
-    ///
-    /// ```
-    /// use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshHierarchy, MeshOptions, Point};
-    /// let spec = DomainSpec {
-    ///     workspace: vec![Point::new(0.0, 0.0), Point::new(4.0, 0.0), Point::new(4.0, 4.0), Point::new(0.0, 4.0)],
-    ///     obstacles: vec![],
-    ///     goals: vec![GoalShape::Point(Point::new(3.5, 3.5))],
-    ///     robot_radius: 0.0,
-    /// };
-    /// let opts = MeshOptions { max_area: Some(0.2), ..MeshOptions::default() };
-    /// let (coarse, _) = Domain::new(&spec, &opts)?.mesh(&opts)?;
-    /// let coarse_triangles = coarse.triangles().len();
-    /// let hierarchy = MeshHierarchy::new(coarse, 2)?;
-    /// assert_eq!(hierarchy.levels().len(), 3);
-    /// assert_eq!(hierarchy.finest().triangles().len(), 16 * coarse_triangles);
-    /// // A quarter of a quarter of the coarse bound, to rounding.
-    /// assert!(hierarchy.finest().quality().max_triangle_area <= 0.2 / 16.0 * (1.0 + 1e-12));
-    /// # Ok::<(), harmonic_mesh::MeshError>(())
-    /// ```
-    pub fn new(coarse: Mesh, refinements: usize) -> Result<Self, MeshError> {
-        let limit = crate::MeshOptions::default().max_triangles;
-        let finest = u32::try_from(refinements)
-            .ok()
-            .and_then(|k| 4usize.checked_pow(k))
-            .and_then(|f| coarse.triangles().len().checked_mul(f))
-            .unwrap_or(usize::MAX);
-        if finest > limit {
-            return Err(MeshError::TooManyTriangles {
-                estimated: finest,
-                limit,
-            });
-        }
-        let mut levels = vec![std::sync::Arc::new(coarse)];
-        let mut parents = Vec::with_capacity(refinements);
-        for _ in 0..refinements {
-            let step = levels[levels.len() - 1].refined_uniformly()?;
-            levels.push(std::sync::Arc::new(step.mesh));
-            parents.push(step.parents);
-        }
-        Ok(Self { levels, parents })
+/// The hierarchy of `coarse` and `refinements` successive
+/// [`refined_uniformly`](RefineUniformly::refined_uniformly) of it: the finest
+/// level has `4^refinements` times the triangles, with the same smallest angle.
+///
+/// Refuses up front, with [`MeshError::TooManyTriangles`], a finest level above the
+/// mesher's default budget ([`crate::MeshOptions`]'s `max_triangles`, 20 M triangles),
+/// before any memory is spent on it.
+///
+/// ```
+/// use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, uniform_hierarchy};
+/// let spec = DomainSpec {
+///     workspace: vec![Point::new(0.0, 0.0), Point::new(4.0, 0.0), Point::new(4.0, 4.0), Point::new(0.0, 4.0)],
+///     obstacles: vec![],
+///     goals: vec![GoalShape::Point(Point::new(3.5, 3.5))],
+///     robot_radius: 0.0,
+/// };
+/// let opts = MeshOptions { max_area: Some(0.2), ..MeshOptions::default() };
+/// let (coarse, _) = Domain::new(&spec, &opts)?.mesh(&opts)?;
+/// let coarse_triangles = coarse.triangles().len();
+/// let hierarchy = uniform_hierarchy(coarse, 2)?;
+/// assert_eq!(hierarchy.levels().len(), 3);
+/// assert_eq!(hierarchy.finest().triangles().len(), 16 * coarse_triangles);
+/// // A quarter of a quarter of the coarse bound, to rounding.
+/// assert!(hierarchy.finest().quality().max_triangle_area <= 0.2 / 16.0 * (1.0 + 1e-12));
+/// # Ok::<(), harmonic_mesh::MeshError>(())
+/// ```
+pub fn uniform_hierarchy(coarse: Mesh, refinements: usize) -> Result<MeshHierarchy, MeshError> {
+    let limit = crate::MeshOptions::default().max_triangles;
+    let finest = u32::try_from(refinements)
+        .ok()
+        .and_then(|k| 4usize.checked_pow(k))
+        .and_then(|f| coarse.triangles().len().checked_mul(f))
+        .unwrap_or(usize::MAX);
+    if finest > limit {
+        return Err(MeshError::TooManyTriangles {
+            estimated: finest,
+            limit,
+        });
     }
-
-    /// The meshes, coarsest first.
-    pub fn levels(&self) -> &[std::sync::Arc<Mesh>] {
-        &self.levels
+    let mut levels = vec![std::sync::Arc::new(coarse)];
+    let mut parents = Vec::with_capacity(refinements);
+    for _ in 0..refinements {
+        let step = levels[levels.len() - 1].refined_uniformly()?;
+        levels.push(std::sync::Arc::new(step.mesh));
+        parents.push(step.parents);
     }
-
-    /// The finest mesh.
-    pub fn finest(&self) -> &std::sync::Arc<Mesh> {
-        &self.levels[self.levels.len() - 1]
-    }
-
-    /// For each vertex of level `level` (at least 1), its parents in level `level − 1`
-    /// (see [`Refinement::parents`]); empty for level 0 or past the finest.
-    pub fn parents(&self, level: usize) -> &[[u32; 2]] {
-        level
-            .checked_sub(1)
-            .and_then(|l| self.parents.get(l))
-            .map_or(&[], Vec::as_slice)
-    }
+    Ok(MeshHierarchy::from_levels(levels, parents)?)
 }

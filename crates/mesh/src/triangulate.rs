@@ -633,7 +633,7 @@ fn to_user_vertices(
             .iter()
             .map(|t| {
                 let [a, b, c] = t.map(|v| vertices[v as usize]);
-                0.5 * crate::orient2d(a, b, c)
+                0.5 * crate::geom::twice_signed_area(a, b, c)
             })
             .fold(f64::INFINITY, f64::min);
         frame.check_user_mesh(smallest.max(0.0).sqrt())?;
@@ -1305,7 +1305,7 @@ fn renumbered_triangles(tri_raw: &[[usize; 3]], new_id: &[u32], nv: usize) -> Ve
         }
     };
     let mut rotated = vec![[0u32; 3]; tri_raw.len()];
-    crate::mesh::map_in_two(tri_raw, &mut rotated, renumber);
+    harmonic_types::map_in_two(tri_raw, &mut rotated, renumber);
     sorted_triangles(&rotated, nv)
 }
 

@@ -6,7 +6,7 @@ mod common;
 
 use common::check_invariants;
 use harmonic_fixtures::{reference_disc, reference_mesh};
-use harmonic_mesh::{Domain, Mesh, MeshOptions, Point};
+use harmonic_mesh::{Domain, Mesh, MeshOptions, Point, RefineUniformly};
 use proptest::prelude::*;
 
 /// Checks one refinement step of `coarse` and returns the fine mesh.
@@ -109,13 +109,13 @@ fn curved_goal_and_two_halves_refine() {
 #[test]
 fn a_hierarchy_past_the_budget_is_refused_up_front() {
     let coarse = reference_mesh(0.5);
-    let err = harmonic_mesh::MeshHierarchy::new(coarse.clone(), 40).unwrap_err();
+    let err = harmonic_mesh::uniform_hierarchy(coarse.clone(), 40).unwrap_err();
     assert!(
         matches!(err, harmonic_mesh::MeshError::TooManyTriangles { estimated, .. } if estimated == usize::MAX),
         "{err}"
     );
     // 4^10 times a few hundred triangles is past 20 M as well.
-    assert!(harmonic_mesh::MeshHierarchy::new(coarse, 10).is_err());
+    assert!(harmonic_mesh::uniform_hierarchy(coarse, 10).is_err());
 }
 
 proptest! {

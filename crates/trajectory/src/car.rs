@@ -7,7 +7,7 @@
 //! rotation where the rear- and front-wheel normals meet (radius `L / tan δ` from the rear
 //! axle; straight ahead when δ = 0), driving an arc of length `s`.
 
-use harmonic_mesh::{Point, Vector};
+use harmonic_types::{Point, Vector};
 
 use crate::field::magnitude;
 use crate::{CarPath, Field, Locate, Segment, TraceError, TraceStatus};

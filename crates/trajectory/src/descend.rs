@@ -1,7 +1,7 @@
 //! The planners' descent policy: the smooth tracer first, the exact tracer where the smooth
 //! one stalls or runs out of steps.
 
-use harmonic_mesh::Point;
+use harmonic_types::Point;
 use serde::Serialize;
 
 use crate::{

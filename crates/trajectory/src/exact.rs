@@ -12,7 +12,7 @@
 //! one move of this tracer, so their implementations sit here and `field.rs` needs nothing
 //! from the tracers.
 
-use harmonic_mesh::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
+use harmonic_types::{BoundaryTag, NO_NEIGHBOR, Point, Vector};
 
 use crate::field::{P1Field, SmoothP1Field, goal_crossing, magnitude, orient};
 use crate::{Fallback, Field, Locate, Path, Segment, TraceStatus};

@@ -3,7 +3,7 @@
 //! without copying them. Their [`Field`] implementations are in `exact.rs`, beside the exact
 //! tracer's move that they fall back on; this module needs nothing from the tracers.
 
-use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point, Vector};
+use harmonic_types::{BoundaryTag, Mesh, NO_NEIGHBOR, Point, Vector};
 
 use crate::TraceError;
 
@@ -139,14 +139,7 @@ pub(crate) fn magnitude(v: Vector) -> f64 {
 }
 
 /// Sign of the orientation of `a, b, c` (exact): positive when counter-clockwise.
-#[inline]
-pub(crate) fn orient(a: Point, b: Point, c: Point) -> f64 {
-    robust::orient2d(
-        robust::Coord { x: a.x, y: a.y },
-        robust::Coord { x: b.x, y: b.y },
-        robust::Coord { x: c.x, y: c.y },
-    )
-}
+pub(crate) use harmonic_types::geom::orient2d as orient;
 
 /// A piecewise-linear (P1) potential on a triangle mesh: one value per vertex, linear inside
 /// each triangle, so the gradient is constant per triangle.
@@ -405,11 +398,7 @@ impl<'a> P1Field<'a> {
     /// Barycentric coordinates of `p` in triangle `t` (they sum to one; negative outside).
     #[inline]
     pub(crate) fn barycentric(&self, t: u32, p: Point) -> [f64; 3] {
-        let [a, b, c] = self.mesh.triangle_points(t);
-        let area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-        let la = ((b.x - p.x) * (c.y - p.y) - (b.y - p.y) * (c.x - p.x)) / area;
-        let lb = ((c.x - p.x) * (a.y - p.y) - (c.y - p.y) * (a.x - p.x)) / area;
-        [la, lb, 1.0 - la - lb]
+        harmonic_types::geom::barycentric(self.mesh.triangle_points(t), p)
     }
 
     /// Whether triangle `t` holds `p` (closed triangle, exact predicates).

@@ -1,9 +1,9 @@
 //! Path metrics: length, clearance and discrete curvature.
 
-use harmonic_mesh::Point;
+use harmonic_types::Point;
 use serde::Serialize;
 
-use harmonic_mesh::geom::polyline_length;
+use harmonic_types::geom::polyline_length;
 
 /// Geometric measures of a path.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

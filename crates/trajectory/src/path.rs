@@ -1,7 +1,7 @@
 //! What a tracer or the car stepper returns: the path, how it ended, and its metrics.
 
-use harmonic_mesh::Point;
-use harmonic_mesh::geom::polyline_length;
+use harmonic_types::Point;
+use harmonic_types::geom::polyline_length;
 use serde::{Serialize, Serializer};
 
 /// How a path ended.

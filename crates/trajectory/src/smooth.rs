@@ -7,7 +7,7 @@
 //! at a stagnation point) the tracer takes one [`Field::fallback_step`] (for P1 fields, one
 //! move of the exact tracer) and resumes.
 
-use harmonic_mesh::{Point, Vector};
+use harmonic_types::{Point, Vector};
 
 use crate::field::magnitude;
 use crate::{Fallback, Field, Locate, Path, Segment, TraceError, TraceStatus};

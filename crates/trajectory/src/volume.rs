@@ -19,7 +19,9 @@
 
 use std::sync::Arc;
 
-use harmonic_volume::{BoundaryTag, FACES, NO_NEIGHBOR, Point, TetMesh, Vector};
+use harmonic_types::{
+    BoundaryTag, FACES, NO_NEIGHBOR, Point3 as Point, TetMesh, Vector3 as Vector,
+};
 use serde::{Serialize, Serializer};
 
 use crate::{Locate, Segment, TraceError};
@@ -545,12 +547,12 @@ fn simplex_coords(pts: &[Point], p: &Point) -> Vec<f64> {
             vec![1.0 - c.x - c.y, c.x, c.y]
         }
         _ => {
-            let vol = harmonic_volume::signed_volume(&pts[0], &pts[1], &pts[2], &pts[3]);
+            let vol = harmonic_types::signed_volume(&pts[0], &pts[1], &pts[2], &pts[3]);
             (0..4)
                 .map(|k| {
                     let mut q = [pts[0], pts[1], pts[2], pts[3]];
                     q[k] = *p;
-                    harmonic_volume::signed_volume(&q[0], &q[1], &q[2], &q[3]) / vol
+                    harmonic_types::signed_volume(&q[0], &q[1], &q[2], &q[3]) / vol
                 })
                 .collect()
         }
@@ -692,7 +694,7 @@ impl<'f, 'a> Exact<'f, 'a> {
                     );
                 }
             }
-            for &[i, j] in &harmonic_volume::EDGES {
+            for &[i, j] in &harmonic_types::EDGES {
                 let (a, b) = (tet[i], tet[j]);
                 if !at.sigma.iter().all(|s| *s == a || *s == b) {
                     continue;

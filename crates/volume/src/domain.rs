@@ -2,7 +2,7 @@
 //! cross the workspace boundary), goal regions and a ball robot's radius; free space as an
 //! implicit function for the mesher, and the exact clearance of mesh faces.
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::BoundaryTag;
 
 use crate::error::{SolidRole, VolumeError};
 use crate::implicit::{Grading, ImplicitDomain};

@@ -214,10 +214,24 @@ pub enum VolumeError {
     },
     /// A tetrahedral mesh given by parts is invalid.
     #[error("invalid tetrahedral mesh: {0}")]
-    InvalidMesh(String),
-    /// The scene description is invalid.
-    #[error("invalid volume scene: {0}")]
-    Spec(String),
+    InvalidMesh(#[from] harmonic_types::MeshDataError),
+    /// Data written beside a mesh (VTK point data) does not have one entry per vertex.
+    #[error("point data `{name}` has {entries} entries for {vertices} vertices")]
+    PointDataLength {
+        /// The data's name.
+        name: String,
+        /// How many entries it has.
+        entries: usize,
+        /// How many vertices the mesh has.
+        vertices: usize,
+    },
+    /// A periodic lattice with fewer than 3 cells along a periodic axis (a tetrahedron would
+    /// meet its own copy).
+    #[error("a periodic axis needs at least 3 lattice cells, got {cells}")]
+    PeriodicCells {
+        /// The cells along that axis.
+        cells: usize,
+    },
     /// Writing a file failed.
     #[error("writing {path}: {source}")]
     Io {

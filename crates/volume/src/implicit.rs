@@ -3,14 +3,14 @@
 //! met. Scenes of solids ([`crate::VolumeDomain`]) and configuration spaces known only through
 //! collision queries implement the same trait, so the same lattice mesher serves both.
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::BoundaryTag;
 
 use crate::solid::Point;
 
 /// Free space given implicitly.
 ///
 /// ```
-/// use harmonic_mesh::BoundaryTag;
+/// use harmonic_types::BoundaryTag;
 /// use harmonic_volume::{ImplicitDomain, Point};
 ///
 /// /// The unit ball, known only through an inside test (no distances).

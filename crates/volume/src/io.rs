@@ -3,11 +3,11 @@
 
 use std::fmt::Write as _;
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::BoundaryTag;
 
 use crate::error::VolumeError;
-use crate::mesh::TetMesh;
 use crate::solid::Point;
+use harmonic_types::TetMesh;
 
 /// Point data for [`vtu_string`].
 #[derive(Clone, Copy, Debug)]
@@ -33,10 +33,11 @@ pub fn vtu_string(mesh: &TetMesh, data: &[PointData<'_>]) -> Result<String, Volu
         match d {
             PointData::Scalar(name, v) => {
                 if v.len() != nv {
-                    return Err(VolumeError::InvalidMesh(format!(
-                        "point data `{name}` has {} entries for {nv} vertices",
-                        v.len()
-                    )));
+                    return Err(VolumeError::PointDataLength {
+                        name: name.to_string(),
+                        entries: v.len(),
+                        vertices: nv,
+                    });
                 }
                 let _ = writeln!(
                     s,
@@ -48,10 +49,11 @@ pub fn vtu_string(mesh: &TetMesh, data: &[PointData<'_>]) -> Result<String, Volu
             }
             PointData::Vector(name, v) => {
                 if v.len() != nv {
-                    return Err(VolumeError::InvalidMesh(format!(
-                        "point data `{name}` has {} entries for {nv} vertices",
-                        v.len()
-                    )));
+                    return Err(VolumeError::PointDataLength {
+                        name: name.to_string(),
+                        entries: v.len(),
+                        vertices: nv,
+                    });
                 }
                 let _ = writeln!(
                     s,

@@ -26,7 +26,6 @@
 //!   with its ends identified (for the FEM) and a covering of several periods (for tracing);
 //!   graded where the domain asks by [`refine_periodic`], bisection on the quotient mesh, so
 //!   both ends of the period are refined alike.
-//! * [`VolumeSceneSpec`]: the serde form of a `"dimension": 3` scene.
 //!
 //! ## Measured
 //! On a shared 2-core machine (load average 6–7 from other work), `cargo bench -p
@@ -39,14 +38,11 @@
 //! counts and, where the solution shows it, clamps (`harmonic_fem::volume`).
 //!
 //! ```
-//! use harmonic_volume::{MeshOptions, VolumeSceneSpec, quality};
-//! let spec: VolumeSceneSpec = serde_json::from_str(r#"{
-//!     "dimension": 3,
-//!     "workspace": {"box": {"min": [0, 0, 0], "max": [4, 4, 4]}},
-//!     "obstacles": [{"sphere": {"center": [2, 2, 2], "radius": 1.0}}],
-//!     "goal": {"point": [0.5, 0.5, 0.5]}
-//! }"#)?;
-//! let domain = spec.build()?;
+//! use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, SolidRole, VolumeDomain, quality};
+//! let workspace = Solid::new_box(SolidRole::Workspace, Point::origin(), Point::new(4.0, 4.0, 4.0))?;
+//! let ball = Solid::new_sphere(SolidRole::Obstacle(0), Point::new(2.0, 2.0, 2.0), 1.0)?;
+//! let goal = GoalRegion::Point(Point::new(0.5, 0.5, 0.5));
+//! let domain = VolumeDomain::new(workspace, vec![ball], vec![goal], 0.0)?;
 //! let (mesh, report) = domain.mesh(&MeshOptions::with_max_volume(0.01))?;
 //! let q = quality(&mesh);
 //! assert!(q.min_dihedral_deg > 5.0 && q.max_dihedral_deg < 175.0);
@@ -64,33 +60,27 @@ mod domain;
 mod error;
 mod implicit;
 pub mod io;
-mod locate;
-mod mesh;
 mod mesher;
+mod nearest;
 mod periodic;
 mod quality;
 mod refine;
 mod solid;
-mod spec;
 mod stuffing;
 
 pub use carve::{CarveReport, GRADING, GoalHole, carve_goals};
 pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
 pub use error::{SolidRole, VolumeError};
 pub use implicit::{Grading, ImplicitDomain, KnownValues, TetTest};
-pub use mesh::{BoundaryFace, FACES, NO_NEIGHBOR, TetMesh, signed_volume};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
-pub use periodic::{
-    PeriodicMesh, PeriodicStuffed, SEAM_PART, periodic_lattice_tetrahedra, stuff_periodic,
-};
-pub use quality::{EDGES, QualityReport, quality, tet_angles_and_weights};
+pub use nearest::nearest_boundary_point;
+pub use periodic::{PeriodicMesh, PeriodicStuffed, periodic_lattice_tetrahedra, stuff_periodic};
+pub use quality::{QualityReport, quality, tet_angles_and_weights};
 pub use refine::{PeriodicTets, RefineReport, longest_edge, refine_periodic, refine_where};
 pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
-pub use spec::{
-    BoundarySpec, BoxSpec, ConditionSpec, GoalSpec, GoalsSpec, ObstacleSpec, RobotSpec, SphereSpec,
-    SurfaceSpec, VolumeMeshSpec, VolumeSceneSpec, WorkspaceSpec,
-};
 pub use stuffing::{ALPHA_LONG, ALPHA_SHORT, Stuffed, StuffingOptions, lattice_tetrahedra, stuff};
 
-/// Re-exported: the boundary tags shared with the 2D mesh.
-pub use harmonic_mesh::BoundaryTag;
+/// Re-exported: the tetrahedral mesh and the boundary tags shared with the plane.
+pub use harmonic_types::{
+    BoundaryFace, BoundaryTag, EDGES, FACES, NO_NEIGHBOR, SEAM_PART, TetMesh, signed_volume,
+};

@@ -13,15 +13,15 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::BoundaryTag;
 
 use crate::carve::{GoalHole, carve_goals};
 use crate::domain::{GoalRegion, VolumeDomain};
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
-use crate::mesh::TetMesh;
 use crate::solid::{Point, Solid};
 use crate::stuffing::{StuffingOptions, lattice_tetrahedra, stuff};
+use harmonic_types::TetMesh;
 
 /// The default tetrahedron budget: meshes whose lattice would hold more are refused.
 pub const DEFAULT_MAX_TETRAHEDRA: u64 = 20_000_000;

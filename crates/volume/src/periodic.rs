@@ -28,22 +28,18 @@
 
 use std::collections::HashMap;
 
-use harmonic_mesh::BoundaryTag;
+use harmonic_types::{BoundaryTag, SEAM_PART};
 
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
-use crate::mesh::{NO_NEIGHBOR, TetMesh};
-use crate::quality::EDGES;
 use crate::refine::{PeriodicTets, offset, refine_periodic};
 use crate::solid::{Point, Vector};
 use crate::stuffing::{
     ALPHA_LONG, ALPHA_SHORT, Cuts, Lattice, NONE, Stuffed, StuffingOptions, Sv, edge_alpha,
     emit_over, emit_stencils, key,
 };
-
-/// The obstacle index given to the slab's end faces (see the module docs): the FEM gives
-/// that part the natural condition (no term) before folding the two ends into one.
-pub const SEAM_PART: u32 = u32::MAX;
+use harmonic_types::EDGES;
+use harmonic_types::{NO_NEIGHBOR, TetMesh};
 
 /// The output of [`stuff_periodic`].
 #[derive(Clone, Debug, Default)]
@@ -143,9 +139,7 @@ pub fn stuff_periodic(
         return Err(VolumeError::BadMaxVolume { value: h });
     }
     if let Some(c) = cells.iter().flatten().find(|&&c| c < 3) {
-        return Err(VolumeError::InvalidMesh(format!(
-            "a periodic axis needs at least 3 lattice cells, got {c}"
-        )));
+        return Err(VolumeError::PeriodicCells { cells: *c });
     }
     let bounds = domain.bounds();
     let estimated = periodic_lattice_tetrahedra(bounds, h, cells);
@@ -650,10 +644,10 @@ impl PeriodicMesh {
         // without a neighbour whose corners' classes are those of another such face is a
         // slab end, one of a pair of seam faces (`d` periods apart); the others are real
         // boundary.
-        crate::mesh::check_tetrahedra(&s.vertices, &s.tetrahedra)?;
+        harmonic_types::check_tetrahedra(&s.vertices, &s.tetrahedra)?;
         let nt = s.tetrahedra.len();
-        let slab_neighbors = crate::mesh::face_neighbors(&s.tetrahedra)?;
-        let face_of = |t: usize, k: usize| crate::mesh::FACES[k].map(|l| s.tetrahedra[t][l]);
+        let slab_neighbors = harmonic_types::face_neighbors(&s.tetrahedra)?;
+        let face_of = |t: usize, k: usize| harmonic_types::FACES[k].map(|l| s.tetrahedra[t][l]);
         let mut open: HashMap<[u32; 3], (u32, u8)> = HashMap::new();
         // Per slab tetrahedron and face: its seam partner (tetrahedron, face) and the shift
         // `d` in periods from this face's copy to the partner's.

@@ -3,10 +3,7 @@
 
 use serde::Serialize;
 
-use crate::mesh::TetMesh;
-
-/// The six edges of a tetrahedron as local vertex pairs.
-pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+use harmonic_types::{EDGES, TetMesh};
 
 /// A summary of a mesh's shape quality.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -53,6 +53,7 @@
 //! ```
 
 use crate::solid::{Point, Vector};
+use harmonic_types::EDGES;
 
 /// What [`refine_where`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -71,12 +72,10 @@ pub struct RefineReport {
 pub fn longest_edge(p: &[Point; 4]) -> f64 {
     EDGES
         .iter()
-        .map(|&(i, j)| (p[i] - p[j]).norm_squared())
+        .map(|&[i, j]| (p[i] - p[j]).norm_squared())
         .fold(0.0, f64::max)
         .sqrt()
 }
-
-const EDGES: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
 /// Refines the mesh `(vertices, tets)` (conforming, positively oriented) by longest-edge
 /// bisection until no tetrahedron asks for it (`want` on its corners), no further than
@@ -266,7 +265,7 @@ impl Refiner<'_> {
     /// Edge `(i, j)` of `t` as its vertex pair `(a, b)` with `a < b`, and `b`'s position in
     /// the frame of `a`'s canonical place: the same numbers whichever tetrahedron around the
     /// edge asks (so lengths and midpoints are computed alike on every copy).
-    fn edge(&self, t: u32, (i, j): (usize, usize)) -> ((u32, u32), Point, Point) {
+    fn edge(&self, t: u32, [i, j]: [usize; 2]) -> ((u32, u32), Point, Point) {
         let tet = self.tets[t as usize];
         let (i, j) = if tet[i] < tet[j] { (i, j) } else { (j, i) };
         let (a, b) = (tet[i], tet[j]);
@@ -375,7 +374,7 @@ impl Refiner<'_> {
             let find = |v: u32| tet.iter().position(|&x| x == v).unwrap_or(0);
             (find(a), find(b))
         };
-        let (_, pa, pb) = self.edge(t, (ia, ib));
+        let (_, pa, pb) = self.edge(t, [ia, ib]);
         // The midpoint in the frame of `a`'s canonical place, moved into the canonical
         // period: `shift` periods from there.
         let (mid, shift) = self.canonical(nalgebra::center(&pa, &pb));

@@ -5,9 +5,9 @@
 use std::collections::BTreeMap;
 use std::sync::{Arc, OnceLock};
 
-use harmonic_mesh::BoundaryTag;
 use harmonic_solver::{MMatrix, SymmetricCsc};
-use harmonic_volume::{BoundaryFace, EDGES, NO_NEIGHBOR, Point, TetMesh};
+use harmonic_types::BoundaryTag;
+use harmonic_types::{BoundaryFace, EDGES, NO_NEIGHBOR, Point3 as Point, TetMesh};
 
 use super::VolumeFemError;
 use crate::bc::{BoundaryCondition, BoundaryConditions, ConditionKind};

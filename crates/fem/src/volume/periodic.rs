@@ -13,7 +13,7 @@
 use std::sync::Arc;
 
 use harmonic_solver::SymmetricCsc;
-use harmonic_volume::{SEAM_PART, TetMesh};
+use harmonic_types::{SEAM_PART, TetMesh};
 
 use super::VolumeFemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
@@ -182,7 +182,7 @@ pub fn solve_periodic_for_planning(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use harmonic_mesh::BoundaryTag;
+    use harmonic_types::BoundaryTag;
     use harmonic_volume::{
         ImplicitDomain, PeriodicMesh, Point, StuffingOptions, Vector, stuff_periodic,
     };

@@ -4,7 +4,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use harmonic_volume::{Point, TetMesh, Vector};
+use harmonic_types::{Point3 as Point, TetMesh, Vector3 as Vector};
 
 use super::VolumeFemError;
 
@@ -138,7 +138,7 @@ impl VolumePotential {
         let mut lo = vec![f64::INFINITY; nv];
         let mut hi = vec![f64::NEG_INFINITY; nv];
         for tet in self.mesh.tetrahedra() {
-            for &[i, j] in &harmonic_volume::EDGES {
+            for &[i, j] in &harmonic_types::EDGES {
                 let (a, b) = (tet[i] as usize, tet[j] as usize);
                 lo[a] = lo[a].min(self.psi[b]);
                 hi[a] = hi[a].max(self.psi[b]);

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_solver::{AccurateLdlt, Ordering, PcgOptions, Preconditioner, SymbolicCholesky, pcg};
-use harmonic_volume::TetMesh;
+use harmonic_types::TetMesh;
 
 use super::VolumeFemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeSystem};

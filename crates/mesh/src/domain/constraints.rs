@@ -4,7 +4,7 @@
 //! segment, and its mesh edges are interior edges with no tag.
 
 use super::Domain;
-use crate::{MeshError, Point, orient2d};
+use crate::{MeshError, Point, geom::twice_signed_area};
 
 /// Constraint segments and points in a domain's unit coordinates.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -25,8 +25,8 @@ impl Constraints {
 /// Whether segments `ab` and `pq` cross at a point inside both (touching at an end or
 /// running along each other is not crossing).
 fn cross_properly(a: Point, b: Point, p: Point, q: Point) -> bool {
-    let (d1, d2) = (orient2d(a, b, p), orient2d(a, b, q));
-    let (d3, d4) = (orient2d(p, q, a), orient2d(p, q, b));
+    let (d1, d2) = (twice_signed_area(a, b, p), twice_signed_area(a, b, q));
+    let (d3, d4) = (twice_signed_area(p, q, a), twice_signed_area(p, q, b));
     d1 * d2 < 0.0 && d3 * d4 < 0.0
 }
 

@@ -92,9 +92,7 @@ impl Domain {
     pub fn of_mesh(mesh: &Mesh) -> Result<Domain, MeshError> {
         let loops = loops(mesh);
         if loops.is_empty() {
-            return Err(MeshError::InvalidMesh(
-                "the mesh has no closed boundary loop".to_string(),
-            ));
+            return Err(MeshError::NoBoundaryLoop);
         }
         let frame = Frame::of(mesh.vertices());
         let user_free: Vec<TaggedRing> = loops

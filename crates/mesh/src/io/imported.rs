@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use crate::{BoundaryTag, Mesh, MeshError, Point, orient2d};
+use crate::{BoundaryTag, Mesh, MeshError, Point, geom::twice_signed_area};
 
 /// A mesh made elsewhere, checked: counter-clockwise triangles of positive area, every edge
 /// in at most two triangles (on opposite sides), every vertex used.
@@ -55,7 +55,7 @@ impl ImportedMesh {
                 });
             }
             let [a, b, c] = t.map(|v| vertices[v as usize]);
-            let o = orient2d(a, b, c);
+            let o = twice_signed_area(a, b, c);
             if o == 0.0 || !o.is_finite() || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
                 return Err(MeshError::DegenerateTriangle {
                     file: file.to_string(),
@@ -174,6 +174,10 @@ impl ImportedMesh {
                 (a, b, tag)
             })
             .collect();
-        Mesh::from_parts(self.vertices.clone(), self.triangles.clone(), &tags)
+        Ok(Mesh::from_parts(
+            self.vertices.clone(),
+            self.triangles.clone(),
+            &tags,
+        )?)
     }
 }

@@ -271,7 +271,7 @@ pub fn from_triangle(node: &str, ele: &str, poly: Option<&str>) -> Result<Mesh, 
             *slot = (v - base) as u32;
         }
         let [a, b, c] = t.map(|v| vertices[v as usize]);
-        if crate::orient2d(a, b, c) < 0.0 {
+        if crate::geom::twice_signed_area(a, b, c) < 0.0 {
             t.swap(1, 2);
         }
         triangles.push(t);
@@ -342,7 +342,7 @@ pub fn from_triangle(node: &str, ele: &str, poly: Option<&str>) -> Result<Mesh, 
         boundary.push((a, b, tag));
     }
     boundary.sort_by_key(|&(a, b, _)| (a, b));
-    Mesh::from_parts(vertices, triangles, &boundary)
+    Ok(Mesh::from_parts(vertices, triangles, &boundary)?)
 }
 
 fn write(path: &Path, text: &str) -> Result<(), MeshError> {

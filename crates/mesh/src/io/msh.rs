@@ -234,7 +234,7 @@ pub fn from_msh_bytes(bytes: &[u8], file: &str) -> Result<ImportedMesh, MeshErro
         // file numbers by checking here what it would report.
         for (i, t) in triangles.iter().enumerate() {
             let [a, b, c] = t.map(|v| kept[v as usize]);
-            if crate::orient2d(a, b, c) == 0.0 {
+            if crate::geom::twice_signed_area(a, b, c) == 0.0 {
                 return Err(MeshError::DegenerateTriangle {
                     file: file.to_string(),
                     triangle: element_tags[i] as usize,

@@ -43,7 +43,7 @@ use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
 use super::{data_lines, err, num, parse_nodes, read};
-use crate::{Frame, MeshError, Point, orient2d};
+use crate::{Frame, MeshError, Point, geom::twice_signed_area};
 
 /// One segment of a `.poly` file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -557,7 +557,7 @@ fn signed_area(ring: &[Point]) -> f64 {
     let n = ring.len();
     let o = ring[0];
     (1..n.saturating_sub(1))
-        .map(|k| 0.5 * orient2d(o, ring[k], ring[k + 1]))
+        .map(|k| 0.5 * twice_signed_area(o, ring[k], ring[k + 1]))
         .sum()
 }
 

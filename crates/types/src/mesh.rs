@@ -1,43 +1,15 @@
 //! The triangle mesh of free space: vertices, counter-clockwise triangles, adjacency,
 //! tagged boundary edges and connected components.
 
-use nalgebra::{Point2, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::MeshError;
+use crate::error::{Element, MeshDataError};
+use crate::geom::twice_signed_area;
+use crate::{BoundaryTag, Point};
 
-/// A point of the plane.
-pub type Point = Point2<f64>;
-/// A vector of the plane.
-pub type Vector = Vector2<f64>;
-
-/// Marks a triangle edge with no triangle on its other side (a boundary edge).
+/// Marks "no element across this edge or face": a boundary edge of a triangle, a boundary
+/// face of a tetrahedron.
 pub const NO_NEIGHBOR: u32 = u32::MAX;
-
-/// What a boundary edge of free space lies on.
-///
-/// Obstacle and goal indices are the positions of the obstacle or goal in the input
-/// (before overlapping obstacles were merged), so per-obstacle boundary conditions keep
-/// their meaning.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub enum BoundaryTag {
-    /// The outer boundary of the workspace.
-    Wall,
-    /// The boundary of input obstacle `i`.
-    Obstacle(u32),
-    /// The boundary of input goal region `j`.
-    Goal(u32),
-}
-
-impl std::fmt::Display for BoundaryTag {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            BoundaryTag::Wall => write!(f, "wall"),
-            BoundaryTag::Obstacle(i) => write!(f, "obstacle {i}"),
-            BoundaryTag::Goal(j) => write!(f, "goal {j}"),
-        }
-    }
-}
 
 /// One boundary edge of the mesh.
 ///
@@ -221,19 +193,24 @@ impl Locator {
 }
 
 /// Errors unless every triangle refers to existing vertices and is counter-clockwise.
-fn check_triangles(vertices: &[Point], triangles: &[[u32; 3]]) -> Result<(), MeshError> {
+fn check_triangles(vertices: &[Point], triangles: &[[u32; 3]]) -> Result<(), MeshDataError> {
     let nv = vertices.len();
     for (t, tri) in triangles.iter().enumerate() {
-        if tri.iter().any(|&v| v as usize >= nv) {
-            return Err(MeshError::InvalidMesh(format!(
-                "triangle {t} refers to a vertex beyond the {nv} vertices"
-            )));
+        if let Some(&vertex) = tri.iter().find(|&&v| v as usize >= nv) {
+            return Err(MeshDataError::VertexOutOfRange {
+                element: Element::Triangle,
+                index: t,
+                vertex,
+                vertices: nv,
+            });
         }
         let [a, b, c] = tri.map(|v| vertices[v as usize]);
-        if crate::orient2d(a, b, c) <= 0.0 {
-            return Err(MeshError::InvalidMesh(format!(
-                "triangle {t} is clockwise or degenerate"
-            )));
+        if twice_signed_area(a, b, c) <= 0.0 {
+            return Err(MeshDataError::NotPositive {
+                element: Element::Triangle,
+                index: t,
+                vertices: [tri[0], tri[1], tri[2], u32::MAX],
+            });
         }
     }
     Ok(())
@@ -244,7 +221,7 @@ const TWO_THREADS_FROM: usize = 200_000;
 
 /// Runs `f` over `input` and the matching `output` — for long slices as two halves on two
 /// threads (the meshing of large meshes: neighbours, renumbering).
-pub(crate) fn map_in_two<T: Sync, U: Send>(
+pub fn map_in_two<T: Sync, U: Send>(
     input: &[T],
     output: &mut [U],
     f: impl Fn(&[T], &mut [U]) + Sync,
@@ -274,7 +251,7 @@ impl Mesh {
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
         boundary: &[(u32, u32, BoundaryTag)],
-    ) -> Result<Self, MeshError> {
+    ) -> Result<Self, MeshDataError> {
         let nv = vertices.len();
         check_triangles(&vertices, &triangles)?;
         // Adjacency through the triangle stars of the vertices (compressed rows): for each
@@ -317,9 +294,10 @@ impl Mesh {
                     .map(|p| (p[1].1, p[1].0))
             };
             if let Some((t, w)) = twice {
-                return Err(MeshError::InvalidMesh(format!(
-                    "edge ({v}, {w}) is used twice in the same direction (near triangle {t})"
-                )));
+                return Err(MeshDataError::EdgeUsedTwice {
+                    edge: [v, w],
+                    triangle: t as usize,
+                });
             }
         }
         let mut neighbors = vec![[NO_NEIGHBOR; 3]; triangles.len()];
@@ -346,7 +324,7 @@ impl Mesh {
     /// neighbour refers back across the same edge, reversed) instead of computed.
     ///
     /// ```
-    /// use harmonic_mesh::{BoundaryTag, Mesh, NO_NEIGHBOR, Point};
+    /// use harmonic_types::{BoundaryTag, Mesh, NO_NEIGHBOR, Point};
     /// let square = vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(1.0, 1.0), Point::new(0.0, 1.0)];
     /// let triangles = vec![[0, 1, 2], [0, 2, 3]];
     /// let walls = [(0, 1, BoundaryTag::Wall), (1, 2, BoundaryTag::Wall),
@@ -359,20 +337,20 @@ impl Mesh {
     /// // A neighbour that does not share the edge is refused.
     /// let wrong = vec![[1, NO_NEIGHBOR, NO_NEIGHBOR], [NO_NEIGHBOR, NO_NEIGHBOR, 0]];
     /// assert!(Mesh::from_parts_with_neighbors(square, triangles, wrong, &walls).is_err());
-    /// # Ok::<(), harmonic_mesh::MeshError>(())
+    /// # Ok::<(), harmonic_types::MeshDataError>(())
     /// ```
     pub fn from_parts_with_neighbors(
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
         neighbors: Vec<[u32; 3]>,
         boundary: &[(u32, u32, BoundaryTag)],
-    ) -> Result<Self, MeshError> {
+    ) -> Result<Self, MeshDataError> {
         if neighbors.len() != triangles.len() {
-            return Err(MeshError::InvalidMesh(format!(
-                "{} neighbour triples for {} triangles",
-                neighbors.len(),
-                triangles.len()
-            )));
+            return Err(MeshDataError::NeighborCount {
+                element: Element::Triangle,
+                given: neighbors.len(),
+                elements: triangles.len(),
+            });
         }
         check_triangles(&vertices, &triangles)?;
         for (t, (tri, nbs)) in triangles.iter().zip(&neighbors).enumerate() {
@@ -386,9 +364,11 @@ impl Mesh {
                     (0..3).find(|&j| other[(j + 1) % 3] == b && other[(j + 2) % 3] == a)
                 });
                 if back.is_none_or(|j| neighbors[u as usize][j] != t as u32) {
-                    return Err(MeshError::InvalidMesh(format!(
-                        "triangle {t}: neighbour {u} across edge ({a}, {b}) does not share it"
-                    )));
+                    return Err(MeshDataError::NeighborMismatch {
+                        triangle: t,
+                        neighbor: u,
+                        edge: [a, b],
+                    });
                 }
             }
         }
@@ -397,12 +377,12 @@ impl Mesh {
 
     /// The rest of a mesh once its triangles and (consistent) adjacency are known: boundary
     /// edges with their tags, vertex tags and components.
-    pub(crate) fn with_adjacency(
+    pub fn with_adjacency(
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
         neighbors: Vec<[u32; 3]>,
         boundary: &[(u32, u32, BoundaryTag)],
-    ) -> Result<Self, MeshError> {
+    ) -> Result<Self, MeshDataError> {
         let nv = vertices.len();
         // Tags by undirected edge, sorted for binary search (the last of duplicates wins).
         let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
@@ -428,10 +408,9 @@ impl Mesh {
                 }
                 let a = tri[(k + 1) % 3];
                 let b = tri[(k + 2) % 3];
-                let tag = tag_at(a, b).ok_or_else(|| {
-                    MeshError::InvalidMesh(format!(
-                        "boundary edge ({a}, {b}) of triangle {t} has no boundary tag"
-                    ))
+                let tag = tag_at(a, b).ok_or(MeshDataError::UntaggedEdge {
+                    edge: [a, b],
+                    triangle: t,
                 })?;
                 edge_boundary[t][k] = boundary_edges.len() as u32;
                 boundary_edges.push(BoundaryEdge {
@@ -443,11 +422,10 @@ impl Mesh {
             }
         }
         if boundary_edges.len() != tag_of.len() {
-            return Err(MeshError::InvalidMesh(format!(
-                "{} tagged edges given but the mesh has {} boundary edges",
-                tag_of.len(),
-                boundary_edges.len()
-            )));
+            return Err(MeshDataError::TagCount {
+                given: tag_of.len(),
+                boundary: boundary_edges.len(),
+            });
         }
         let mut vertex_tags: Vec<Option<BoundaryTag>> = vec![None; nv];
         for e in &boundary_edges {
@@ -480,7 +458,7 @@ impl Mesh {
         let [a, b, c] = self.triangle_points(t);
         [(a, b), (b, c), (c, a)]
             .iter()
-            .all(|&(u, v)| crate::orient2d(u, v, p) >= -1e-12 * (v - u).norm_squared())
+            .all(|&(u, v)| twice_signed_area(u, v, p) >= -1e-12 * (v - u).norm_squared())
     }
 
     /// The triangle containing `p` (closed triangles), or `None` if `p` is outside free space.
@@ -502,7 +480,7 @@ impl Mesh {
                     let k = (i + step) % 3;
                     let u = self.vertices[tri[(k + 1) % 3] as usize];
                     let v = self.vertices[tri[(k + 2) % 3] as usize];
-                    if crate::orient2d(u, v, p) < -1e-12 * (v - u).norm_squared() {
+                    if twice_signed_area(u, v, p) < -1e-12 * (v - u).norm_squared() {
                         next = Some(self.neighbors[t as usize][k]);
                         break;
                     }
@@ -692,7 +670,7 @@ impl Mesh {
     /// The area of triangle `t`.
     pub fn triangle_area(&self, t: u32) -> f64 {
         let [a, b, c] = self.triangle_points(t);
-        0.5 * crate::orient2d(a, b, c)
+        0.5 * twice_signed_area(a, b, c)
     }
 }
 

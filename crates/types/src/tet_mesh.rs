@@ -3,14 +3,12 @@
 
 use std::sync::OnceLock;
 
-use harmonic_mesh::BoundaryTag;
+use crate::error::{Element, MeshDataError};
+use crate::tet_locate::Locator;
+use crate::{BoundaryTag, NO_NEIGHBOR, Point3 as Point, Vector3 as Vector};
 
-use crate::error::VolumeError;
-use crate::locate::Locator;
-use crate::solid::{Point, Vector, pv};
-
-/// Marks "no tetrahedron across this face".
-pub const NO_NEIGHBOR: u32 = u32::MAX;
+/// The six edges of a tetrahedron as local vertex pairs.
+pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
 /// The faces of a tetrahedron `[v0, v1, v2, v3]`: face `k` is opposite vertex `k`, its local
 /// vertices ordered so that its normal (right-hand rule) points out of the tetrahedron.
@@ -22,40 +20,43 @@ pub fn signed_volume(a: &Point, b: &Point, c: &Point, d: &Point) -> f64 {
     (b - a).dot(&(c - a).cross(&(d - a))) / 6.0
 }
 
-/// The face adjacency of `tets` (vertex indices checked): per tetrahedron, the tetrahedron
-/// across face `k`, or [`NO_NEIGHBOR`]. Faces are matched by sorting their sorted vertex
-/// triples, packed with the tetrahedron and local face into one `u128` key (a parallel sort:
-/// keys are unique, so the result is the same on any number of threads). A face shared by more
-/// than two tetrahedra is an error.
 /// Checks a mesh's parts: finite vertices, tetrahedra that refer to them and are positively
 /// oriented.
-pub(crate) fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), VolumeError> {
+pub fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), MeshDataError> {
     let nv = vertices.len();
     if let Some(i) = vertices
         .iter()
         .position(|p| !p.iter().all(|c| c.is_finite()))
     {
-        return Err(VolumeError::InvalidMesh(format!(
-            "vertex {i} is not finite"
-        )));
+        return Err(MeshDataError::NonFiniteVertex { vertex: i });
     }
     for (t, tet) in tets.iter().enumerate() {
         if let Some(&v) = tet.iter().find(|&&v| v as usize >= nv) {
-            return Err(VolumeError::InvalidMesh(format!(
-                "tetrahedron {t} refers to vertex {v}, but there are {nv} vertices"
-            )));
+            return Err(MeshDataError::VertexOutOfRange {
+                element: Element::Tetrahedron,
+                index: t,
+                vertex: v,
+                vertices: nv,
+            });
         }
         let [a, b, c, d] = tet.map(|v| vertices[v as usize]);
         if signed_volume(&a, &b, &c, &d) <= 0.0 {
-            return Err(VolumeError::InvalidMesh(format!(
-                "tetrahedron {t} {tet:?} is not positively oriented"
-            )));
+            return Err(MeshDataError::NotPositive {
+                element: Element::Tetrahedron,
+                index: t,
+                vertices: *tet,
+            });
         }
     }
     Ok(())
 }
 
-pub(crate) fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, VolumeError> {
+/// The face adjacency of `tets` (vertex indices checked): per tetrahedron, the tetrahedron
+/// across face `k`, or [`NO_NEIGHBOR`]. Faces are matched by sorting their sorted vertex
+/// triples, packed with the tetrahedron and local face into one `u128` key (a parallel sort:
+/// keys are unique, so the result is the same on any number of threads). A face shared by more
+/// than two tetrahedra is an error.
+pub fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshDataError> {
     use rayon::slice::ParallelSliceMut;
     let mut faces: Vec<u128> = Vec::with_capacity(4 * tets.len());
     for (t, tet) in tets.iter().enumerate() {
@@ -89,9 +90,10 @@ pub(crate) fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, VolumeE
             n => {
                 let k = faces[i] >> 32;
                 let key = [(k >> 64) as u32, (k >> 32) as u32, k as u32];
-                return Err(VolumeError::InvalidMesh(format!(
-                    "face {key:?} is shared by {n} tetrahedra"
-                )));
+                return Err(MeshDataError::FaceSharedTooOften {
+                    face: key,
+                    count: n,
+                });
             }
         }
         i = j;
@@ -127,33 +129,6 @@ pub struct TetMesh {
 }
 
 impl TetMesh {
-    /// The point of the mesh's boundary nearest to `p`, and the boundary face (index into
-    /// [`boundary_faces`](Self::boundary_faces)) it lies on; `None` without boundary faces.
-    /// A linear scan: for the occasional start that lies off the mesh.
-    pub fn nearest_boundary_point(&self, p: &Point) -> Option<(Point, usize)> {
-        use parry3d_f64::query::PointQuery;
-        use parry3d_f64::shape::Triangle;
-        let mut best: Option<(f64, Point, usize)> = None;
-        for (i, f) in self.boundary.iter().enumerate() {
-            let [a, b, c] = f.vertices.map(|v| self.vertices[v as usize]);
-            // No closer than the distance to the face's bounding box.
-            let lo = a.inf(&b).inf(&c);
-            let hi = a.sup(&b).sup(&c);
-            let gap = (lo - p).sup(&(p - hi)).sup(&Vector::zeros()).norm_squared();
-            if best.is_some_and(|(d, _, _)| gap >= d) {
-                continue;
-            }
-            let t = Triangle::new(pv(&a), pv(&b), pv(&c));
-            let q = t.project_local_point(pv(p), true).point;
-            let q = Point::new(q.x, q.y, q.z);
-            let d = (q - p).norm_squared();
-            if best.is_none_or(|(bd, _, _)| d < bd) {
-                best = Some((d, q, i));
-            }
-        }
-        best.map(|(_, q, i)| (q, i))
-    }
-
     /// A mesh from its vertices and tetrahedra; boundary faces (faces of one tetrahedron only)
     /// are tagged by `tag(centroid of the face)`. Checks indices, finiteness, that every
     /// tetrahedron has positive volume and that no face is shared by more than two.
@@ -161,14 +136,15 @@ impl TetMesh {
         vertices: Vec<Point>,
         tets: Vec<[u32; 4]>,
         tag: &dyn Fn(&Point) -> BoundaryTag,
-    ) -> Result<Self, VolumeError> {
+    ) -> Result<Self, MeshDataError> {
         let nv = vertices.len();
         // Faces are numbered 4·t + k in 32 bits.
         if nv >= NO_NEIGHBOR as usize || tets.len() >= 1 << 30 {
-            return Err(VolumeError::InvalidMesh(format!(
-                "{nv} vertices and {} tetrahedra: more than 32-bit face numbers hold",
-                tets.len()
-            )));
+            return Err(MeshDataError::TooLarge {
+                element: Element::Tetrahedron,
+                vertices: nv,
+                elements: tets.len(),
+            });
         }
         check_tetrahedra(&vertices, &tets)?;
         let neighbors = face_neighbors(&tets)?;
@@ -183,7 +159,7 @@ impl TetMesh {
     /// A mesh from parts already checked and their face adjacency (as [`face_neighbors`]
     /// finds it); every face without a neighbour is a boundary face, tagged by
     /// `tag(tetrahedron, local face, centroid of the face)`.
-    pub(crate) fn with_neighbors(
+    pub fn with_neighbors(
         vertices: Vec<Point>,
         tets: Vec<[u32; 4]>,
         neighbors: Vec<[u32; 4]>,
@@ -228,7 +204,7 @@ impl TetMesh {
     }
 
     /// Sets the tag of boundary face `i` (an index into [`boundary_faces`](Self::boundary_faces)).
-    pub(crate) fn set_tag(&mut self, i: usize, tag: BoundaryTag) {
+    pub fn set_tag(&mut self, i: usize, tag: BoundaryTag) {
         self.boundary[i].tag = tag;
     }
 

@@ -1,8 +1,8 @@
 //! Point location's fallback: a uniform bucket grid over the mesh, each cell listing the
 //! tetrahedra whose bounding boxes overlap it (built on first use).
 
-use crate::mesh::TetMesh;
-use crate::solid::{Point, Vector};
+use crate::tet_mesh::TetMesh;
+use crate::{Point3 as Point, Vector3 as Vector};
 
 /// The bucket grid.
 #[derive(Debug)]

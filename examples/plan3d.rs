@@ -4,7 +4,7 @@
 //! and the xy/xz/yz projections as SVG.
 //!
 //! ```text
-//! cargo run --release -p harmonic-volume --example plan3d -- meshes/torus3d.json \
+//! cargo run --release --example plan3d -- meshes/torus3d.json \
 //!     [--max-volume V] [--vtu out.vtu] [--svg out.svg]
 //! ```
 
@@ -12,15 +12,16 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::volume::{
-    VolumeAssembler, VolumePotential, VolumeSolveMethod, scene_conditions, solve_volume,
+    VolumeAssembler, VolumePotential, VolumeSolveMethod, solve_volume,
     solve_volume_potential_with_report,
 };
+use harmonic_planner::scene::VolumeScene;
 use harmonic_trajectory::Locate;
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
 };
 use harmonic_volume::io::{PointData, write_projections_svg, write_vtu};
-use harmonic_volume::{MeshOptions, Point, PointClass, VolumeSceneSpec, quality};
+use harmonic_volume::{MeshOptions, Point, PointClass, quality};
 
 fn main() {
     if let Err(e) = run() {
@@ -55,7 +56,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
     let scene = scene.ok_or("usage: plan3d SCENE.json [--max-volume V] [--vtu OUT] [--svg OUT]")?;
     let text = std::fs::read_to_string(&scene).map_err(|e| format!("{scene}: {e}"))?;
-    let spec: VolumeSceneSpec = serde_json::from_str(&text).map_err(|e| format!("{scene}: {e}"))?;
+    let spec: VolumeScene = serde_json::from_str(&text).map_err(|e| format!("{scene}: {e}"))?;
     let domain = spec.build()?;
     let max_volume = match max_volume {
         Some(v) => v,
@@ -86,7 +87,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
         q.tetrahedra as f64 / mesh_s
     );
     let mesh = Arc::new(mesh);
-    let bcs = scene_conditions(&spec);
+    let bcs = spec.conditions();
 
     let t = Instant::now();
     let assembler = VolumeAssembler::new(Arc::clone(&mesh), &bcs)?;

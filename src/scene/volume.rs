@@ -1,9 +1,9 @@
-//! The serde description of a volume scene (`"dimension": 3`), field for field as in the
-//! scene format, and its conversion to a [`VolumeDomain`].
+//! A volume scene (`"dimension": 3`), field for field as in the scene format; its
+//! conversion to a [`VolumeDomain`] and to the boundary conditions of the finite elements.
 //!
 //! ```
-//! use harmonic_volume::VolumeSceneSpec;
-//! let spec: VolumeSceneSpec = serde_json::from_str(r#"{
+//! use harmonic_planner::scene::VolumeScene;
+//! let spec: VolumeScene = serde_json::from_str(r#"{
 //!     "name": "torus", "dimension": 3,
 //!     "workspace": {"box": {"min": [0, 0, 0], "max": [10, 10, 10]}},
 //!     "obstacles": [{"box": {"min": [3, 3, -1], "max": [7, 7, 11]}},
@@ -18,11 +18,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use harmonic_fem::{BoundaryCondition, BoundaryConditions};
+use harmonic_volume::{
+    BoxSolid, GoalRegion, Point, Solid, SolidRole, SphereSolid, VolumeDomain, VolumeError,
+};
 use serde::{Deserialize, Serialize};
 
-use crate::domain::{GoalRegion, VolumeDomain};
-use crate::error::{SolidRole, VolumeError};
-use crate::solid::{BoxSolid, Point, Solid, SphereSolid};
+use super::{BoundarySpec, RobotSpec, SceneError};
 
 /// A box `{"min": [x, y, z], "max": [x, y, z]}`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -54,26 +56,6 @@ pub struct SurfaceSpec {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// A boundary condition, as in the 2D format: `{"dirichlet": v}`, `{"neumann": g}` or
-/// `{"robin": {"a": a, "b": b, "g": g}}`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum ConditionSpec {
-    /// φ = value.
-    Dirichlet(f64),
-    /// ∂φ/∂n = g.
-    Neumann(f64),
-    /// a·∂φ/∂n + b·φ = g.
-    Robin {
-        /// Coefficient of the normal derivative.
-        a: f64,
-        /// Coefficient of the value.
-        b: f64,
-        /// Right-hand side.
-        g: f64,
-    },
-}
-
 /// The workspace: exactly one of `box` and `mesh`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -102,7 +84,7 @@ pub struct ObstacleSpec {
     pub mesh: Option<SurfaceSpec>,
     /// This obstacle's boundary condition (overrides `boundary.obstacles`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub boundary: Option<ConditionSpec>,
+    pub boundary: Option<BoundaryCondition>,
 }
 
 /// A goal region: exactly one of `sphere`, `box` and `point`, and optionally its own
@@ -121,7 +103,7 @@ pub struct GoalSpec {
     pub point: Option<[f64; 3]>,
     /// This goal's boundary condition (overrides `boundary.goal`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub boundary: Option<ConditionSpec>,
+    pub boundary: Option<BoundaryCondition>,
 }
 
 /// One goal region or several.
@@ -144,22 +126,6 @@ impl GoalsSpec {
     }
 }
 
-/// Default boundary conditions per part (each optional; defaults walls and obstacles
-/// `{"dirichlet": 1.0}`, goal `{"dirichlet": 0.0}`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoundarySpec {
-    /// The workspace boundary.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub walls: Option<ConditionSpec>,
-    /// Every obstacle without its own condition.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub obstacles: Option<ConditionSpec>,
-    /// Every goal without its own condition.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub goal: Option<ConditionSpec>,
-}
-
 /// `mesh`: the largest tetrahedron volume.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -169,19 +135,10 @@ pub struct VolumeMeshSpec {
     pub max_volume: Option<f64>,
 }
 
-/// `robot`: a ball robot.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RobotSpec {
-    /// The robot's radius (obstacles are inflated and walls shrunk by it).
-    #[serde(default)]
-    pub radius: f64,
-}
-
 /// A volume scene as written in a scene file with `"dimension": 3`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct VolumeSceneSpec {
+pub struct VolumeScene {
     /// The scene's name.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
@@ -220,22 +177,33 @@ fn surface(role: SolidRole, s: &SurfaceSpec) -> Result<Solid, VolumeError> {
     )
 }
 
-impl VolumeSceneSpec {
+impl VolumeScene {
     /// Validates the scene and builds its domain. Errors name the part (`obstacle 3: ...`).
-    pub fn build(&self) -> Result<VolumeDomain, VolumeError> {
+    pub fn build(&self) -> Result<VolumeDomain, SceneError> {
+        let invalid = |path: String, message: &str| SceneError::Invalid {
+            path,
+            message: message.to_string(),
+        };
         if self.dimension != 3 {
-            return Err(VolumeError::Spec(format!(
-                "dimension is {}, a volume scene needs 3",
-                self.dimension
-            )));
+            return Err(invalid(
+                "dimension".into(),
+                &format!("is {}, a volume scene needs 3", self.dimension),
+            ));
+        }
+        if self.boundary.blend.is_some() {
+            return Err(invalid(
+                "boundary.blend".into(),
+                "the Dirichlet–Neumann blend is planned in the plane only",
+            ));
         }
         let ws = &self.workspace;
         let workspace = match (&ws.box_, &ws.mesh) {
             (Some(b), None) => Solid::new_box(SolidRole::Workspace, point(b.min), point(b.max))?,
             (None, Some(m)) => surface(SolidRole::Workspace, m)?,
             _ => {
-                return Err(VolumeError::Spec(
-                    "workspace: give exactly one of \"box\" and \"mesh\"".into(),
+                return Err(invalid(
+                    "workspace".into(),
+                    "give exactly one of \"box\" and \"mesh\"",
                 ));
             }
         };
@@ -247,9 +215,10 @@ impl VolumeSceneSpec {
                 (None, Some(s), None) => Solid::new_sphere(role, point(s.center), s.radius)?,
                 (None, None, Some(m)) => surface(role, m)?,
                 _ => {
-                    return Err(VolumeError::Spec(format!(
-                        "obstacle {i}: give exactly one of \"box\", \"sphere\" and \"mesh\""
-                    )));
+                    return Err(invalid(
+                        format!("obstacles[{i}]"),
+                        "give exactly one of \"box\", \"sphere\" and \"mesh\"",
+                    ));
                 }
             });
         }
@@ -266,17 +235,23 @@ impl VolumeSceneSpec {
                 }),
                 (None, None, Some(p)) => GoalRegion::Point(point(*p)),
                 _ => {
-                    return Err(VolumeError::Spec(format!(
-                        "goal {j}: give exactly one of \"sphere\", \"box\" and \"point\""
-                    )));
+                    return Err(invalid(
+                        format!("goal[{j}]"),
+                        "give exactly one of \"sphere\", \"box\" and \"point\"",
+                    ));
                 }
             });
         }
-        VolumeDomain::new(workspace, obstacles, goals, self.robot.radius)
+        Ok(VolumeDomain::new(
+            workspace,
+            obstacles,
+            goals,
+            self.robot.radius,
+        )?)
     }
 
     /// `mesh.max_volume`, or free volume / 200 000 when it is not given.
-    pub fn max_volume(&self, domain: &VolumeDomain) -> Result<f64, VolumeError> {
+    pub fn max_volume(&self, domain: &VolumeDomain) -> Result<f64, SceneError> {
         let v = match self.mesh.max_volume {
             Some(v) => v,
             None => {
@@ -284,7 +259,8 @@ impl VolumeSceneSpec {
                 if free <= 0.0 {
                     return Err(VolumeError::RobotTooBig {
                         radius: domain.robot_radius(),
-                    });
+                    }
+                    .into());
                 }
                 free / 200_000.0
             }
@@ -292,13 +268,38 @@ impl VolumeSceneSpec {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(VolumeError::BadMaxVolume { value: v })
+            Err(VolumeError::BadMaxVolume { value: v }.into())
         }
     }
 
     /// The start points.
     pub fn start_points(&self) -> Vec<Point> {
         self.starts.iter().map(|&p| point(p)).collect()
+    }
+
+    /// The scene's boundary conditions: `boundary.walls`, `boundary.obstacles` and
+    /// `boundary.goal` (defaults Dirichlet 1, 1, 0) with the per-obstacle and per-goal
+    /// overrides.
+    ///
+    /// ```
+    /// use harmonic_planner::fem::BoundaryCondition;
+    /// use harmonic_planner::scene::VolumeScene;
+    /// let spec: VolumeScene = serde_json::from_str(r#"{"dimension": 3,
+    ///     "workspace": {"box": {"min": [0, 0, 0], "max": [1, 1, 1]}},
+    ///     "obstacles": [{"sphere": {"center": [0.5, 0.5, 0.5], "radius": 0.2}, "boundary": {"neumann": 0.0}}],
+    ///     "goal": {"point": [0.1, 0.1, 0.1]},
+    ///     "boundary": {"walls": {"robin": {"a": 1.0, "b": 2.0, "g": 2.0}}}}"#)?;
+    /// let bcs = spec.conditions();
+    /// assert_eq!(bcs.walls, BoundaryCondition::Robin { a: 1.0, b: 2.0, g: 2.0 });
+    /// assert_eq!(bcs.obstacle_overrides[&0], BoundaryCondition::Neumann(0.0));
+    /// assert_eq!(bcs.goals, BoundaryCondition::Dirichlet(0.0));
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
+    pub fn conditions(&self) -> BoundaryConditions {
+        self.boundary.conditions(
+            self.obstacles.iter().map(|o| o.boundary),
+            self.goal.regions().iter().map(|g| g.boundary),
+        )
     }
 }
 
@@ -310,19 +311,19 @@ mod tests {
     fn unknown_fields_and_bad_parts_are_refused() {
         let bad = r#"{"dimension": 3, "workspace": {"box": {"min": [0,0,0], "max": [1,1,1]}},
                       "goal": {"point": [0.5, 0.5, 0.5]}, "mesh": {"max_area": 0.1}}"#;
-        assert!(serde_json::from_str::<VolumeSceneSpec>(bad).is_err());
+        assert!(serde_json::from_str::<VolumeScene>(bad).is_err());
         let two = r#"{"dimension": 3, "workspace": {"box": {"min": [0,0,0], "max": [1,1,1]}},
                       "obstacles": [{"box": {"min": [0,0,0], "max": [1,1,1]},
                                      "sphere": {"center": [0,0,0], "radius": 1}}],
                       "goal": {"point": [0.5, 0.5, 0.5]}}"#;
-        let spec: VolumeSceneSpec = serde_json::from_str(two).unwrap();
+        let spec: VolumeScene = serde_json::from_str(two).unwrap();
         let e = spec.build().unwrap_err();
-        assert!(e.to_string().contains("obstacle 0"), "{e}");
+        assert!(e.to_string().contains("obstacles[0]"), "{e}");
         let inverted = r#"{"dimension": 3, "workspace": {"box": {"min": [0,0,0], "max": [1,1,1]}},
                       "obstacles": [{"sphere": {"center": [0,0,0], "radius": 1}},
                                     {"box": {"min": [0,2,0], "max": [1,1,1]}}],
                       "goal": [{"point": [0.5, 0.5, 0.5]}]}"#;
-        let spec: VolumeSceneSpec = serde_json::from_str(inverted).unwrap();
+        let spec: VolumeScene = serde_json::from_str(inverted).unwrap();
         let e = spec.build().unwrap_err();
         assert_eq!(
             e.to_string(),

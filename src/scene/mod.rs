@@ -3,9 +3,19 @@
 //! A scene names a workspace polygon, obstacles (polygons or circles), one or more goal
 //! regions, optional start points, boundary conditions per boundary part, mesh options and the
 //! robot's radius. Unknown fields are errors naming their path (`obstacles[2].polgon`).
+//! A volume scene (`"dimension": 3`) is [`VolumeScene`]; a robot that is not a disc is a
+//! configuration-space scene ([`crate::ConfigScene`]); [`AnyScene`] reads a file of any kind.
 
 use std::fmt;
 
+mod volume;
+
+pub use volume::{
+    BoxSpec, GoalSpec, GoalsSpec, ObstacleSpec, SphereSpec, SurfaceSpec, VolumeMeshSpec,
+    VolumeScene, WorkspaceSpec,
+};
+
+use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_mesh::Grading;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
@@ -38,42 +48,56 @@ pub struct Scene {
     pub robot: RobotSpec,
 }
 
-/// A boundary condition, with n the outward normal of free space.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum Condition {
-    /// φ = value.
-    Dirichlet(f64),
-    /// ∂φ/∂n = g.
-    Neumann(f64),
-    /// a·∂φ/∂n + b·φ = g.
-    Robin {
-        /// Coefficient of the normal derivative (`a = 0` makes it a Dirichlet condition).
-        a: f64,
-        /// Coefficient of φ; `b/a ≥ 0`, and `a`, `b` not both zero.
-        b: f64,
-        /// Right-hand side.
-        g: f64,
-    },
-}
-
 /// Boundary conditions by part; missing parts take the defaults.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundarySpec {
     /// The workspace boundary (default φ = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub walls: Option<Condition>,
+    pub walls: Option<BoundaryCondition>,
     /// Every obstacle without its own condition (default φ = 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub obstacles: Option<Condition>,
+    pub obstacles: Option<BoundaryCondition>,
     /// Every goal without its own condition (default φ = 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub goal: Option<Condition>,
+    pub goal: Option<BoundaryCondition>,
     /// The ME766 blend `k·φ_D + (1 − k)·φ_N` of a Dirichlet and a Neumann solve on the same
     /// mesh (walls and obstacles then take no condition of their own but a Dirichlet one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blend: Option<BlendSpec>,
+}
+
+impl BoundarySpec {
+    /// The finite elements' conditions: `walls`, `obstacles` and `goal` (defaults Dirichlet
+    /// 1, 1, 0), then each obstacle's and goal's own condition (`obstacles[i].boundary`,
+    /// `goal[j].boundary`) where it has one. The one mapping of every kind of scene.
+    pub fn conditions(
+        &self,
+        obstacles: impl IntoIterator<Item = Option<BoundaryCondition>>,
+        goals: impl IntoIterator<Item = Option<BoundaryCondition>>,
+    ) -> BoundaryConditions {
+        let mut bcs = BoundaryConditions::default();
+        if let Some(c) = self.walls {
+            bcs.walls = c;
+        }
+        if let Some(c) = self.obstacles {
+            bcs.obstacles = c;
+        }
+        if let Some(c) = self.goal {
+            bcs.goals = c;
+        }
+        for (i, c) in obstacles.into_iter().enumerate() {
+            if let Some(c) = c {
+                bcs.obstacle_overrides.insert(i as u32, c);
+            }
+        }
+        for (j, c) in goals.into_iter().enumerate() {
+            if let Some(c) = c {
+                bcs.goal_overrides.insert(j as u32, c);
+            }
+        }
+        bcs
+    }
 }
 
 /// `"blend": {"k": 0.3, "neumann": 1.0}`: the potential is `k·φ_D + (1 − k)·φ_N`, where
@@ -150,7 +174,7 @@ pub struct Region {
     pub point: Option<[f64; 2]>,
     /// A boundary condition overriding the scene-wide one for this part.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub boundary: Option<Condition>,
+    pub boundary: Option<BoundaryCondition>,
 }
 
 /// An obstacle: a polygon or a circle.
@@ -220,6 +244,10 @@ pub enum SceneError {
         /// What is wrong with it.
         message: String,
     },
+    /// A volume scene's solids are invalid (`obstacle 1: box min 2 is not below max 1 on
+    /// axis 1`), or its robot leaves no free space.
+    #[error(transparent)]
+    Volume(#[from] harmonic_volume::VolumeError),
     /// The file could not be read.
     #[error("cannot read {file}: {source}")]
     Io {
@@ -266,7 +294,7 @@ pub enum AnyScene {
     /// A workspace polygon with obstacles (the default).
     Plane(Box<Scene>),
     /// A volume scene.
-    Volume(Box<harmonic_volume::VolumeSceneSpec>),
+    Volume(Box<VolumeScene>),
     /// A robot that is not a disc (`"robot"` has a `"polygon"` or an `"arm"`), planned in
     /// its configuration space.
     Config(Box<crate::cspace::ConfigScene>),
@@ -415,7 +443,7 @@ impl Scene {
                 ("obstacles", self.boundary.obstacles),
             ] {
                 if let Some(c) = c
-                    && !matches!(c, Condition::Dirichlet(_))
+                    && !matches!(c, BoundaryCondition::Dirichlet(_))
                 {
                     return invalid(
                         format!("boundary.{part}"),
@@ -533,10 +561,10 @@ fn check_region(path: &str, r: &Region) -> Result<(), SceneError> {
     Ok(())
 }
 
-fn check_condition(path: &str, c: &Condition) -> Result<(), SceneError> {
+fn check_condition(path: &str, c: &BoundaryCondition) -> Result<(), SceneError> {
     let finite = match *c {
-        Condition::Dirichlet(v) | Condition::Neumann(v) => v.is_finite(),
-        Condition::Robin { a, b, g } => a.is_finite() && b.is_finite() && g.is_finite(),
+        BoundaryCondition::Dirichlet(v) | BoundaryCondition::Neumann(v) => v.is_finite(),
+        BoundaryCondition::Robin { a, b, g } => a.is_finite() && b.is_finite() && g.is_finite(),
     };
     if !finite {
         return Err(SceneError::Invalid {
@@ -544,7 +572,7 @@ fn check_condition(path: &str, c: &Condition) -> Result<(), SceneError> {
             message: "values must be finite".into(),
         });
     }
-    if let Condition::Robin { a, b, .. } = *c
+    if let BoundaryCondition::Robin { a, b, .. } = *c
         && a == 0.0
         && b == 0.0
     {
@@ -597,7 +625,7 @@ fn strip_position(msg: &str) -> String {
 mod tests {
     use super::*;
 
-    const REFERENCE: &str = include_str!("../meshes/reference.json");
+    const REFERENCE: &str = include_str!("../../meshes/reference.json");
 
     #[test]
     fn parses_the_reference_scene() {
@@ -605,7 +633,7 @@ mod tests {
         assert_eq!(s.obstacles.len(), 5);
         assert_eq!(s.goals().len(), 1);
         assert_eq!(s.starts, vec![[1.0, 9.0]]);
-        assert_eq!(s.boundary.walls, Some(Condition::Dirichlet(1.0)));
+        assert_eq!(s.boundary.walls, Some(BoundaryCondition::Dirichlet(1.0)));
         assert_eq!(s.mesh.max_area, Some(0.0044));
     }
 
@@ -631,14 +659,17 @@ mod tests {
         let s = Scene::from_json(text).expect("contract example parses");
         assert_eq!(
             s.boundary.walls,
-            Some(Condition::Robin {
+            Some(BoundaryCondition::Robin {
                 a: 1.0,
                 b: 10.0,
                 g: 10.0
             })
         );
         assert_eq!(s.obstacles[1].circle.map(|c| c.radius), Some(0.6));
-        assert_eq!(s.obstacles[1].boundary, Some(Condition::Dirichlet(1.0)));
+        assert_eq!(
+            s.obstacles[1].boundary,
+            Some(BoundaryCondition::Dirichlet(1.0))
+        );
         // Round trip through serde keeps the scene.
         let again =
             Scene::from_json(&serde_json::to_string(&s).expect("serialises")).expect("reparses");

@@ -4,15 +4,16 @@
 
 use std::sync::Arc;
 
-use harmonic_fem::volume::{scene_conditions, solve_volume_potential_with_report};
+use harmonic_fem::volume::solve_volume_potential_with_report;
+use harmonic_planner::scene::VolumeScene;
 use harmonic_trajectory::Locate;
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
 };
-use harmonic_volume::{MeshOptions, Point, PointClass, VolumeSceneSpec};
+use harmonic_volume::{MeshOptions, Point, PointClass};
 
-fn scene(name: &str) -> VolumeSceneSpec {
-    let path = format!("{}/../../meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
+fn scene(name: &str) -> VolumeScene {
+    let path = format!("{}/meshes/{name}.json", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
@@ -46,7 +47,7 @@ fn torus_and_maze_are_planned() {
             ))
             .unwrap();
         let mesh = Arc::new(mesh);
-        let bcs = scene_conditions(&spec);
+        let bcs = spec.conditions();
         let (potential, _, _) =
             solve_volume_potential_with_report(Arc::clone(&mesh), &bcs).unwrap();
         assert_eq!(potential.interior_local_extrema(), 0, "{name}");
