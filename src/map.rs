@@ -1721,7 +1721,7 @@ fn refused(rings: &trace::Traced, error: harmonic_mesh::MeshError) -> trace::Ref
 /// triangles, smallest angle 20° → 10.5°, the mesh a third faster, path lengths within 1 %).
 fn mesh_options(polys: &MapPolygons, robot_radius: f64, opts: &MapOptions) -> MeshOptions {
     let robot = (robot_radius > 0.0).then(|| {
-        let outer = trace::ring_area(&polys.workspace).abs();
+        let outer = harmonic_mesh::geom::signed_area(&polys.workspace).abs();
         let edge = 6.0 * robot_radius;
         (3f64.sqrt() / 4.0 * edge * edge).max(outer / 20_000.0)
     });

@@ -638,7 +638,7 @@ fn collinear(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::map::trace::ring_area as area;
+    use harmonic_mesh::geom::signed_area as area;
 
     fn bits(cells: &[bool], w: usize, h: usize) -> BitGrid {
         BitGrid::from_slice(w, h, cells, |c| c)

@@ -15,7 +15,7 @@
 //! ([`harmonic_mesh::Domain::of_rings`]): the rings are checked once, by the code that
 //! would refuse them.
 
-use harmonic_mesh::geom::{ring_edges, simplify_ring};
+use harmonic_mesh::geom::{ring_edges, signed_area, simplify_ring};
 use harmonic_mesh::{MeshError, Point};
 
 use super::bits::{self, BitGrid};
@@ -61,12 +61,12 @@ pub(super) struct Traced {
 impl Traced {
     /// The index of the outer ring (a 4-connected component has one), if any.
     pub(super) fn outer(&self) -> Option<usize> {
-        self.rings.iter().position(|r| ring_area(r) > 0.0)
+        self.rings.iter().position(|r| signed_area(r) > 0.0)
     }
 
     /// The indices of the holes, in order.
     pub(super) fn holes(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..self.rings.len()).filter(|&k| ring_area(&self.rings[k]) <= 0.0)
+        (0..self.rings.len()).filter(|&k| signed_area(&self.rings[k]) <= 0.0)
     }
 }
 
@@ -118,7 +118,7 @@ fn simplified<T>(
         .map(|r| {
             let s = simplify(r, eps);
             // The same orientation and no collapse, or the ring as traced.
-            let (a, b) = (ring_area(r), ring_area(&s));
+            let (a, b) = (signed_area(r), signed_area(&s));
             if s.len() >= 3 && a * b > 0.0 && b.abs() >= 0.25 * a.abs() {
                 s
             } else {
@@ -192,18 +192,6 @@ fn simplify(ring: &[[f64; 2]], eps: f64) -> Vec<[f64; 2]> {
         .into_iter()
         .map(|k| ring[k])
         .collect()
-}
-
-/// The signed area of a ring (positive counter-clockwise).
-pub(super) fn ring_area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|k| {
-            let (p, q) = (ring[k], ring[(k + 1) % n]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum::<f64>()
-        / 2.0
 }
 
 #[cfg(test)]

@@ -327,16 +327,6 @@ pub struct PanelPlanner {
     bodies: Vec<Vec<Point>>,
 }
 
-/// Twice the signed area of a polygon: positive when counter-clockwise.
-pub(crate) fn signed_area2(poly: &[Point]) -> f64 {
-    (0..poly.len())
-        .map(|k| {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            a.x * b.y - a.y * b.x
-        })
-        .sum()
-}
-
 fn to_geo(points: &[Point]) -> Polygon<f64> {
     let ring: Vec<Coord<f64>> = points.iter().map(|p| Coord { x: p.x, y: p.y }).collect();
     Polygon::new(LineString::from(ring), vec![])
@@ -423,7 +413,7 @@ fn union_rings(workspace: &[Point], obstacles: &[Vec<Point>]) -> Vec<Vec<Point>>
 /// Panels on the edges of `poly`, at most `max_len` long, with normals pointing out of it
 /// (`outward`) or into it.
 pub(crate) fn edge_panels(poly: &[Point], outward: bool, max_len: f64, panels: &mut Vec<Panel>) {
-    let ccw = signed_area2(poly) > 0.0;
+    let ccw = harmonic_mesh::geom::signed_area(poly) > 0.0;
     for k in 0..poly.len() {
         let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
         if a == b {

@@ -566,7 +566,7 @@ impl Shapes {
             .workspace_rings()
             .iter()
             .max_by(|a, b| {
-                let area = |r: &[Point]| centroid_area(r);
+                let area = |r: &[Point]| harmonic_mesh::geom::signed_area(r);
                 area(&a.exterior).total_cmp(&area(&b.exterior))
             })
             .map(|r| r.exterior.clone())
@@ -981,13 +981,6 @@ impl Arena {
             ],
         }
     }
-}
-
-/// Signed area of a ring (positive when counter-clockwise).
-fn centroid_area(ring: &[Point]) -> f64 {
-    0.5 * (0..ring.len())
-        .map(|k| twice_signed_area(Point::origin(), ring[k], ring[(k + 1) % ring.len()]))
-        .sum::<f64>()
 }
 
 /// Points, status, whether stalled, and no error.

@@ -6,6 +6,7 @@
 //! papers' tables ([`tables`]). The examples and benches that reproduce the papers depend on
 //! this crate; library users depend on `harmonic-planner` and never compile it.
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 pub mod compare;
 pub mod connolly;

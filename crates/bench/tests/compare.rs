@@ -124,23 +124,15 @@ fn shortest_path_for_a_disc_robot_goes_around_the_inflated_block() {
     let block = rect(4.0, 4.0, 6.0, 6.0);
     for w in path.points.windows(2) {
         for k in 0..4 {
-            let d = segment_distance(w[0], w[1], block[k], block[(k + 1) % 4]);
+            let d = harmonic_mesh::geom::segment_segment_distance(
+                w[0],
+                w[1],
+                block[k],
+                block[(k + 1) % 4],
+            );
             assert!(d > 0.3 * 0.98, "{w:?} is {d} from the block");
         }
     }
-}
-
-fn segment_distance(a: Point, b: Point, c: Point, d: Point) -> f64 {
-    let point_seg = |p: Point, a: Point, b: Point| {
-        let ab = b - a;
-        let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
-        (a + ab * t - p).norm()
-    };
-    // The segments here do not cross (the path stays outside the block).
-    point_seg(a, c, d)
-        .min(point_seg(b, c, d))
-        .min(point_seg(c, a, b))
-        .min(point_seg(d, a, b))
 }
 
 #[test]

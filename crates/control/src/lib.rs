@@ -39,6 +39,7 @@
 //! # Ok::<(), harmonic_control::ControlError>(())
 //! ```
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 pub mod arm;
 pub mod bar;

@@ -37,16 +37,6 @@ impl Part {
     }
 }
 
-/// Twice the signed area of a ring (positive counter-clockwise).
-pub fn signed_area2(ring: &[[f64; 2]]) -> f64 {
-    (0..ring.len())
-        .map(|i| {
-            let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
-            a[0] * b[1] - a[1] * b[0]
-        })
-        .sum()
-}
-
 /// Checks a simple polygon (≥ 3 finite vertices, non-zero area, no two edges crossing) and
 /// returns it counter-clockwise. `what` names it in errors (a JSON path).
 pub fn checked_ring(ring: &[[f64; 2]], what: &str) -> Result<Vec<[f64; 2]>, CspaceError> {
@@ -63,7 +53,7 @@ pub fn checked_ring(ring: &[[f64; 2]], what: &str) -> Result<Vec<[f64; 2]>, Cspa
     if let Some(i) = ring.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
         return Err(bad(format!("vertex {i} is not finite")));
     }
-    let a2 = signed_area2(ring);
+    let a2 = 2.0 * harmonic_mesh::geom::signed_area(ring);
     if a2.abs() <= 1e-12 * bbox_size(ring).powi(2) {
         return Err(bad("the polygon has no area".into()));
     }

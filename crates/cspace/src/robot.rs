@@ -9,7 +9,7 @@ use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::shape::{Cuboid, Segment};
 
 use crate::error::CspaceError;
-use crate::geometry::{Part, checked_ring, convex_parts, signed_area2};
+use crate::geometry::{Part, checked_ring, convex_parts};
 
 /// A rigid polygon robot.
 #[derive(Clone, Debug)]
@@ -44,7 +44,7 @@ impl RigidRobot {
                     + b[1] * b[1])
                 / 12.0;
         }
-        let area = 0.5 * signed_area2(&ring);
+        let area = harmonic_mesh::geom::signed_area(&ring);
         let radius_of_gyration = (j / area).sqrt();
         let max_radius = ring.iter().map(|p| p[0].hypot(p[1])).fold(0.0, f64::max);
         Ok(RigidRobot {

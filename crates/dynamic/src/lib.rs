@@ -45,6 +45,7 @@
 //! ```
 
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 use harmonic_planner::PlanError;
 use harmonic_planner::scene::Region;

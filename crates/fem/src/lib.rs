@@ -103,6 +103,7 @@
 //! ```
 
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod assemble;
 mod bc;

@@ -249,13 +249,7 @@ impl Potential {
 
     /// Barycentric coordinates of `p` in triangle `t` (negative outside it).
     fn barycentric(&self, t: u32, p: Point) -> [f64; 3] {
-        let [a, b, c] = self.mesh.triangle_points(t);
-        let area = twice_signed_area(a, b, c);
-        [
-            twice_signed_area(p, b, c) / area,
-            twice_signed_area(a, p, c) / area,
-            twice_signed_area(a, b, p) / area,
-        ]
+        harmonic_types::geom::barycentric(self.mesh.triangle_points(t), p)
     }
 
     /// ψ interpolated on triangle `t` at `p` (linear extrapolation if `p` is outside `t`).

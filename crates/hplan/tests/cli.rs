@@ -17,37 +17,9 @@ fn scenes() -> Vec<PathBuf> {
 
 type Seg = ([f64; 2], [f64; 2]);
 
-fn seg_seg_distance(a: Seg, b: Seg) -> f64 {
-    fn cross(o: [f64; 2], p: [f64; 2], q: [f64; 2]) -> f64 {
-        (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
-    }
-    fn point_seg(p: [f64; 2], s: Seg) -> f64 {
-        let (a, b) = s;
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let len2 = d[0] * d[0] + d[1] * d[1];
-        let t = if len2 == 0.0 {
-            0.0
-        } else {
-            (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-        };
-        let q = [a[0] + t * d[0], a[1] + t * d[1]];
-        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt()
-    }
-    let (p1, p2) = a;
-    let (q1, q2) = b;
-    let d1 = cross(q1, q2, p1);
-    let d2 = cross(q1, q2, p2);
-    let d3 = cross(p1, p2, q1);
-    let d4 = cross(p1, p2, q2);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return 0.0;
-    }
-    point_seg(p1, b)
-        .min(point_seg(p2, b))
-        .min(point_seg(q1, a))
-        .min(point_seg(q2, a))
+fn seg_seg_distance((p1, p2): Seg, (q1, q2): Seg) -> f64 {
+    use harmonic_planner::mesh::geom::segment_segment_distance;
+    segment_segment_distance(p1.into(), p2.into(), q1.into(), q2.into())
 }
 
 fn ring_segments(points: &[Value]) -> Vec<Seg> {

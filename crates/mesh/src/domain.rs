@@ -12,9 +12,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::frame::Frame;
 use crate::geom::{SegmentIndex, point_segment_dist2, segments_intersect};
+use crate::geom::{signed_area, twice_signed_area};
 use crate::options::MeshOptions;
 use crate::touch::{Rings, dedup_rings, multipolygon_of, rings_of, snap_near_touches};
-use crate::{BoundaryTag, MeshError, Part, Point, geom::twice_signed_area};
+use crate::{BoundaryTag, MeshError, Part, Point};
 
 mod constraints;
 mod isolated;
@@ -175,7 +176,7 @@ fn cancel_shared_edges(rings: Vec<TaggedRing>) -> Vec<TaggedRing> {
                 None => break,
             }
         }
-        if points.len() >= 3 && ring_area(&points) != 0.0 {
+        if points.len() >= 3 && signed_area(&points) != 0.0 {
             out.push(TaggedRing { points, tags });
         }
     }
@@ -185,17 +186,6 @@ fn cancel_shared_edges(rings: Vec<TaggedRing>) -> Vec<TaggedRing> {
 /// The target edge length of an equilateral triangle of area `max_area`.
 pub(crate) fn edge_for_area(max_area: f64) -> f64 {
     (4.0 * max_area / 3f64.sqrt()).sqrt()
-}
-
-pub(crate) fn ring_area(points: &[Point]) -> f64 {
-    let n = points.len();
-    let mut s = 0.0;
-    for i in 0..n {
-        let a = points[i];
-        let b = points[(i + 1) % n];
-        s += a.x * b.y - b.x * a.y;
-    }
-    0.5 * s
 }
 
 pub(crate) fn bbox_of(points: &[Point]) -> (Point, Point) {
@@ -303,7 +293,7 @@ fn clean_ring(part: Part, input: &[Point]) -> Result<Vec<Point>, MeshError> {
         });
     }
     let mut points: Vec<Point> = ring.into_iter().map(|(p, _)| p).collect();
-    let area = ring_area(&points);
+    let area = signed_area(&points);
     let (lo, hi) = bbox_of(&points);
     if area.abs() <= 1e-14 * (hi - lo).norm_squared() {
         return Err(MeshError::ZeroArea { part });
@@ -423,7 +413,7 @@ fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region
     mp.0.iter()
         .map(|poly| {
             let mut exterior = from_ls(poly.exterior());
-            if ring_area(&exterior) < 0.0 {
+            if signed_area(&exterior) < 0.0 {
                 exterior.reverse();
             }
             let holes = poly
@@ -431,7 +421,7 @@ fn regions_of(mp: &MultiPolygon<f64>, parts: &[MultiPolygon<f64>]) -> Vec<Region
                 .iter()
                 .map(|r| {
                     let mut h = from_ls(r);
-                    if ring_area(&h) > 0.0 {
+                    if signed_area(&h) > 0.0 {
                         h.reverse();
                     }
                     h
@@ -594,7 +584,7 @@ impl Workspace {
             return Err(MeshError::InvalidRobotRadius(rr));
         }
         let ws = clean_ring(Part::Workspace, &spec.workspace)?;
-        let ws_area = ring_area(&ws);
+        let ws_area = signed_area(&ws);
         let (ws_lo, ws_hi) = bbox_of(&ws);
         let scale = (ws_hi - ws_lo).norm();
         let h = edge_for_area(opts.max_area.unwrap_or(ws_area / 20000.0));
@@ -959,10 +949,10 @@ fn tagged_free_rings(
             while pts.len() > 1 && pts[0] == pts[pts.len() - 1] {
                 pts.pop();
             }
-            if pts.len() < 3 || ring_area(&pts) == 0.0 {
+            if pts.len() < 3 || signed_area(&pts) == 0.0 {
                 continue;
             }
-            let ccw = ring_area(&pts) > 0.0;
+            let ccw = signed_area(&pts) > 0.0;
             if (r == 0) != ccw {
                 pts.reverse();
             }
@@ -1082,7 +1072,7 @@ impl Domain {
             regions_of(&space.goals, &goal_geo)
         };
         Ok(Domain {
-            free_area: free.iter().map(|r| ring_area(&r.points)).sum(),
+            free_area: free.iter().map(|r| signed_area(&r.points)).sum(),
             free,
             workspace: regions_of(&ws_mp, &[]),
             obstacles: obstacle_regions,

@@ -119,7 +119,7 @@ impl RingExtent {
         RingExtent {
             lo: [lo.x, lo.y],
             hi: [hi.x, hi.y],
-            area: crate::domain::ring_area(ring),
+            area: crate::geom::signed_area(ring),
         }
     }
 }

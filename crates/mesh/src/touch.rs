@@ -66,9 +66,7 @@ fn project(p: Point, a: Point, b: Point) -> Point {
     if a.x == b.x {
         return Point::new(a.x, p.y.clamp(a.y.min(b.y), a.y.max(b.y)));
     }
-    let ab = b - a;
-    let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
-    a + ab * t
+    crate::geom::closest_point_on_segment(p, a, b)
 }
 
 /// Makes near touches between different groups of rings exact.

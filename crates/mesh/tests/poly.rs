@@ -9,13 +9,7 @@ use harmonic_mesh::io::poly::{Pslg, PslgFreeSpace};
 use harmonic_mesh::{Domain, DomainSpec, Mesh, MeshError, MeshOptions, Point, Shape};
 
 fn area(ring: &[Point]) -> f64 {
-    let n = ring.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (ring[k], ring[(k + 1) % n]);
-            0.5 * (a.x * b.y - b.x * a.y)
-        })
-        .sum()
+    harmonic_mesh::geom::signed_area(ring)
 }
 
 /// Meshes the free space of a `.poly` and checks the mesh against it: its area is the

@@ -60,6 +60,7 @@
 //! ```
 
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod csc;
 mod direct;

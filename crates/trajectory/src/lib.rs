@@ -11,6 +11,7 @@
 //! toward it (ψ = φ_wall − φ) is wrapped with [`P1Field::ascending`].
 
 #![warn(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod car;
 mod descend;

@@ -18,7 +18,7 @@ use crate::geom::SegmentIndex;
 use crate::touch::rings_of;
 use crate::{BoundaryTag, Point};
 
-use super::{Region, TaggedRing, ring_area};
+use super::{Region, TaggedRing};
 
 /// The margin, relative to the scene size, by which boxes are grown: above the snapping
 /// tolerances (`1e-9` and `1e-7` of the scene size) so that nothing within snapping distance
@@ -105,7 +105,7 @@ impl Isolated {
                 if !(alone && clear_of_walls && inside && ring.len() >= 3) {
                     return None;
                 }
-                let a = ring_area(&ring);
+                let a = crate::geom::signed_area(&ring);
                 if a == 0.0 {
                     return None;
                 }

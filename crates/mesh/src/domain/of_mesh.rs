@@ -2,7 +2,7 @@
 //! rings, so the clearance and inside queries, the pictures and the planner work on it as on
 //! a domain of a scene.
 
-use super::{Constraints, Domain, Region, TaggedRing, bbox_of, boundary_index, ring_area};
+use super::{Constraints, Domain, Region, TaggedRing, bbox_of, boundary_index};
 use crate::{BoundaryTag, Frame, Mesh, MeshError, Point};
 
 /// The boundary loops of `mesh` as vertex numbers with the tag of each edge (edge `k` runs
@@ -111,7 +111,7 @@ impl Domain {
             .collect();
         let (mut workspace, mut obstacles) = (Vec::new(), Vec::new());
         for r in &user_free {
-            if ring_area(&r.points) > 0.0 {
+            if crate::geom::signed_area(&r.points) > 0.0 {
                 workspace.push(Region {
                     exterior: r.points.clone(),
                     holes: Vec::new(),
@@ -127,7 +127,10 @@ impl Domain {
         }
         let all: Vec<Point> = free.iter().flat_map(|r| r.points.iter().copied()).collect();
         let bbox = bbox_of(&all);
-        let free_area: f64 = free.iter().map(|r| ring_area(&r.points)).sum();
+        let free_area: f64 = free
+            .iter()
+            .map(|r| crate::geom::signed_area(&r.points))
+            .sum();
         let triangles = mesh.triangles().len().max(1) as f64;
         let boundary_index = boundary_index(&free);
         Ok(Domain {

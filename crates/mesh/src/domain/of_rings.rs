@@ -3,7 +3,7 @@
 
 use super::{
     Clearance, Constraints, Domain, GoalShape, Region, TaggedRing, bbox_of, boundary_index,
-    circle_polygon, edge_for_area, options_to_unit, point_goal_polygon, ring_area,
+    circle_polygon, edge_for_area, options_to_unit, point_goal_polygon,
 };
 use crate::geom::{SegmentIndex, polygon_contains, segments_intersect};
 use crate::{BoundaryTag, Frame, MeshError, MeshOptions, Part, Point};
@@ -41,7 +41,7 @@ fn oriented(part: Part, mut unit: Vec<Point>, ccw: bool) -> Result<Vec<Point>, M
             count: unit.len(),
         });
     }
-    let area = ring_area(&unit);
+    let area = crate::geom::signed_area(&unit);
     if area == 0.0 {
         return Err(MeshError::ZeroArea { part });
     }
@@ -145,8 +145,8 @@ impl Domain {
             i if i <= holes.len() => Part::Obstacle(i - 1),
             j => Part::Goal(j - 1 - holes.len()),
         };
-        let hole_area: f64 = rings[1..].iter().map(|r| ring_area(r)).sum();
-        let outer_area = ring_area(&rings[0]);
+        let hole_area: f64 = rings[1..].iter().map(|r| crate::geom::signed_area(r)).sum();
+        let outer_area = crate::geom::signed_area(&rings[0]);
         let h = edge_for_area(
             unit_opts
                 .max_area
@@ -270,7 +270,10 @@ impl Domain {
         }
         let bbox = bbox_of(&rings[0]);
         Ok(Domain {
-            free_area: free.iter().map(|r| ring_area(&r.points)).sum(),
+            free_area: free
+                .iter()
+                .map(|r| crate::geom::signed_area(&r.points))
+                .sum(),
             workspace: vec![Region {
                 exterior: user(&rings[0]),
                 holes: Vec::new(),

@@ -43,7 +43,7 @@ use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
 use super::{data_lines, err, num, parse_nodes, read};
-use crate::{Frame, MeshError, Point, geom::twice_signed_area};
+use crate::{Frame, MeshError, Point};
 
 /// One segment of a `.poly` file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -309,7 +309,7 @@ impl Pslg {
         let (mut outer, mut holes) = (Vec::new(), Vec::new());
         for l in loops {
             let ring: Vec<Point> = l.iter().map(|h| self.vertices[first_of[h]]).collect();
-            if signed_area(&ring) > 0.0 {
+            if crate::geom::signed_area(&ring) > 0.0 {
                 outer.push((ring, l[0]));
             } else {
                 holes.push(ring);
@@ -550,15 +550,6 @@ fn points_block<'a>(
         });
     }
     Ok(out)
-}
-
-/// The signed area of a ring (positive when counter-clockwise).
-fn signed_area(ring: &[Point]) -> f64 {
-    let n = ring.len();
-    let o = ring[0];
-    (1..n.saturating_sub(1))
-        .map(|k| 0.5 * twice_signed_area(o, ring[k], ring[k + 1]))
-        .sum()
 }
 
 /// Chains boundary edges (`leaving[a]` holds every `b` of an edge `a → b` with free space on
