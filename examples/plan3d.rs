@@ -149,11 +149,11 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             s.z,
             exact.status.as_str(),
             exact.length,
-            exact.moves,
+            exact.cells_crossed,
             1e3 * exact_s,
             smooth.status.as_str(),
             smooth.length,
-            smooth.moves,
+            smooth.cells_crossed,
             1e3 * smooth_s,
             exact.min_gradient
         );

@@ -39,10 +39,10 @@ use harmonic_cspace::{
 use harmonic_fem::BoundaryCondition;
 use harmonic_fem::volume::{VolumeFemError, VolumePotential, solve_periodic_for_planning};
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
-    VolumeTraceStatus, trace_exact_volume, trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
+    trace_smooth_volume,
 };
-use harmonic_trajectory::{Locate, TraceError, Tracer};
+use harmonic_trajectory::{Locate, Path, TraceError, TraceStatus, Tracer};
 use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, quality};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -316,7 +316,7 @@ pub struct ConfigPlannedPath {
     pub start: Vec<f64>,
     /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
     /// `outside_workspace`, `max_steps`).
-    pub status: VolumeTraceStatus,
+    pub status: TraceStatus<Point>,
     /// For a start in collision: with what (`"obstacle 2"`, `"the workspace boundary"`,
     /// `"itself (links 0 and 2)"`), the margin counted.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -689,7 +689,7 @@ impl ConfigPlanner {
             return self.planned(start, None, Tracer::Exact);
         };
         let field = field.with_outside(&classify);
-        let to_configs = |path: &VolumePath| -> Vec<Vec<f64>> {
+        let to_configs = |path: &Path<Point>| -> Vec<Vec<f64>> {
             path.points
                 .iter()
                 .map(|q| {
@@ -705,7 +705,7 @@ impl ConfigPlanner {
             .filter(|path| {
                 !matches!(
                     path.status,
-                    VolumeTraceStatus::Stalled { .. } | VolumeTraceStatus::MaxSteps
+                    TraceStatus::Stalled { .. } | TraceStatus::MaxSteps
                 )
             })
             .map(|path| {
@@ -732,7 +732,7 @@ impl ConfigPlanner {
         }
         // A path that reached the goal but touches an obstacle on the way is not reached.
         if let Some(q) = collision.filter(|_| out.status.reached_goal()) {
-            out.status = VolumeTraceStatus::Collision;
+            out.status = TraceStatus::Collision { at: None };
             out.blocked_by = Some(format!(
                 "{} at {q:.4?}, where its image in configuration space is thinner than the \
                  mesh; a smaller mesh.spacing resolves it",
@@ -773,12 +773,12 @@ impl ConfigPlanner {
     fn planned(
         &self,
         start: &[f64],
-        path: Option<(VolumePath, Vec<Vec<f64>>)>,
+        path: Option<(Path<Point>, Vec<Vec<f64>>)>,
         tracer: Tracer,
     ) -> ConfigPlannedPath {
         let (status, min_gradient, configs, length) = match path {
             Some((p, c)) => (p.status, p.min_gradient, c, p.length),
-            None => (VolumeTraceStatus::OutsideWorkspace, 0.0, Vec::new(), 0.0),
+            None => (TraceStatus::OutsideWorkspace, 0.0, Vec::new(), 0.0),
         };
         let clearance = configs
             .iter()
@@ -791,7 +791,7 @@ impl ConfigPlanner {
             ),
             Robot::Arm(_) => (None, Some(configs)),
         };
-        let blocked_by = (matches!(status, VolumeTraceStatus::StartInObstacle)
+        let blocked_by = (matches!(status, TraceStatus::StartInObstacle)
             && start.len() == self.space.dof())
         .then(|| self.space.nearest_name(start));
         ConfigPlannedPath {

@@ -26,10 +26,10 @@ use harmonic_fem::volume::{
     VolumeAssembler, VolumeFemError, VolumePotential, solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, VolumePath,
-    VolumeTraceStatus, trace_exact_volume, trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
+    trace_smooth_volume,
 };
-use harmonic_trajectory::{Locate, TraceError, Tracer};
+use harmonic_trajectory::{Locate, Path, TraceError, TraceStatus, Tracer};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
     GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
@@ -88,7 +88,7 @@ pub struct VolumePlannedPath {
     pub start: [f64; 3],
     /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
     /// `outside_workspace`, `max_steps`).
-    pub status: VolumeTraceStatus,
+    pub status: TraceStatus<Point>,
     /// The goal reached, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
@@ -312,7 +312,7 @@ impl VolumePlanner {
             Ok(path)
                 if !matches!(
                     path.status,
-                    VolumeTraceStatus::Stalled { .. } | VolumeTraceStatus::MaxSteps
+                    TraceStatus::Stalled { .. } | TraceStatus::MaxSteps
                 ) =>
             {
                 (path, Tracer::Smooth)
@@ -330,10 +330,10 @@ impl VolumePlanner {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: [f64; 3], mut path: VolumePath, tracer: Tracer) -> VolumePlannedPath {
+    fn planned(&self, start: [f64; 3], mut path: Path<Point>, tracer: Tracer) -> VolumePlannedPath {
         // A point goal is carved as a small free ball around it: the last straight step from
         // the ball's face ends exactly on the point.
-        if let VolumeTraceStatus::ReachedGoal(j) = path.status
+        if let TraceStatus::ReachedGoal(j) = path.status
             && let Some(GoalRegion::Point(g)) = self.domain.goals().get(j as usize)
             && let Some(last) = path.points.last().copied()
             && last != *g
@@ -348,7 +348,7 @@ impl VolumePlanner {
             .fold(f64::INFINITY, f64::min);
         let blocked = matches!(
             path.status,
-            VolumeTraceStatus::StartInObstacle | VolumeTraceStatus::OutsideWorkspace
+            TraceStatus::StartInObstacle | TraceStatus::OutsideWorkspace
         );
         let mut blocked_by = if blocked {
             match self
@@ -369,7 +369,7 @@ impl VolumePlanner {
         if status.reached_goal()
             && let Some((q, what)) = self.first_contact(&path.points)
         {
-            status = VolumeTraceStatus::Collision;
+            status = TraceStatus::Collision { at: None };
             clearance = 0.0;
             blocked_by = Some(format!(
                 "{what} at ({:.4}, {:.4}, {:.4}), where it is thinner than the mesh; a smaller \

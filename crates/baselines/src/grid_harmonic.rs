@@ -759,6 +759,8 @@ impl GridHarmonic {
 /// values and gradients the bilinear interpolant of the descent potential (`−ψ` or `φ`),
 /// goal regions the goal cells, and obstacles the obstacle and wall cells.
 impl Field for GridHarmonic {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = usize;
 
     fn locate(&self, p: Point, _hint: Option<usize>) -> Locate<usize> {

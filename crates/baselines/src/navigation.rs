@@ -273,7 +273,7 @@ impl NavigationFunction {
                     halvings += 1;
                     if halvings > 20 {
                         status = TraceStatus::Collision {
-                            at: [q.x, q.y, dir.y.atan2(dir.x)],
+                            at: Some([q.x, q.y, dir.y.atan2(dir.x)]),
                         };
                         break 'steps;
                     }
@@ -310,6 +310,8 @@ pub struct NavigationField<'a> {
 }
 
 impl Field for NavigationField<'_> {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = ();
 
     fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {

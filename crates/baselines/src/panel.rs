@@ -628,7 +628,7 @@ impl PanelPlanner {
                 let next = q + v.normalize() * h;
                 if !self.is_free(next) {
                     status = TraceStatus::Collision {
-                        at: [q.x, q.y, v.y.atan2(v.x)],
+                        at: Some([q.x, q.y, v.y.atan2(v.x)]),
                     };
                     break;
                 }
@@ -660,6 +660,8 @@ impl PanelFlow<'_> {
 }
 
 impl Field for PanelFlow<'_> {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = ();
 
     fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {

@@ -197,7 +197,7 @@ impl PotentialField {
                 if !self.is_free(next) {
                     let dir = next - q;
                     status = TraceStatus::Collision {
-                        at: [q.x, q.y, dir.y.atan2(dir.x)],
+                        at: Some([q.x, q.y, dir.y.atan2(dir.x)]),
                     };
                     break;
                 }

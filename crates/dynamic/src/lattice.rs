@@ -348,12 +348,7 @@ impl Lattice {
             if let Some(tri) = entered {
                 let mut points = std::mem::take(&mut path.points);
                 points.extend(self.goal_targets(tri, [end.x, end.y], is_goal, goals, window));
-                path = Path::new(
-                    points,
-                    path.status,
-                    path.min_gradient,
-                    path.triangles_crossed,
-                );
+                path = Path::new(points, path.status, path.min_gradient, path.cells_crossed);
             }
         }
         path

@@ -44,7 +44,7 @@ fn bench(c: &mut Criterion) {
     let opts = ExactOptions::default();
     let crossed: usize = starts
         .iter()
-        .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+        .map(|&s| trace_exact(&field, s, &opts).cells_crossed)
         .sum();
     let mut group = c.benchmark_group("trace");
     group.sample_size(20);
@@ -53,7 +53,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             starts
                 .iter()
-                .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+                .map(|&s| trace_exact(&field, s, &opts).cells_crossed)
                 .sum::<usize>()
         })
     });
@@ -97,7 +97,7 @@ fn bench_reference(c: &mut Criterion) {
     let opts = ExactOptions::default();
     let crossed: usize = starts
         .iter()
-        .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+        .map(|&s| trace_exact(&field, s, &opts).cells_crossed)
         .sum();
     eprintln!(
         "reference scene: {triangles} triangles, {} starts, {crossed} triangles crossed per batch",
@@ -110,7 +110,7 @@ fn bench_reference(c: &mut Criterion) {
         b.iter(|| {
             starts
                 .iter()
-                .map(|&s| trace_exact(&field, s, &opts).triangles_crossed)
+                .map(|&s| trace_exact(&field, s, &opts).cells_crossed)
                 .sum::<usize>()
         })
     });

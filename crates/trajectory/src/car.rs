@@ -186,7 +186,7 @@ enum ArcEnd<C> {
 
 /// Follows the rear axle's arc (curvature `kappa`, length `s`) from `pose` through free space,
 /// in chords of at most 0.1 rad.
-fn follow_arc<F: Field>(
+fn follow_arc<F: Field<Point = Point, Vector = Vector>>(
     field: &F,
     cell: F::Cell,
     pose: [f64; 3],
@@ -240,7 +240,7 @@ fn follow_arc<F: Field>(
 /// assert!(car.max_curvature <= 0.6f64.tan() / 0.1 + 1e-9);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn drive<F: Field>(
+pub fn drive<F: Field<Point = Point, Vector = Vector>>(
     field: &F,
     start: [f64; 3],
     opts: &CarOptions,
@@ -313,7 +313,7 @@ pub fn drive<F: Field>(
     {
         return Ok(finish(
             vec![start],
-            TraceStatus::Collision { at: start },
+            TraceStatus::Collision { at: Some(start) },
             0.0,
             f64::INFINITY,
             0.0,
@@ -419,7 +419,7 @@ pub fn drive<F: Field>(
         let Some((c, next, kappa)) = chosen else {
             return Ok(finish(
                 poses,
-                TraceStatus::Collision { at: pose },
+                TraceStatus::Collision { at: Some(pose) },
                 length,
                 min_gradient,
                 max_curvature,

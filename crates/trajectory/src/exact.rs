@@ -158,6 +158,8 @@ fn exact_move(field: &P1Field<'_>, t: u32, p: Point) -> Fallback<u32> {
 /// A P1 field is followed triangle by triangle; where an integrator cannot make progress it
 /// falls back on one move of the exact tracer.
 impl Field for P1Field<'_> {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = u32;
 
     fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
@@ -193,6 +195,8 @@ impl Field for P1Field<'_> {
 /// A smooth P1 field is its [`P1Field`] (location, values, segments, the exact fallback)
 /// with the recovered, continuous gradient.
 impl Field for SmoothP1Field<'_> {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = u32;
 
     fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {

@@ -33,20 +33,22 @@ pub enum Segment<C> {
 
 /// The outcome of [`Field::fallback_step`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Fallback<C> {
+pub enum Fallback<C, P = Point> {
     /// Moved downhill to this point, in this cell.
-    Moved(Point, C),
+    Moved(P, C),
     /// Reached goal region `j`.
     Goal(u32),
     /// No guaranteed move is available here.
     Stuck,
 }
 
-/// A potential field over free space that a robot follows downhill.
+/// A potential field over free space that a robot follows downhill, in the plane
+/// (`Point = Point`) or in a volume or configuration space (`Point = Point3`).
 ///
 /// `value` DECREASES toward the goal; the robot moves along `-gradient`. The FEM potential,
 /// the baselines' grid fields and analytic fields all implement it, so the same smooth tracer
-/// and car stepper follow every planner's field.
+/// and car stepper follow every planner's field; the volume's P1 field implements it too,
+/// for the volume's smooth tracer.
 ///
 /// An analytic field needs only `locate`, `value` and `gradient`:
 ///
@@ -57,6 +59,8 @@ pub enum Fallback<C> {
 /// /// The distance to the origin in the square [-5, 5]²; the goal is the unit disc.
 /// struct Cone;
 /// impl Field for Cone {
+///     type Point = Point;
+///     type Vector = Vector;
 ///     type Cell = ();
 ///     fn locate(&self, p: Point, _hint: Option<()>) -> Locate<()> {
 ///         if p.x.abs() > 5.0 || p.y.abs() > 5.0 {
@@ -81,26 +85,30 @@ pub enum Fallback<C> {
 /// # Ok::<(), harmonic_trajectory::TraceError>(())
 /// ```
 pub trait Field {
+    /// The points the field is defined at: [`Point`] or `Point3`.
+    type Point: Copy;
+    /// Its gradients: [`Vector`] or `Vector3`.
+    type Vector: Copy;
     /// A handle on the piece of the field holding a point (a triangle, a grid cell, ...).
     type Cell: Copy + PartialEq + std::fmt::Debug;
 
     /// Finds the cell holding `p`, starting the search from `hint` when given (the cell of a
     /// nearby point: the previous position of a path).
-    fn locate(&self, p: Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
+    fn locate(&self, p: Self::Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
 
     /// The potential at `p`, which lies in `cell` (a cell returned by [`Field::locate`] or
     /// [`Field::segment`] for this field; other handles may panic).
-    fn value(&self, cell: Self::Cell, p: Point) -> f64;
+    fn value(&self, cell: Self::Cell, p: Self::Point) -> f64;
 
     /// The gradient of the potential at `p`, which lies in `cell`.
-    fn gradient(&self, cell: Self::Cell, p: Point) -> Vector;
+    fn gradient(&self, cell: Self::Cell, p: Self::Point) -> Self::Vector;
 
     /// Follows the straight segment `from → to` (`from` lies in `cell`) and says whether it
     /// stays in free space, enters a goal, or crosses a wall or an obstacle.
     ///
     /// The default only locates `to`, which is exact for convex free space and a good
     /// approximation for short segments; fields that know their boundaries override it.
-    fn segment(&self, cell: Self::Cell, from: Point, to: Point) -> Segment<Self::Cell> {
+    fn segment(&self, cell: Self::Cell, from: Self::Point, to: Self::Point) -> Segment<Self::Cell> {
         let _ = from;
         match self.locate(to, Some(cell)) {
             Locate::Inside(c) => Segment::Inside(c),
@@ -113,7 +121,7 @@ pub trait Field {
     /// an integrator cannot make progress (its steps keep leaving free space, or the
     /// direction flips at a stagnation point). P1 fields make one move of the exact tracer.
     /// The default has none.
-    fn fallback_step(&self, cell: Self::Cell, p: Point) -> Fallback<Self::Cell> {
+    fn fallback_step(&self, cell: Self::Cell, p: Self::Point) -> Fallback<Self::Cell, Self::Point> {
         let _ = (cell, p);
         Fallback::Stuck
     }
@@ -753,7 +761,12 @@ impl SmoothP1Field<'_> {
 
 /// The last free point before the goal on the segment `a → b` (which enters it), found by
 /// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary.
-pub(crate) fn goal_crossing<F: Field>(field: &F, cell: F::Cell, a: Point, b: Point) -> Point {
+pub(crate) fn goal_crossing<F: Field<Point = Point, Vector = Vector>>(
+    field: &F,
+    cell: F::Cell,
+    a: Point,
+    b: Point,
+) -> Point {
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..40 {
         let mid = 0.5 * (lo + hi);

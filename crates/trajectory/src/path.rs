@@ -1,12 +1,39 @@
-//! What a tracer or the car stepper returns: the path, how it ended, and its metrics.
+//! What a tracer or the car stepper returns: the path, how it ended, and its metrics — in
+//! the plane (`Path`, `TraceStatus`) and in a volume or configuration space
+//! (`Path<Point3>`, `TraceStatus<Point3>`): one vocabulary for every dimension.
 
-use harmonic_types::Point;
-use harmonic_types::geom::polyline_length;
+use harmonic_types::{Point, Point3};
 use serde::{Serialize, Serializer};
+
+/// A point a path is made of: a point of the plane or of space.
+pub trait PathPoint: Copy + std::fmt::Debug + PartialEq {
+    /// Its coordinates, as the JSON writes them (`[x, y]`, `[x, y, z]`).
+    fn coords(&self) -> &[f64];
+    /// The distance to `other`.
+    fn distance(&self, other: &Self) -> f64;
+}
+
+impl PathPoint for Point {
+    fn coords(&self) -> &[f64] {
+        self.coords.as_slice()
+    }
+    fn distance(&self, other: &Self) -> f64 {
+        (other - self).norm()
+    }
+}
+
+impl PathPoint for Point3 {
+    fn coords(&self) -> &[f64] {
+        self.coords.as_slice()
+    }
+    fn distance(&self, other: &Self) -> f64 {
+        (other - self).norm()
+    }
+}
 
 /// How a path ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TraceStatus {
+pub enum TraceStatus<P = Point> {
     /// The path reached goal region `j`.
     ReachedGoal(u32),
     /// No goal lies in the connected component of free space holding the start.
@@ -19,24 +46,27 @@ pub enum TraceStatus {
     /// perturbations could not escape, or a car circling).
     Stalled {
         /// Where the path stopped.
-        at: Point,
+        at: P,
     },
     /// The step budget ran out before the goal was reached.
     MaxSteps,
-    /// The car's footprint hit an obstacle (the collision predicate said so) at pose `at`.
+    /// The robot hit an obstacle: a car's footprint or a baseline's step (the collision
+    /// predicate said so), or a check of the traced motions against the exact geometry (set
+    /// by the planners that check, not by the tracers).
     Collision {
-        /// The last collision-free pose `[x, y, θ]`.
-        at: [f64; 3],
+        /// The last collision-free pose `[x, y, θ]` of a planar robot, where it is known.
+        at: Option<[f64; 3]>,
     },
 }
 
-impl TraceStatus {
+impl<P> TraceStatus<P> {
     /// The status as the scene contract's snake_case string (`"reached_goal"`, ...).
     ///
     /// ```
     /// use harmonic_trajectory::TraceStatus;
-    /// assert_eq!(TraceStatus::ReachedGoal(0).as_str(), "reached_goal");
-    /// assert_eq!(TraceStatus::MaxSteps.as_str(), "max_steps");
+    /// let (reached, out): (TraceStatus, TraceStatus) = (TraceStatus::ReachedGoal(0), TraceStatus::MaxSteps);
+    /// assert_eq!(reached.as_str(), "reached_goal");
+    /// assert_eq!(out.as_str(), "max_steps");
     /// ```
     pub fn as_str(&self) -> &'static str {
         match self {
@@ -56,45 +86,47 @@ impl TraceStatus {
     }
 }
 
-impl std::fmt::Display for TraceStatus {
+impl<P> std::fmt::Display for TraceStatus<P> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.as_str())
     }
 }
 
-impl Serialize for TraceStatus {
+impl<P> Serialize for TraceStatus<P> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(self.as_str())
     }
 }
 
-/// A path of a point robot through free space.
+/// A path of a point robot through free space (a plane's, a volume's, a configuration
+/// space's).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Path {
-    /// The polyline from the start; serialised as `[[x, y], ...]`.
+#[serde(bound = "")]
+pub struct Path<P: PathPoint = Point> {
+    /// The polyline from the start; serialised as `[[x, y], ...]` or `[[x, y, z], ...]`.
     #[serde(serialize_with = "serialize_points")]
-    pub points: Vec<Point>,
+    pub points: Vec<P>,
     /// How the path ended.
-    pub status: TraceStatus,
+    pub status: TraceStatus<P>,
     /// The goal reached, if any (also in `status`; here for JSON readers).
     pub goal: Option<u32>,
     /// Total length of the polyline.
     pub length: f64,
     /// The smallest gradient magnitude |∇value| met along the path (`+∞` if none was met).
     pub min_gradient: f64,
-    /// How many cells (triangles) the path entered after its first.
-    pub triangles_crossed: usize,
+    /// How many cells (triangles, tetrahedra) the path entered after its first.
+    pub cells_crossed: usize,
 }
 
-impl Path {
+impl<P: PathPoint> Path<P> {
     /// Builds a path from its points and status, computing its length and goal.
     pub fn new(
-        points: Vec<Point>,
-        status: TraceStatus,
+        points: Vec<P>,
+        status: TraceStatus<P>,
         min_gradient: f64,
-        triangles_crossed: usize,
+        cells_crossed: usize,
     ) -> Self {
-        let length = polyline_length(&points);
+        let length = points.windows(2).map(|w| w[0].distance(&w[1])).sum();
         let goal = match status {
             TraceStatus::ReachedGoal(j) => Some(j),
             _ => None,
@@ -105,7 +137,7 @@ impl Path {
             goal,
             length,
             min_gradient,
-            triangles_crossed,
+            cells_crossed,
         }
     }
 }
@@ -127,6 +159,6 @@ pub struct CarPath {
     pub max_curvature: f64,
 }
 
-fn serialize_points<S: Serializer>(points: &[Point], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_seq(points.iter().map(|p| [p.x, p.y]))
+fn serialize_points<P: PathPoint, S: Serializer>(points: &[P], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(points.iter().map(PathPoint::coords))
 }

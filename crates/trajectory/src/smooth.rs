@@ -128,7 +128,12 @@ enum Eval<C> {
     Flat,
 }
 
-fn eval<F: Field>(field: &F, cell: F::Cell, from: Point, q: Point) -> Eval<F::Cell> {
+fn eval<F: Field<Point = Point, Vector = Vector>>(
+    field: &F,
+    cell: F::Cell,
+    from: Point,
+    q: Point,
+) -> Eval<F::Cell> {
     match field.segment(cell, from, q) {
         Segment::Inside(c) => {
             let g = field.gradient(c, q);
@@ -146,7 +151,7 @@ fn eval<F: Field>(field: &F, cell: F::Cell, from: Point, q: Point) -> Eval<F::Ce
 
 /// Follows `field` downhill from `start` with an adaptive Dormand–Prince 5(4) integrator.
 ///
-/// The path's points are the accepted steps (and fallback moves); `triangles_crossed` counts
+/// The path's points are the accepted steps (and fallback moves); `cells_crossed` counts
 /// the steps that ended in a different cell than they started (a step may pass several
 /// cells), and `min_gradient` is the smallest |∇value| at a step's end. Paths that reach a
 /// goal end on its boundary (to 2⁻⁴⁰ of the last step).
@@ -169,7 +174,7 @@ fn eval<F: Field>(field: &F, cell: F::Cell, from: Point, q: Point) -> Eval<F::Ce
 /// assert!((path.length - 0.8).abs() < 1e-6);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn trace_smooth<F: Field>(
+pub fn trace_smooth<F: Field<Point = Point, Vector = Vector>>(
     field: &F,
     start: Point,
     opts: &SmoothOptions,
@@ -180,7 +185,7 @@ pub fn trace_smooth<F: Field>(
 /// [`trace_smooth`] with a cell that probably holds `start` (for instance the triangle the
 /// caller already knows the robot is in): the start is located by walking from it, so no
 /// point-location structure is built. A wrong hint costs a longer walk, never a wrong answer.
-pub fn trace_smooth_with_hint<F: Field>(
+pub fn trace_smooth_with_hint<F: Field<Point = Point, Vector = Vector>>(
     field: &F,
     start: Point,
     hint: Option<F::Cell>,

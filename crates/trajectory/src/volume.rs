@@ -1,5 +1,5 @@
 //! Following a 3D field: the exact tetrahedron-to-tetrahedron tracer of a P1 potential on a
-//! [`TetMesh`], and a smooth Runge–Kutta tracer of any [`VolumeField`].
+//! [`TetMesh`], and a smooth Runge–Kutta tracer of any volume [`Field`].
 //!
 //! **Exact.** Inside a tetrahedron the gradient is constant, so steepest descent is a straight
 //! segment to an exit face. The tracer keeps the point together with its *carrier*: the
@@ -14,142 +14,16 @@
 //! the mesh), as in the 2D tracer; failing that the path is `stalled`.
 //!
 //! **Smooth.** Classical RK4 on the unit direction −∇v/|∇v| with a fixed step, each step checked
-//! by [`VolumeField::segment`] (steps leaving free space are halved); when the step becomes too
-//! small the field's [`VolumeField::fallback_step`] (for P1 fields: exact moves) takes over.
+//! by [`Field::segment`] (steps leaving free space are halved); when the step becomes too
+//! small the field's [`Field::fallback_step`] (for P1 fields: exact moves) takes over.
 
 use std::sync::Arc;
 
 use harmonic_types::{
     BoundaryTag, FACES, NO_NEIGHBOR, Point3 as Point, TetMesh, Vector3 as Vector,
 };
-use serde::{Serialize, Serializer};
 
-use crate::{Locate, Segment, TraceError};
-
-/// How a 3D path ended (the same statuses as the 2D [`crate::TraceStatus`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum VolumeTraceStatus {
-    /// Reached goal region `j`.
-    ReachedGoal(u32),
-    /// No goal lies in the start's connected component of free space.
-    Unreachable,
-    /// The start lies in an obstacle.
-    StartInObstacle,
-    /// The start lies outside the workspace.
-    OutsideWorkspace,
-    /// No progress at `at`.
-    Stalled {
-        /// Where the path stopped.
-        at: Point,
-    },
-    /// The step budget ran out.
-    MaxSteps,
-    /// The path was traced but a check of its motions against the exact geometry found the
-    /// robot touching an obstacle (set by planners that check, not by the tracers).
-    Collision,
-}
-
-impl VolumeTraceStatus {
-    /// The scene contract's snake_case name.
-    pub fn as_str(&self) -> &'static str {
-        match self {
-            VolumeTraceStatus::ReachedGoal(_) => "reached_goal",
-            VolumeTraceStatus::Unreachable => "unreachable",
-            VolumeTraceStatus::StartInObstacle => "start_in_obstacle",
-            VolumeTraceStatus::OutsideWorkspace => "outside_workspace",
-            VolumeTraceStatus::Stalled { .. } => "stalled",
-            VolumeTraceStatus::MaxSteps => "max_steps",
-            VolumeTraceStatus::Collision => "collision",
-        }
-    }
-    /// Whether a goal was reached.
-    pub fn reached_goal(&self) -> bool {
-        matches!(self, VolumeTraceStatus::ReachedGoal(_))
-    }
-}
-
-impl Serialize for VolumeTraceStatus {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.as_str())
-    }
-}
-
-/// A path through a volume.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct VolumePath {
-    /// The polyline from the start, serialised as `[[x, y, z], ...]`.
-    #[serde(serialize_with = "serialize_points")]
-    pub points: Vec<Point>,
-    /// How it ended.
-    pub status: VolumeTraceStatus,
-    /// The goal reached, if any.
-    pub goal: Option<u32>,
-    /// Its length.
-    pub length: f64,
-    /// The smallest |∇value| met (`+∞` if none).
-    pub min_gradient: f64,
-    /// Moves made (cells entered).
-    pub moves: usize,
-}
-
-fn serialize_points<S: Serializer>(points: &[Point], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_seq(points.iter().map(|p| [p.x, p.y, p.z]))
-}
-
-impl VolumePath {
-    fn new(points: Vec<Point>, status: VolumeTraceStatus, min_gradient: f64, moves: usize) -> Self {
-        let length = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-        let goal = match status {
-            VolumeTraceStatus::ReachedGoal(j) => Some(j),
-            _ => None,
-        };
-        VolumePath {
-            points,
-            status,
-            goal,
-            length,
-            min_gradient,
-            moves,
-        }
-    }
-}
-
-/// The outcome of [`VolumeField::fallback_step`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum VolumeFallback<C> {
-    /// Moved downhill to this point in this cell.
-    Moved(Point, C),
-    /// Reached goal `j`.
-    Goal(u32),
-    /// No guaranteed move.
-    Stuck,
-}
-
-/// A potential over a volume that a robot follows downhill (`value` decreases toward the goal).
-pub trait VolumeField {
-    /// A handle on the piece of the field holding a point.
-    type Cell: Copy + PartialEq + std::fmt::Debug;
-    /// Finds the cell holding `p`, starting from `hint`.
-    fn locate(&self, p: &Point, hint: Option<Self::Cell>) -> Locate<Self::Cell>;
-    /// The value at `p` in `cell`.
-    fn value(&self, cell: Self::Cell, p: &Point) -> f64;
-    /// The gradient at `p` in `cell`.
-    fn gradient(&self, cell: Self::Cell, p: &Point) -> Vector;
-    /// Whether the straight segment `from → to` stays in free space (default: locate `to`).
-    fn segment(&self, cell: Self::Cell, from: &Point, to: &Point) -> Segment<Self::Cell> {
-        let _ = from;
-        match self.locate(to, Some(cell)) {
-            Locate::Inside(c) => Segment::Inside(c),
-            Locate::Goal(j) => Segment::Goal(j),
-            Locate::InObstacle | Locate::OutsideWorkspace => Segment::Blocked,
-        }
-    }
-    /// One guaranteed downhill move (default: none).
-    fn fallback_step(&self, cell: Self::Cell, p: &Point) -> VolumeFallback<Self::Cell> {
-        let _ = (cell, p);
-        VolumeFallback::Stuck
-    }
-}
+use crate::{Fallback, Field, Locate, Path, Segment, TraceError, TraceStatus};
 
 /// How points outside the mesh are classified (e.g. from the scene's exact solids).
 pub type OutsideClassifier<'a> = &'a (dyn Fn(&Point) -> Locate<u32> + Sync);
@@ -429,9 +303,12 @@ impl<'a> P1VolumeField<'a> {
     }
 }
 
-impl VolumeField for P1VolumeField<'_> {
+impl Field for P1VolumeField<'_> {
+    type Point = Point;
+    type Vector = Vector;
     type Cell = u32;
-    fn locate(&self, p: &Point, hint: Option<u32>) -> Locate<u32> {
+    fn locate(&self, p: Point, hint: Option<u32>) -> Locate<u32> {
+        let p = &p;
         match self.mesh.locate(p, hint) {
             Some(t) => Locate::Inside(t),
             None => match self.outside {
@@ -452,37 +329,37 @@ impl VolumeField for P1VolumeField<'_> {
             },
         }
     }
-    fn value(&self, cell: u32, p: &Point) -> f64 {
-        self.interpolate(cell, p)
+    fn value(&self, cell: u32, p: Point) -> f64 {
+        self.interpolate(cell, &p)
     }
     /// The recovered (smooth) gradient, interpolated.
-    fn gradient(&self, cell: u32, p: &Point) -> Vector {
-        let l = self.mesh.barycentric(cell, p);
+    fn gradient(&self, cell: u32, p: Point) -> Vector {
+        let l = self.mesh.barycentric(cell, &p);
         let tet = self.mesh.tetrahedra()[cell as usize];
         (0..4)
             .map(|k| self.parts.nodal[tet[k] as usize] * l[k])
             .sum()
     }
-    fn segment(&self, cell: u32, from: &Point, to: &Point) -> Segment<u32> {
-        self.walk_segment(cell, from, to)
+    fn segment(&self, cell: u32, from: Point, to: Point) -> Segment<u32> {
+        self.walk_segment(cell, &from, &to)
     }
-    fn fallback_step(&self, cell: u32, p: &Point) -> VolumeFallback<u32> {
+    fn fallback_step(&self, cell: u32, p: Point) -> Fallback<u32, Point> {
         let mut tracer = Exact::new(self, ExactVolumeOptions::default());
-        let mut at = tracer.carrier(cell, *p);
-        let v0 = self.interpolate(cell, p);
+        let mut at = tracer.carrier(cell, p);
+        let v0 = self.interpolate(cell, &p);
         for _ in 0..16 {
             match tracer.advance(&at) {
                 Ok(next) => {
                     at = next;
                     if self.interpolate(at.tet, &at.p) < v0 - 1e-15 * v0.abs().max(1.0) {
-                        return VolumeFallback::Moved(at.p, at.tet);
+                        return Fallback::Moved(at.p, at.tet);
                     }
                 }
-                Err(VolumeTraceStatus::ReachedGoal(j)) => return VolumeFallback::Goal(j),
-                Err(_) => return VolumeFallback::Stuck,
+                Err(TraceStatus::ReachedGoal(j)) => return Fallback::Goal(j),
+                Err(_) => return Fallback::Stuck,
             }
         }
-        VolumeFallback::Stuck
+        Fallback::Stuck
     }
 }
 
@@ -738,10 +615,10 @@ impl<'f, 'a> Exact<'f, 'a> {
     }
 
     /// One move (or a perturbation).
-    fn advance(&mut self, at: &At) -> Result<At, VolumeTraceStatus> {
+    fn advance(&mut self, at: &At) -> Result<At, TraceStatus<Point>> {
         let star = self.field.star(&at.sigma);
         if let Some(j) = self.on_goal(at, &star) {
-            return Err(VolumeTraceStatus::ReachedGoal(j));
+            return Err(TraceStatus::ReachedGoal(j));
         }
         let Some(m) = self.best_move(at, &star) else {
             return self.perturb(at);
@@ -779,9 +656,9 @@ impl<'f, 'a> Exact<'f, 'a> {
 
     /// Escapes a stagnation point: the lowest of a few points around `at` that lies lower and
     /// is reached by a straight segment inside the mesh.
-    fn perturb(&mut self, at: &At) -> Result<At, VolumeTraceStatus> {
+    fn perturb(&mut self, at: &At) -> Result<At, TraceStatus<Point>> {
         if self.perturbations >= self.opts.max_perturbations {
-            return Err(VolumeTraceStatus::Stalled { at: at.p });
+            return Err(TraceStatus::Stalled { at: at.p });
         }
         self.perturbations += 1;
         let field = self.field;
@@ -802,7 +679,7 @@ impl<'f, 'a> Exact<'f, 'a> {
             for d in &dirs {
                 let q = at.p + d * (r * scale);
                 match field.walk_segment(at.tet, &at.p, &q) {
-                    Segment::Goal(j) => return Err(VolumeTraceStatus::ReachedGoal(j)),
+                    Segment::Goal(j) => return Err(TraceStatus::ReachedGoal(j)),
                     Segment::Inside(c) => {
                         let vq = field.interpolate(c, &q);
                         if vq < v0 - 1e-13 * v0.abs().max(1e-300)
@@ -818,7 +695,7 @@ impl<'f, 'a> Exact<'f, 'a> {
                 return Ok(self.carrier(c, q));
             }
         }
-        Err(VolumeTraceStatus::Stalled { at: at.p })
+        Err(TraceStatus::Stalled { at: at.p })
     }
 }
 
@@ -827,41 +704,21 @@ pub fn trace_exact_volume(
     field: &P1VolumeField<'_>,
     start: Point,
     opts: &ExactVolumeOptions,
-) -> VolumePath {
-    let t0 = match field.locate(&start, None) {
+) -> Path<Point> {
+    let t0 = match field.locate(start, None) {
         Locate::Inside(t) => t,
         Locate::Goal(j) => {
-            return VolumePath::new(
-                vec![start],
-                VolumeTraceStatus::ReachedGoal(j),
-                f64::INFINITY,
-                0,
-            );
+            return Path::new(vec![start], TraceStatus::ReachedGoal(j), f64::INFINITY, 0);
         }
         Locate::InObstacle => {
-            return VolumePath::new(
-                vec![start],
-                VolumeTraceStatus::StartInObstacle,
-                f64::INFINITY,
-                0,
-            );
+            return Path::new(vec![start], TraceStatus::StartInObstacle, f64::INFINITY, 0);
         }
         Locate::OutsideWorkspace => {
-            return VolumePath::new(
-                vec![start],
-                VolumeTraceStatus::OutsideWorkspace,
-                f64::INFINITY,
-                0,
-            );
+            return Path::new(vec![start], TraceStatus::OutsideWorkspace, f64::INFINITY, 0);
         }
     };
     if !field.goal_reachable(t0) {
-        return VolumePath::new(
-            vec![start],
-            VolumeTraceStatus::Unreachable,
-            f64::INFINITY,
-            0,
-        );
+        return Path::new(vec![start], TraceStatus::Unreachable, f64::INFINITY, 0);
     }
     let mut tracer = Exact::new(field, *opts);
     let mut at = tracer.carrier(t0, start);
@@ -875,7 +732,7 @@ pub fn trace_exact_volume(
     let mut flat = 0;
     let status = loop {
         if moves >= opts.max_steps {
-            break VolumeTraceStatus::MaxSteps;
+            break TraceStatus::MaxSteps;
         }
         let before = field.interpolate(at.tet, &at.p);
         let step = if flat > 64 {
@@ -901,7 +758,7 @@ pub fn trace_exact_volume(
             Err(status) => break status,
         }
     };
-    VolumePath::new(points, status, tracer.min_gradient, moves)
+    Path::new(points, status, tracer.min_gradient, moves)
 }
 
 /// Options of [`trace_smooth_volume`].
@@ -927,11 +784,11 @@ impl SmoothVolumeOptions {
 }
 
 /// Follows `−∇value` of `field` from `start` by RK4 steps (see the module docs).
-pub fn trace_smooth_volume<F: VolumeField>(
+pub fn trace_smooth_volume<F: Field<Point = Point, Vector = Vector>>(
     field: &F,
     start: Point,
     opts: &SmoothVolumeOptions,
-) -> Result<VolumePath, TraceError> {
+) -> Result<Path<Point>, TraceError> {
     for (name, value) in [("step", opts.step), ("min_step", opts.min_step)] {
         if !(value.is_finite() && value > 0.0) {
             return Err(TraceError::InvalidOption {
@@ -941,28 +798,28 @@ pub fn trace_smooth_volume<F: VolumeField>(
             });
         }
     }
-    let mut cell = match field.locate(&start, None) {
+    let mut cell = match field.locate(start, None) {
         Locate::Inside(c) => c,
         Locate::Goal(j) => {
-            return Ok(VolumePath::new(
+            return Ok(Path::new(
                 vec![start],
-                VolumeTraceStatus::ReachedGoal(j),
+                TraceStatus::ReachedGoal(j),
                 f64::INFINITY,
                 0,
             ));
         }
         Locate::InObstacle => {
-            return Ok(VolumePath::new(
+            return Ok(Path::new(
                 vec![start],
-                VolumeTraceStatus::StartInObstacle,
+                TraceStatus::StartInObstacle,
                 f64::INFINITY,
                 0,
             ));
         }
         Locate::OutsideWorkspace => {
-            return Ok(VolumePath::new(
+            return Ok(Path::new(
                 vec![start],
-                VolumeTraceStatus::OutsideWorkspace,
+                TraceStatus::OutsideWorkspace,
                 f64::INFINITY,
                 0,
             ));
@@ -974,17 +831,17 @@ pub fn trace_smooth_volume<F: VolumeField>(
     let mut h = opts.step;
     let mut fallbacks = 0usize;
     let dir = |c: F::Cell, q: &Point| -> Option<(Vector, f64)> {
-        let g = field.gradient(c, q);
+        let g = field.gradient(c, *q);
         let n = g.norm();
         (n > 0.0 && n.is_finite()).then(|| (-g / n, n))
     };
     for step in 0..opts.max_steps {
         let _ = step;
-        let v0 = field.value(cell, &p);
+        let v0 = field.value(cell, p);
         // RK4 on the unit direction; intermediate points located from the current cell.
         let rk = |h: f64| -> Option<Point> {
             let (k1, _) = dir(cell, &p)?;
-            let at = |q: Point| match field.locate(&q, Some(cell)) {
+            let at = |q: Point| match field.locate(q, Some(cell)) {
                 Locate::Inside(c) => dir(c, &q).map(|d| d.0),
                 _ => None,
             };
@@ -999,27 +856,27 @@ pub fn trace_smooth_volume<F: VolumeField>(
         let mut moved = false;
         while h >= opts.min_step {
             if let Some(q) = rk(h) {
-                match field.segment(cell, &p, &q) {
+                match field.segment(cell, p, q) {
                     Segment::Goal(j) => {
                         // End on the goal face, not beyond it: the step's end may lie
                         // past a goal region thinner than the step.
                         let (mut lo, mut hi) = (0.0f64, 1.0f64);
                         for _ in 0..48 {
                             let mid = 0.5 * (lo + hi);
-                            match field.segment(cell, &p, &(p + (q - p) * mid)) {
+                            match field.segment(cell, p, p + (q - p) * mid) {
                                 Segment::Goal(_) => hi = mid,
                                 _ => lo = mid,
                             }
                         }
                         points.push(p + (q - p) * hi);
-                        return Ok(VolumePath::new(
+                        return Ok(Path::new(
                             points,
-                            VolumeTraceStatus::ReachedGoal(j),
+                            TraceStatus::ReachedGoal(j),
                             min_gradient,
                             step + 1,
                         ));
                     }
-                    Segment::Inside(c) if field.value(c, &q) < v0 => {
+                    Segment::Inside(c) if field.value(c, q) < v0 => {
                         p = q;
                         cell = c;
                         points.push(p);
@@ -1037,34 +894,34 @@ pub fn trace_smooth_volume<F: VolumeField>(
         }
         // Steps keep failing: one guaranteed move.
         fallbacks += 1;
-        match field.fallback_step(cell, &p) {
-            VolumeFallback::Moved(q, c) if fallbacks < opts.max_steps => {
+        match field.fallback_step(cell, p) {
+            Fallback::Moved(q, c) if fallbacks < opts.max_steps => {
                 p = q;
                 cell = c;
                 points.push(p);
                 h = opts.step;
             }
-            VolumeFallback::Goal(j) => {
-                return Ok(VolumePath::new(
+            Fallback::Goal(j) => {
+                return Ok(Path::new(
                     points,
-                    VolumeTraceStatus::ReachedGoal(j),
+                    TraceStatus::ReachedGoal(j),
                     min_gradient,
                     step + 1,
                 ));
             }
             _ => {
-                return Ok(VolumePath::new(
+                return Ok(Path::new(
                     points,
-                    VolumeTraceStatus::Stalled { at: p },
+                    TraceStatus::Stalled { at: p },
                     min_gradient,
                     step + 1,
                 ));
             }
         }
     }
-    Ok(VolumePath::new(
+    Ok(Path::new(
         points,
-        VolumeTraceStatus::MaxSteps,
+        TraceStatus::MaxSteps,
         min_gradient,
         opts.max_steps,
     ))

@@ -90,7 +90,7 @@ fn footprint_collisions_targets_and_speed_options() {
     )
     .unwrap();
     match car.status {
-        TraceStatus::Collision { at } => assert!(!collides(&col.footprint.corners(at))),
+        TraceStatus::Collision { at: Some(at) } => assert!(!collides(&col.footprint.corners(at))),
         other => panic!("{other:?}"),
     }
     for p in &car.poses {

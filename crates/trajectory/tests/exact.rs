@@ -68,7 +68,7 @@ fn random_starts_reach_the_goal_or_are_unreachable() {
         }
         assert_eq!(path.status, TraceStatus::ReachedGoal(0), "start {s}");
         assert_eq!(path.goal, Some(0));
-        assert!(path.triangles_crossed > 0 || path.points.len() <= 3);
+        assert!(path.cells_crossed > 0 || path.points.len() <= 3);
         check_path(&g, &f, &path);
         // The last point lies on the goal's boundary.
         let end = *path.points.last().unwrap();

@@ -7,11 +7,10 @@ use std::sync::Arc;
 
 use harmonic_fem::BoundaryConditions;
 use harmonic_fem::volume::solve_volume_potential_with_report;
-use harmonic_trajectory::Locate;
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumePath, trace_exact_volume,
-    trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
 };
+use harmonic_trajectory::{Locate, Path};
 use harmonic_volume::{GoalRegion, MeshOptions, Point, PointClass, SphereSolid, VolumeDomain};
 
 const R: f64 = 0.25;
@@ -57,7 +56,7 @@ fn segment_box_distance(a: &Point, b: &Point) -> f64 {
     f(0.5 * (lo + hi)).min(f(0.0)).min(f(1.0))
 }
 
-fn check_clearance(path: &VolumePath, label: &str) {
+fn check_clearance(path: &Path<Point>, label: &str) {
     for (i, w) in path.points.windows(2).enumerate() {
         let d = segment_box_distance(&w[0], &w[1]);
         assert!(
@@ -148,7 +147,7 @@ fn torus_paths_reach_the_goal_and_keep_clear_of_the_exact_solids() {
         if i < 2 {
             println!(
                 "start {s}: exact {:.3} ({} moves), smooth {:.3} ({} steps)",
-                path.length, path.moves, path2.length, path2.moves
+                path.length, path.cells_crossed, path2.length, path2.cells_crossed
             );
         }
         exact_len += path.length;
