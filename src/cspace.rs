@@ -37,7 +37,8 @@ use harmonic_cspace::{
     DEFAULT_MAX_TETRAHEDRA, EXTRUDE_PART, ObstacleInput, RigidRobot, Robot, World,
 };
 use harmonic_fem::BoundaryCondition;
-use harmonic_fem::volume::{VolumeFemError, VolumePotential, solve_periodic_for_planning};
+use harmonic_fem::FemError;
+use harmonic_fem::volume::{VolumePotential, solve_periodic_for_planning};
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
     trace_smooth_volume,
@@ -176,7 +177,7 @@ pub enum ConfigPlanError {
     Cspace(#[from] CspaceError),
     /// Assembly or solve failed.
     #[error(transparent)]
-    Fem(#[from] VolumeFemError),
+    Fem(#[from] FemError),
     /// The potential cannot be traced.
     #[error(transparent)]
     Trace(#[from] TraceError),

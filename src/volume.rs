@@ -22,9 +22,8 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use harmonic_fem::volume::{
-    VolumeAssembler, VolumeFemError, VolumePotential, solve_assembled_for_planning,
-};
+use harmonic_fem::FemError;
+use harmonic_fem::volume::{VolumeAssembler, VolumePotential, solve_assembled_for_planning};
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
     trace_smooth_volume,
@@ -54,7 +53,7 @@ pub enum VolumePlanError {
     Volume(#[from] VolumeError),
     /// Assembly or solve failed.
     #[error(transparent)]
-    Fem(#[from] VolumeFemError),
+    Fem(#[from] FemError),
     /// The potential cannot be traced (not finite).
     #[error(transparent)]
     Trace(#[from] TraceError),

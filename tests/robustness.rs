@@ -401,9 +401,9 @@ fn a_sealed_pocket_with_neumann_walls_is_named() {
     );
     let f = attempt(&text);
     match fem_error(&f) {
-        Some(FemError::OnlyNeumann { x, y, .. }) => assert!(
-            (3.5..=6.5).contains(x) && (3.5..=6.5).contains(y),
-            "the error points into the pocket: ({x}, {y})"
+        Some(FemError::OnlyNeumann { at, .. }) => assert!(
+            at.coords().iter().all(|c| (3.5..=6.5).contains(c)),
+            "the error points into the pocket: {at}"
         ),
         _ => panic!("expected OnlyNeumann for the pocket, got {f:?}"),
     }

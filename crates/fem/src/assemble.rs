@@ -83,7 +83,7 @@ pub enum NotMMatrix {
         /// The edge's mesh vertices.
         vertices: [u32; 2],
         /// Its midpoint.
-        midpoint: Point,
+        midpoint: crate::At,
         /// The weight `(cot α + cot β)/2` (negative).
         weight: f64,
     },
@@ -101,8 +101,8 @@ impl std::fmt::Display for NotMMatrix {
                 weight,
             } => write!(
                 f,
-                "the edge between vertices {} and {} (midpoint ({}, {})) has cotangent weight {weight:e} < 0: the mesh is not Delaunay there",
-                vertices[0], vertices[1], midpoint.x, midpoint.y
+                "the edge between vertices {} and {} (midpoint {midpoint}) has stiffness weight {weight:e} < 0: the mesh is not Delaunay there",
+                vertices[0], vertices[1]
             ),
             NotMMatrix::ConsistentRobinMass => write!(
                 f,
@@ -560,8 +560,7 @@ impl BoundaryValues<'_> {
                 } else {
                     Err(FemError::NonFiniteData {
                         part: e.tag.to_string(),
-                        x: p.x,
-                        y: p.y,
+                        at: p.into(),
                         value,
                     })
                 }
@@ -887,8 +886,7 @@ impl Assembler {
                 let p = vertices[self.component_vertex[c] as usize];
                 return Err(FemError::OnlyNeumann {
                     component: c as u32,
-                    x: p.x,
-                    y: p.y,
+                    at: p.into(),
                 });
             }
         }
@@ -981,7 +979,7 @@ impl Assembler {
                 );
                 not_m_matrix = Some(NotMMatrix::NegativeEdgeWeight {
                     vertices: [self.dofs.free_vertices[u as usize], v],
-                    midpoint: nalgebra::center(&p, &q),
+                    midpoint: nalgebra::center(&p, &q).into(),
                     weight: w,
                 });
             }
@@ -1086,7 +1084,8 @@ impl Assembler {
                     let (vi, vj) = (free[i], free[j]);
                     NotMMatrix::NegativeEdgeWeight {
                         vertices: [vi, vj],
-                        midpoint: nalgebra::center(&vertices[vi as usize], &vertices[vj as usize]),
+                        midpoint: nalgebra::center(&vertices[vi as usize], &vertices[vj as usize])
+                            .into(),
                         weight: -values[p],
                     }
                 })

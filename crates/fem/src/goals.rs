@@ -176,7 +176,7 @@ impl GoalSolver {
         let system = assembler
             .assemble_for_goals(bcs, goal_value)
             .map_err(|e| match e {
-                FemError::OnlyNeumann { x, y, .. } => FemError::WallsHoldNothing { x, y },
+                FemError::OnlyNeumann { at, .. } => FemError::WallsHoldNothing { at },
                 other => other,
             })?;
         let accurate = match method {

@@ -134,7 +134,48 @@ pub use structured::{StructuredGrid, StructuredSystem, VertexRole};
 /// Re-exported so callers can pick an ordering without depending on the solver crate.
 pub use harmonic_solver::{MultigridOptions, Ordering, Parallelism, PcgReport, Wide};
 
-/// Everything that can go wrong while assembling, solving or evaluating.
+/// A point named in an error: of the plane or of space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum At {
+    /// `(x, y)`.
+    Plane([f64; 2]),
+    /// `(x, y, z)`.
+    Space([f64; 3]),
+}
+
+impl At {
+    /// The coordinates.
+    pub fn coords(&self) -> &[f64] {
+        match self {
+            At::Plane(c) => c,
+            At::Space(c) => c,
+        }
+    }
+}
+
+impl From<harmonic_types::Point> for At {
+    fn from(p: harmonic_types::Point) -> At {
+        At::Plane([p.x, p.y])
+    }
+}
+
+impl From<harmonic_types::Point3> for At {
+    fn from(p: harmonic_types::Point3) -> At {
+        At::Space([p.x, p.y, p.z])
+    }
+}
+
+impl std::fmt::Display for At {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            At::Plane([x, y]) => write!(f, "({x}, {y})"),
+            At::Space([x, y, z]) => write!(f, "({x}, {y}, {z})"),
+        }
+    }
+}
+
+/// Everything that can go wrong while assembling, solving or evaluating, on triangles and on
+/// tetrahedra.
 #[derive(Debug, thiserror::Error)]
 pub enum FemError {
     /// A conductivity (the coefficient k of ∇·(k∇φ) = 0) that is not a positive finite number.
@@ -180,29 +221,25 @@ pub enum FemError {
         ratio: f64,
     },
     /// Boundary data from a [`BoundaryData`] callback is not finite.
-    #[error("boundary data on {part} at ({x}, {y}) is {value}, not a finite number")]
+    #[error("boundary data on {part} at {at} is {value}, not a finite number")]
     NonFiniteData {
         /// The boundary part.
         part: String,
         /// Where.
-        x: f64,
-        /// Where.
-        y: f64,
+        at: At,
         /// The offending value.
         value: f64,
     },
     /// A connected piece of free space has neither a Dirichlet part nor a Robin part with
     /// `b/a > 0`.
     #[error(
-        "only Neumann conditions on connected component {component} of free space (around ({x}, {y})): the potential is defined up to a constant; hold a part (e.g. the goal) by a Dirichlet condition or use Robin with b/a > 0"
+        "only Neumann conditions on connected component {component} of free space (around {at}): the potential is defined up to a constant; hold a part (e.g. the goal) by a Dirichlet condition or use Robin with b/a > 0"
     )]
     OnlyNeumann {
-        /// The component index (see `Mesh::triangle_components`).
+        /// The component index (by triangle or tetrahedron adjacency).
         component: u32,
         /// A vertex of that component.
-        x: f64,
-        /// A vertex of that component.
-        y: f64,
+        at: At,
     },
     /// Every Dirichlet value and Robin equilibrium value is the same and no flux enters.
     #[error(
@@ -245,12 +282,10 @@ pub enum FemError {
         got: usize,
     },
     /// A point lies outside the mesh.
-    #[error("point ({x}, {y}) is outside the mesh (in an obstacle or beyond the walls)")]
+    #[error("point {at} is outside the mesh (in an obstacle or beyond the walls)")]
     OutsideMesh {
         /// The point.
-        x: f64,
-        /// The point.
-        y: f64,
+        at: At,
     },
     /// Two potentials on different meshes were combined.
     #[error("the potentials live on different meshes")]
@@ -278,13 +313,11 @@ pub enum FemError {
     GoalInMesh,
     /// Without a goal nothing holds the potential: every wall is Neumann.
     #[error(
-        "the walls hold nothing (only Neumann conditions around ({x}, {y})), so without a goal the system is singular and cannot be factored once for all goals; give the walls a Dirichlet or Robin (b/a > 0) part, or build the planner with its goal"
+        "the walls hold nothing (only Neumann conditions around {at}), so without a goal the system is singular and cannot be factored once for all goals; give the walls a Dirichlet or Robin (b/a > 0) part, or build the planner with its goal"
     )]
     WallsHoldNothing {
         /// A vertex of the unheld part.
-        x: f64,
-        /// A vertex of the unheld part.
-        y: f64,
+        at: At,
     },
     /// A goal with no vertex.
     #[error("goal {goal} holds no mesh vertex")]
@@ -316,6 +349,25 @@ pub enum FemError {
     /// The goal's small dense system could not be solved (non-finite fluxes).
     #[error("the goal's flux system is singular")]
     GoalSingular,
+    /// PCG did not reach its tolerance.
+    #[error("PCG stopped after {iterations} iterations at relative residual {residual:e}")]
+    NotConverged {
+        /// Iterations done.
+        iterations: usize,
+        /// The relative residual reached.
+        residual: f64,
+    },
+    /// A periodic identification that pairs an unknown with a prescribed vertex (or with
+    /// no vertex): the slab's two ends do not match.
+    #[error(
+        "periodic mesh: vertex {vertex} is identified with vertex {image}, but not both are unknowns"
+    )]
+    PeriodicMismatch {
+        /// The vertex.
+        vertex: u32,
+        /// What it is identified with.
+        image: u32,
+    },
     /// The sparse solver failed.
     #[error("linear solve failed: {0}")]
     Solver(#[from] harmonic_solver::SolverError),

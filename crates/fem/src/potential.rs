@@ -244,7 +244,7 @@ impl Potential {
     pub fn locate(&self, p: Point, hint: Option<u32>) -> Result<u32, FemError> {
         self.mesh
             .locate(p, hint)
-            .ok_or(FemError::OutsideMesh { x: p.x, y: p.y })
+            .ok_or(FemError::OutsideMesh { at: p.into() })
     }
 
     /// Barycentric coordinates of `p` in triangle `t` (negative outside it).

@@ -4,9 +4,10 @@
 
 use std::sync::Arc;
 
+use harmonic_fem::FemError;
 use harmonic_fem::volume::{
-    NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeFemError, VolumePotential,
-    VolumeSolveMethod, planning_method, solve_volume, solve_volume_potential_with_report,
+    NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumePotential, VolumeSolveMethod,
+    planning_method, solve_volume, solve_volume_potential_with_report,
 };
 use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_volume::{
@@ -97,7 +98,7 @@ fn no_interior_extrema_on_random_scenes() {
             let system = match assembler.assemble(bcs) {
                 Ok(s) => s,
                 // A pocket enclosed by Neumann obstacles: refused, as it must be.
-                Err(VolumeFemError::OnlyNeumann { .. }) => {
+                Err(FemError::OnlyNeumann { .. }) => {
                     assert_eq!(bcs.obstacles, BoundaryCondition::Neumann(0.0));
                     println!("scene {scene}: a pocket sealed by Neumann obstacles is refused");
                     continue;

@@ -9,7 +9,8 @@ use harmonic_solver::{MMatrix, SymmetricCsc};
 use harmonic_types::BoundaryTag;
 use harmonic_types::{BoundaryFace, EDGES, NO_NEIGHBOR, Point3 as Point, TetMesh};
 
-use super::VolumeFemError;
+use super::FemError;
+use crate::NotMMatrix;
 use crate::bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 
 const NONE: u32 = u32::MAX;
@@ -52,7 +53,7 @@ pub struct VolumeSystem {
     pub(super) excess: Vec<f64>,
     pub(super) psi_fixed: Vec<f64>,
     pub(super) reference: f64,
-    pub(super) not_m_matrix: Option<String>,
+    pub(super) not_m_matrix: Option<NotMMatrix>,
     pub(super) free: Arc<Vec<u32>>,
     pub(super) positive_offdiagonals: usize,
     pub(super) clamped: usize,
@@ -89,8 +90,8 @@ impl VolumeSystem {
         &self.free
     }
     /// `None` if the matrix is an M-matrix given by non-negative data, else why not.
-    pub fn not_m_matrix(&self) -> Option<&str> {
-        self.not_m_matrix.as_deref()
+    pub fn not_m_matrix(&self) -> Option<NotMMatrix> {
+        self.not_m_matrix
     }
     /// Positive off-diagonal pairs of the reduced matrix beyond round-off (each symmetric
     /// pair once) plus edges to prescribed vertices with negative weight: zero means the
@@ -99,9 +100,9 @@ impl VolumeSystem {
         self.positive_offdiagonals
     }
     /// The matrix as an [`MMatrix`] (off-diagonal magnitudes and excesses), if it is one.
-    pub fn m_matrix(&self) -> Result<MMatrix, VolumeFemError> {
+    pub fn m_matrix(&self) -> Result<MMatrix, FemError> {
         if let Some(reason) = &self.not_m_matrix {
-            return Err(VolumeFemError::NotMMatrix(reason.clone()));
+            return Err(FemError::NotMMatrix(*reason));
         }
         let a = &self.matrix;
         let n = a.n();
@@ -123,9 +124,9 @@ impl VolumeSystem {
         Ok(MMatrix::try_new(w, self.excess.clone())?)
     }
     /// ψ at every vertex from the reduced solution.
-    pub fn expand(&self, x: &[f64]) -> Result<Vec<f64>, VolumeFemError> {
+    pub fn expand(&self, x: &[f64]) -> Result<Vec<f64>, FemError> {
         if x.len() != self.free.len() {
-            return Err(VolumeFemError::LengthMismatch {
+            return Err(FemError::LengthMismatch {
                 what: "solution of the reduced system",
                 expected: self.free.len(),
                 got: x.len(),
@@ -174,7 +175,7 @@ pub struct VolumeAssembler {
 impl VolumeAssembler {
     /// Computes the pattern for `mesh` and the kinds of `bcs` (validated), with the default
     /// options ([`NegativeWeights::Keep`]).
-    pub fn new(mesh: Arc<TetMesh>, bcs: &BoundaryConditions) -> Result<Self, VolumeFemError> {
+    pub fn new(mesh: Arc<TetMesh>, bcs: &BoundaryConditions) -> Result<Self, FemError> {
         Self::with_options(mesh, bcs, VolumeAssemblyOptions::default())
     }
 
@@ -183,7 +184,7 @@ impl VolumeAssembler {
         mesh: Arc<TetMesh>,
         bcs: &BoundaryConditions,
         options: VolumeAssemblyOptions,
-    ) -> Result<Self, VolumeFemError> {
+    ) -> Result<Self, FemError> {
         Self::build(mesh, bcs, options, None)
     }
 
@@ -196,11 +197,11 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         options: VolumeAssemblyOptions,
         images: Arc<Vec<u32>>,
-    ) -> Result<Self, VolumeFemError> {
+    ) -> Result<Self, FemError> {
         if images.len() != mesh.vertices().len()
             || images.iter().any(|&r| r as usize >= images.len())
         {
-            return Err(VolumeFemError::LengthMismatch {
+            return Err(FemError::LengthMismatch {
                 what: "periodic images",
                 expected: mesh.vertices().len(),
                 got: images.len(),
@@ -214,7 +215,7 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         options: VolumeAssemblyOptions,
         images: Option<Arc<Vec<u32>>>,
-    ) -> Result<Self, VolumeFemError> {
+    ) -> Result<Self, FemError> {
         bcs.validate()?;
         let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
@@ -293,7 +294,7 @@ impl VolumeAssembler {
         }
         let nnz = col_ptr[n];
         if nnz >= NONE as usize {
-            return Err(VolumeFemError::TooLarge { nnz });
+            return Err(FemError::TooLarge { nnz });
         }
         let mut next: Vec<usize> = col_ptr[..n].to_vec();
         let mut row_idx = vec![0usize; nnz];
@@ -394,7 +395,7 @@ impl VolumeAssembler {
     }
 
     /// Assembles the reduced system for constant conditions `bcs`.
-    pub fn assemble(&self, bcs: &BoundaryConditions) -> Result<VolumeSystem, VolumeFemError> {
+    pub fn assemble(&self, bcs: &BoundaryConditions) -> Result<VolumeSystem, FemError> {
         self.assemble_with(bcs, None)
     }
 
@@ -406,7 +407,7 @@ impl VolumeAssembler {
         &self,
         bcs: &BoundaryConditions,
         data: Option<VolumeBoundaryData<'_>>,
-    ) -> Result<VolumeSystem, VolumeFemError> {
+    ) -> Result<VolumeSystem, FemError> {
         self.assemble_weighted(bcs, data, self.options.negative_weights)
     }
 
@@ -417,7 +418,7 @@ impl VolumeAssembler {
         bcs: &BoundaryConditions,
         data: Option<VolumeBoundaryData<'_>>,
         negative_weights: NegativeWeights,
-    ) -> Result<VolumeSystem, VolumeFemError> {
+    ) -> Result<VolumeSystem, FemError> {
         bcs.validate()?;
         self.check_kinds(bcs)?;
         let values = FaceValues {
@@ -460,11 +461,13 @@ impl VolumeAssembler {
     }
 
     /// Conditions must be of the kinds the pattern was built for.
-    fn check_kinds(&self, bcs: &BoundaryConditions) -> Result<(), VolumeFemError> {
+    fn check_kinds(&self, bcs: &BoundaryConditions) -> Result<(), FemError> {
         for (&tag, &was) in &self.kinds {
             if bcs.for_tag(tag).kind() != was {
-                return Err(VolumeFemError::KindChanged {
+                return Err(FemError::KindChanged {
                     part: tag.to_string(),
+                    was,
+                    now: bcs.for_tag(tag).kind(),
                 });
             }
         }
@@ -477,7 +480,7 @@ impl VolumeAssembler {
         &self,
         bcs: &BoundaryConditions,
         values: &FaceValues<'_, '_>,
-    ) -> Result<Prescribed, VolumeFemError> {
+    ) -> Result<Prescribed, FemError> {
         let mesh = &*self.mesh;
         let vertices = mesh.vertices();
         let mut phi_fixed = vec![f64::INFINITY; vertices.len()];
@@ -526,11 +529,9 @@ impl VolumeAssembler {
         for (c, (&(v, fixed), &robin)) in self.components.iter().zip(&anchored).enumerate() {
             if !fixed && !robin {
                 let p = vertices[v as usize];
-                return Err(VolumeFemError::OnlyNeumann {
+                return Err(FemError::OnlyNeumann {
                     component: c as u32,
-                    x: p.x,
-                    y: p.y,
-                    z: p.z,
+                    at: p.into(),
                 });
             }
         }
@@ -542,7 +543,7 @@ impl VolumeAssembler {
         };
         let tol = 1e-12 * reference.abs().max(1.0);
         if !flux && levels.iter().all(|&l| (l - reference).abs() <= tol) {
-            return Err(VolumeFemError::ConstantPotential { value: reference });
+            return Err(FemError::ConstantPotential { value: reference });
         }
         Ok(Prescribed {
             phi_fixed,
@@ -655,7 +656,7 @@ impl VolumeAssembler {
         values: &FaceValues<'_, '_>,
         reference: f64,
         parts: &mut Scattered,
-    ) -> Result<(), VolumeFemError> {
+    ) -> Result<(), FemError> {
         let mesh = &*self.mesh;
         let vertices = mesh.vertices();
         for f in mesh.boundary_faces() {
@@ -708,11 +709,11 @@ impl VolumeAssembler {
         weight: &[f64],
         negative: &[usize],
         diag: &[f64],
-    ) -> (usize, Option<String>) {
+    ) -> (usize, Option<NotMMatrix>) {
         let vertices = self.mesh.vertices();
         let unknown_of = &self.unknown_of;
         let mut positive = 0;
-        let mut first: Option<String> = None;
+        let mut first: Option<NotMMatrix> = None;
         for &e in negative {
             let w = weight[e];
             let [a, b] = self.edges[e];
@@ -725,12 +726,11 @@ impl VolumeAssembler {
                 positive += 1;
                 if first.is_none() {
                     let (p, q) = (vertices[a as usize], vertices[b as usize]);
-                    first = Some(format!(
-                        "the edge between vertices {a} and {b} (midpoint ({}, {}, {})) has stiffness weight {w:e} < 0",
-                        (p.x + q.x) / 2.0,
-                        (p.y + q.y) / 2.0,
-                        (p.z + q.z) / 2.0
-                    ));
+                    first = Some(NotMMatrix::NegativeEdgeWeight {
+                        vertices: [a, b],
+                        midpoint: nalgebra::center(&p, &q).into(),
+                        weight: w,
+                    });
                 }
             }
         }
@@ -746,7 +746,7 @@ struct FaceValues<'m, 'd> {
 }
 
 impl FaceValues<'_, '_> {
-    fn at(&self, bc: BoundaryCondition, f: &BoundaryFace, v: u32) -> Result<f64, VolumeFemError> {
+    fn at(&self, bc: BoundaryCondition, f: &BoundaryFace, v: u32) -> Result<f64, FemError> {
         let constant = match bc {
             BoundaryCondition::Dirichlet(v) => v,
             BoundaryCondition::Neumann(g) | BoundaryCondition::Robin { g, .. } => g,
@@ -759,11 +759,9 @@ impl FaceValues<'_, '_> {
                 if value.is_finite() {
                     Ok(value)
                 } else {
-                    Err(VolumeFemError::NonFiniteData {
+                    Err(FemError::NonFiniteData {
                         part: f.tag.to_string(),
-                        x: p.x,
-                        y: p.y,
-                        z: p.z,
+                        at: p.into(),
                         value,
                     })
                 }

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use harmonic_solver::SymmetricCsc;
 use harmonic_types::{SEAM_PART, TetMesh};
 
-use super::VolumeFemError;
+use super::FemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
 use super::potential::VolumePotential;
 use super::solve::{VolumeSolveReport, planning_solve};
@@ -31,13 +31,10 @@ pub fn periodic_conditions(bcs: &BoundaryConditions) -> BoundaryConditions {
 
 /// Folds `system` (assembled on a slab) so that vertex `v` and `images[v]` are one unknown;
 /// [`VolumeSystem::expand`] of the folded system gives both the same ψ.
-pub fn identify_periodic(
-    system: &VolumeSystem,
-    images: &[u32],
-) -> Result<VolumeSystem, VolumeFemError> {
+pub fn identify_periodic(system: &VolumeSystem, images: &[u32]) -> Result<VolumeSystem, FemError> {
     let nv = images.len();
     if system.psi_fixed.len() != nv {
-        return Err(VolumeFemError::LengthMismatch {
+        return Err(FemError::LengthMismatch {
             what: "periodic images",
             expected: system.psi_fixed.len(),
             got: nv,
@@ -61,7 +58,7 @@ pub fn identify_periodic(
     for (i, &v) in system.free.iter().enumerate() {
         let r = images[v as usize] as usize;
         if r >= nv || new_of_vertex[r] == NONE {
-            return Err(VolumeFemError::PeriodicMismatch {
+            return Err(FemError::PeriodicMismatch {
                 vertex: v,
                 image: r as u32,
             });
@@ -72,7 +69,7 @@ pub fn identify_periodic(
     for v in 0..nv {
         let r = images[v] as usize;
         if r < nv && (unknown_of[v] == NONE) != (unknown_of[r] == NONE) {
-            return Err(VolumeFemError::PeriodicMismatch {
+            return Err(FemError::PeriodicMismatch {
                 vertex: v as u32,
                 image: r as u32,
             });
@@ -119,7 +116,7 @@ pub fn identify_periodic(
         excess,
         psi_fixed: system.psi_fixed.clone(),
         reference: system.reference,
-        not_m_matrix: system.not_m_matrix.clone(),
+        not_m_matrix: system.not_m_matrix,
         free: Arc::new(free),
         positive_offdiagonals: system.positive_offdiagonals,
         clamped: system.clamped,
@@ -149,7 +146,7 @@ pub fn solve_periodic_for_planning(
     slab: Arc<TetMesh>,
     images: &[u32],
     bcs: &BoundaryConditions,
-) -> Result<(VolumePotential, PeriodicSolveReport), VolumeFemError> {
+) -> Result<(VolumePotential, PeriodicSolveReport), FemError> {
     let bcs = periodic_conditions(bcs);
     let shared = Arc::new(images.to_vec());
     let assembler = VolumeAssembler::with_identified(

@@ -6,7 +6,7 @@ use std::sync::{Arc, OnceLock};
 
 use harmonic_types::{Point3 as Point, TetMesh, Vector3 as Vector};
 
-use super::VolumeFemError;
+use super::FemError;
 
 /// A P1 potential on a tetrahedral mesh, stored as ψ = c − φ.
 #[derive(Clone, Debug)]
@@ -32,9 +32,9 @@ pub struct VolumeEvaluation {
 
 impl VolumePotential {
     /// A potential from ψ at every vertex and the reference `c`.
-    pub fn new(mesh: Arc<TetMesh>, psi: Vec<f64>, reference: f64) -> Result<Self, VolumeFemError> {
+    pub fn new(mesh: Arc<TetMesh>, psi: Vec<f64>, reference: f64) -> Result<Self, FemError> {
         if psi.len() != mesh.vertices().len() {
-            return Err(VolumeFemError::LengthMismatch {
+            return Err(FemError::LengthMismatch {
                 what: "ψ values per mesh vertex",
                 expected: mesh.vertices().len(),
                 got: psi.len(),
@@ -73,19 +73,11 @@ impl VolumePotential {
     }
 
     /// ψ, φ and ∇ψ at `p`, locating it from `hint`.
-    pub fn evaluate(
-        &self,
-        p: &Point,
-        hint: Option<u32>,
-    ) -> Result<VolumeEvaluation, VolumeFemError> {
+    pub fn evaluate(&self, p: &Point, hint: Option<u32>) -> Result<VolumeEvaluation, FemError> {
         let t = self
             .mesh
             .locate(p, hint)
-            .ok_or(VolumeFemError::OutsideMesh {
-                x: p.x,
-                y: p.y,
-                z: p.z,
-            })?;
+            .ok_or(FemError::OutsideMesh { at: (*p).into() })?;
         let l = self.mesh.barycentric(t, p);
         let tet = self.mesh.tetrahedra()[t as usize];
         let psi: f64 = (0..4).map(|k| l[k] * self.psi[tet[k] as usize]).sum();

@@ -8,7 +8,7 @@ use std::time::Instant;
 use harmonic_solver::{AccurateLdlt, Ordering, PcgOptions, Preconditioner, SymbolicCholesky, pcg};
 use harmonic_types::TetMesh;
 
-use super::VolumeFemError;
+use super::FemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeSystem};
 use super::potential::VolumePotential;
 use crate::bc::BoundaryConditions;
@@ -51,7 +51,7 @@ pub struct VolumeSolveReport {
 pub fn solve_volume(
     system: &VolumeSystem,
     method: VolumeSolveMethod,
-) -> Result<(Vec<f64>, VolumeSolveReport), VolumeFemError> {
+) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
     solve_volume_to(system, method, 1e-10)
 }
 
@@ -60,7 +60,7 @@ fn solve_volume_to(
     system: &VolumeSystem,
     method: VolumeSolveMethod,
     pcg_tol: f64,
-) -> Result<(Vec<f64>, VolumeSolveReport), VolumeFemError> {
+) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
     let pcg_tol = pcg_tol.min(1e-10);
     let start = Instant::now();
     let n = system.matrix().n();
@@ -101,7 +101,7 @@ fn solve_volume_to(
                 let report = pcg(system.matrix(), system.rhs(), &mut x, &opts)?;
                 iterations = report.iterations;
                 if report.rel_residual.is_nan() || report.rel_residual > pcg_tol {
-                    return Err(VolumeFemError::NotConverged {
+                    return Err(FemError::NotConverged {
                         iterations,
                         residual: report.rel_residual,
                     });
@@ -147,7 +147,7 @@ pub const PLANNING_PCG_TOL: f64 = 1e-13;
 pub(super) fn solve_clamped_for_planning(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport), FemError> {
     let first = clamped_first_try(mesh, system)?;
     clamped_checked(mesh, system, first)
 }
@@ -156,7 +156,7 @@ pub(super) fn solve_clamped_for_planning(
 fn clamped_first_try(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport), FemError> {
     let (psi, report) = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         solve_volume(system, VolumeSolveMethod::Accurate)?
     } else {
@@ -172,7 +172,7 @@ fn clamped_checked(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
     (potential, report): (VolumePotential, VolumeSolveReport),
-) -> Result<(VolumePotential, VolumeSolveReport), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport), FemError> {
     if report.method != VolumeSolveMethod::Pcg
         || system.matrix().n() > PLANNING_CHOLESKY_MAX_UNKNOWNS
         || potential.interior_local_extrema() == 0
@@ -209,7 +209,7 @@ pub fn planning_method(n: usize) -> VolumeSolveMethod {
 pub fn solve_volume_potential(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
-) -> Result<VolumePotential, VolumeFemError> {
+) -> Result<VolumePotential, FemError> {
     Ok(solve_volume_potential_with_report(mesh, bcs)?.0)
 }
 
@@ -218,7 +218,7 @@ pub fn solve_volume_potential(
 pub fn solve_volume_potential_with_report(
     mesh: Arc<TetMesh>,
     bcs: &BoundaryConditions,
-) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport, bool), FemError> {
     let assembler = VolumeAssembler::new(mesh, bcs)?;
     let system = assembler.assemble(bcs)?;
     let (potential, report, clamped) = solve_assembled_for_planning(&assembler, bcs, &system)?;
@@ -234,7 +234,7 @@ pub fn solve_assembled_for_planning(
     assembler: &VolumeAssembler,
     bcs: &BoundaryConditions,
     system: &VolumeSystem,
-) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
     planning_solve(assembler.mesh(), system, || {
         assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp)
     })
@@ -246,14 +246,14 @@ pub fn solve_assembled_for_planning(
 pub(super) fn planning_solve(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-    clamped: impl FnOnce() -> Result<VolumeSystem, VolumeFemError> + Send,
-) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), VolumeFemError> {
+    clamped: impl FnOnce() -> Result<VolumeSystem, FemError> + Send,
+) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
     let galerkin = || galerkin_checked(mesh, system);
     // A large system's clamped try runs on another core while the Galerkin one is solved (the
     // graded meshes of small goals almost always need it); it is dropped if the Galerkin field
     // passes. Either way the result is the one the sequential order gives.
     if system.matrix().n() > PLANNING_ACCURATE_MAX_UNKNOWNS && rayon::current_num_threads() > 1 {
-        let speculative = || -> Result<_, VolumeFemError> {
+        let speculative = || -> Result<_, FemError> {
             let system = clamped()?;
             let first = clamped_first_try(mesh, &system)?;
             Ok((system, first))
@@ -282,7 +282,7 @@ pub(super) fn planning_solve(
 fn galerkin_checked(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-) -> Result<(VolumePotential, VolumeSolveReport, bool), VolumeFemError> {
+) -> Result<(VolumePotential, VolumeSolveReport, bool), FemError> {
     let (psi, report) = solve_volume(system, VolumeSolveMethod::Auto)?;
     let flat = {
         let free = system.free_vertices();
