@@ -31,8 +31,7 @@ use harmonic_trajectory::volume::{
 use harmonic_trajectory::{Locate, Path, TraceError, TraceStatus, Tracer};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
-    GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, VolumeError,
-    quality,
+    GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, quality,
 };
 use rayon::prelude::*;
 use serde::Serialize;
@@ -41,6 +40,7 @@ use crate::planner::{Timings, finite_or_zero, tag_name};
 use crate::scene::SceneError;
 
 pub use crate::scene::VolumeScene;
+pub use harmonic_volume::VolumeError;
 
 /// Why a volume planner could not be built.
 #[derive(Debug, thiserror::Error)]

@@ -10,12 +10,18 @@
 //! hplan export SCENE.json --potential OUT.json
 //! ```
 
+#![forbid(unsafe_code)]
+// A command's error is made once, on the way out: its size costs nothing worth boxing for.
+#![allow(clippy::result_large_err)]
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+mod error;
 mod progress;
 
 use clap::{ArgGroup, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use error::CliError;
 use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
 use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, movingai};
 use harmonic_planner::{
@@ -223,10 +229,13 @@ struct Common {
     blend: Option<f64>,
 }
 
-fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
+fn parse_numbers<const N: usize>(s: &str, what: &'static str) -> Result<[f64; N], CliError> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != N {
-        return Err(format!("expected {what}, got `{s}`"));
+        return Err(CliError::Numbers {
+            text: s.to_string(),
+            expected: what,
+        });
     }
     let mut out = [0.0; N];
     for (o, p) in out.iter_mut().zip(parts) {
@@ -234,13 +243,17 @@ fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String
             .parse::<f64>()
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("`{p}` is not a finite number (in `{s}`, expected {what})"))?;
+            .ok_or_else(|| CliError::NotFinite {
+                part: p.to_string(),
+                text: s.to_string(),
+                expected: what,
+            })?;
     }
     Ok(out)
 }
 
 /// A start: X,Y on a plane scene, X,Y,Z on a volume (the scene decides which is right).
-fn parse_start(s: &str) -> Result<Vec<f64>, String> {
+fn parse_start(s: &str) -> Result<Vec<f64>, CliError> {
     match s.split(',').count() {
         3 => parse_numbers::<3>(s, "X,Y,Z").map(|p| p.to_vec()),
         _ => parse_numbers::<2>(s, "X,Y or X,Y,Z").map(|p| p.to_vec()),
@@ -248,27 +261,33 @@ fn parse_start(s: &str) -> Result<Vec<f64>, String> {
 }
 
 /// The starts as points of dimension `N`, or an error naming the first that is not.
-fn starts_of<const N: usize>(starts: &[Vec<f64>], what: &str) -> Result<Vec<[f64; N]>, String> {
+fn starts_of<const N: usize>(
+    starts: &[Vec<f64>],
+    what: &'static str,
+) -> Result<Vec<[f64; N]>, CliError> {
     starts
         .iter()
         .map(|s| {
             <[f64; N]>::try_from(s.as_slice()).map_err(|_| {
                 let text: Vec<String> = s.iter().map(f64::to_string).collect();
-                format!("--start {}: expected {what}", text.join(","))
+                CliError::StartShape {
+                    start: text.join(","),
+                    expected: what,
+                }
             })
         })
         .collect()
 }
 
 /// A goal: X,Y, or on a map X,Y,THETA (a pose goal).
-fn parse_goal(s: &str) -> Result<Vec<f64>, String> {
+fn parse_goal(s: &str) -> Result<Vec<f64>, CliError> {
     match s.split(',').count() {
         3 => parse_numbers::<3>(s, "X,Y,THETA").map(|p| p.to_vec()),
         _ => parse_numbers::<2>(s, "X,Y or X,Y,THETA").map(|p| p.to_vec()),
     }
 }
 
-fn parse_pose(s: &str) -> Result<[f64; 3], String> {
+fn parse_pose(s: &str) -> Result<[f64; 3], CliError> {
     parse_numbers::<3>(s, "X,Y,THETA")
 }
 
@@ -332,36 +351,50 @@ fn one_line(rendered: &str) -> String {
 
 /// Writes `text` to standard output. A reader that has gone away (`hplan … | head`) ends the
 /// output quietly, as for any Unix filter; other write errors are reported.
-fn print_out(text: &str) -> Result<(), String> {
+fn print_out(text: &str) -> Result<(), CliError> {
     use std::io::Write as _;
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(format!("cannot write to standard output: {e}")),
+        Err(e) => Err(CliError::Stdout(e)),
     }
 }
 
-fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
-    let positive = |flag: &str, v: f64| {
+fn load(path: &Path, common: &Common) -> Result<AnyScene, CliError> {
+    let positive = |flag: &'static str, v: f64| {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(format!("{flag} must be a positive number, got {v}"))
+            Err(CliError::OutOfRange {
+                option: flag,
+                requirement: "be a positive number",
+                value: v,
+            })
         }
     };
-    let scene = AnyScene::from_file(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = AnyScene::from_file(path).map_err(|e| match e {
+        // A file that cannot be read is named by the error itself.
+        e @ harmonic_planner::SceneError::Io { .. } => CliError::from(e),
+        e => CliError::in_file(path, e),
+    })?;
     match scene {
         AnyScene::Plane(mut scene) => {
             if common.max_volume.is_some() {
-                return Err("--max-volume is for volume scenes; use --max-area".into());
+                return Err(CliError::Usage(
+                    "--max-volume is for volume scenes; use --max-area",
+                ));
             }
             if let Some(a) = common.max_area {
                 scene.mesh.max_area = Some(positive("--max-area", a)?);
             }
             if let Some(k) = common.blend {
                 if !(0.0..=1.0).contains(&k) {
-                    return Err(format!("--blend must lie in [0, 1], got {k}"));
+                    return Err(CliError::OutOfRange {
+                        option: "--blend",
+                        requirement: "lie in [0, 1]",
+                        value: k,
+                    });
                 }
                 let neumann = scene.boundary.blend.map_or(1.0, |b| b.neumann);
                 scene.boundary.blend = Some(harmonic_planner::scene::BlendSpec { k, neumann });
@@ -370,10 +403,12 @@ fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
         }
         AnyScene::Volume(mut scene) => {
             if common.max_area.is_some() {
-                return Err("--max-area is for plane scenes; use --max-volume".into());
+                return Err(CliError::Usage(
+                    "--max-area is for plane scenes; use --max-volume",
+                ));
             }
             if common.blend.is_some() {
-                return Err("--blend is for plane scenes".into());
+                return Err(CliError::Usage("--blend is for plane scenes"));
             }
             if let Some(v) = common.max_volume {
                 scene.mesh.max_volume = Some(positive("--max-volume", v)?);
@@ -382,9 +417,9 @@ fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
         }
         AnyScene::Config(scene) => {
             if common.max_area.is_some() || common.max_volume.is_some() {
-                return Err(
-                    "--max-area and --max-volume are for plane and volume scenes; a polygon or arm robot's scene sets mesh.spacing".into(),
-                );
+                return Err(CliError::Usage(
+                    "--max-area and --max-volume are for plane and volume scenes; a polygon or arm robot's scene sets mesh.spacing",
+                ));
             }
             Ok(AnyScene::Config(scene))
         }
@@ -392,18 +427,22 @@ fn load(path: &Path, common: &Common) -> Result<AnyScene, String> {
 }
 
 /// The plane scene of `scene`, or an error saying `command` needs one.
-fn plane(scene: AnyScene, command: &str) -> Result<Scene, String> {
+fn plane(scene: AnyScene, command: &'static str) -> Result<Scene, CliError> {
     match scene {
         AnyScene::Plane(scene) => Ok(*scene),
-        AnyScene::Volume(_) => Err(format!("{command} works on plane scenes, not volumes")),
-        AnyScene::Config(_) => Err(format!(
-            "{command} works on plane scenes, not on polygon or arm robots"
-        )),
+        AnyScene::Volume(_) => Err(CliError::NotPlane {
+            command,
+            kind: "volumes",
+        }),
+        AnyScene::Config(_) => Err(CliError::NotPlane {
+            command,
+            kind: "on polygon or arm robots",
+        }),
     }
 }
 
-fn build_volume(scene: &VolumeScene, path: &Path) -> Result<VolumePlanner, String> {
-    VolumePlanner::new(scene).map_err(|e| format!("{}: {e}", path.display()))
+fn build_volume(scene: &VolumeScene, path: &Path) -> Result<VolumePlanner, CliError> {
+    VolumePlanner::new(scene).map_err(|e| CliError::in_file(path, e))
 }
 
 /// `hplan plan` on a volume scene.
@@ -412,7 +451,7 @@ fn plan_volume(
     path: &Path,
     common: &Common,
     starts: &[Vec<f64>],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let starts = if starts.is_empty() {
         scene.starts.clone()
     } else {
@@ -425,10 +464,10 @@ fn plan_volume(
         write_file(svg, &planner.svg(&paths))?;
     }
     if let Some(vtk) = &common.vtk {
-        write_file(vtk, &planner.vtu().map_err(|e| e.to_string())?)?;
+        write_file(vtk, &planner.vtu()?)?;
     }
     if common.json {
-        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        let json = serde_json::to_string(&report)?;
         print_out(&format!("{json}\n"))
     } else {
         print_out(&VolumePlanner::summary(&report))
@@ -442,25 +481,25 @@ fn plan_config(
     path: &Path,
     common: &Common,
     starts: &[Vec<f64>],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let starts = if starts.is_empty() {
         scene.starts.clone()
     } else {
         starts.to_vec()
     };
-    let planner = ConfigPlanner::new(scene).map_err(|e| format!("{}: {e}", path.display()))?;
+    let planner = ConfigPlanner::new(scene).map_err(|e| CliError::in_file(path, e))?;
     let dof = planner.space().dof();
     if let Some(bad) = starts.iter().find(|s| s.len() != dof) {
         let text: Vec<String> = bad.iter().map(f64::to_string).collect();
-        return Err(format!(
-            "start {}: expected {dof} numbers ({})",
-            text.join(","),
-            if dof == 3 && scene.robot.polygon.is_some() {
+        return Err(CliError::ConfigStart {
+            start: text.join(","),
+            dof,
+            names: if dof == 3 && scene.robot.polygon.is_some() {
                 "X,Y,THETA"
             } else {
                 "the joint angles"
-            }
-        ));
+            },
+        });
     }
     let report = planner.plan_report(&starts);
     if let Some(svg) = &common.svg {
@@ -468,10 +507,10 @@ fn plan_config(
         write_file(svg, &planner.svg(&paths, scene.name.clone()))?;
     }
     if common.vtk.is_some() {
-        return Err("--vtk is for plane and volume scenes".into());
+        return Err(CliError::Usage("--vtk is for plane and volume scenes"));
     }
     if common.json {
-        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        let json = serde_json::to_string(&report)?;
         print_out(&format!("{json}\n"))
     } else {
         print_out(&ConfigPlanner::summary(&report))
@@ -488,7 +527,7 @@ fn plan_map_goals(
     opts: &MapOptions,
     common: &Common,
     goals: &[(Point, Vec<[f64; 2]>)],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let planner_opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
@@ -504,7 +543,7 @@ fn plan_map_goals(
                 let report = planner.plan_report(starts);
                 let mut entry = match headings.wanted() {
                     true => headings.report_json(&report, at)?,
-                    false => serde_json::to_value(&report).map_err(|e| e.to_string())?,
+                    false => serde_json::to_value(&report)?,
                 };
                 entry["goal"] = serde_json::json!(at);
                 entries.push(entry);
@@ -521,12 +560,12 @@ fn plan_map_goals(
             Err(e) => {
                 entries.push(serde_json::json!({"goal": at, "error": e.to_string(), "paths": []}));
                 text += &format!("goal {k} ({}, {}): refused: {e}\n", at[0], at[1]);
-                refused.push(format!("goal {k}: {e}"));
+                refused.push((k, e));
             }
         }
     }
     if refused.len() == goals.len() {
-        return Err(refused.join("; "));
+        return Err(CliError::GoalsRefused { refused });
     }
     if let (Some(svg), Some((planner, paths))) = (&common.svg, &drawn) {
         let opts = SvgOptions {
@@ -543,8 +582,7 @@ fn plan_map_goals(
         write_file(vtk, &planner.vtu())?;
     }
     if common.json {
-        let json = serde_json::to_string(&serde_json::json!({ "goals": entries }))
-            .map_err(|e| e.to_string())?;
+        let json = serde_json::to_string(&serde_json::json!({ "goals": entries }))?;
         print_out(&format!("{json}\n"))
     } else {
         print_out(&text)
@@ -560,19 +598,17 @@ fn plan_map(
     opts: &MapOptions,
     common: &Common,
     starts: &[[f64; 2]],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let planner_opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
-    let planner = map
-        .planner(goal, robot_radius, opts, &planner_opts)
-        .map_err(|e| e.to_string())?;
+    let planner = map.planner(goal, robot_radius, opts, &planner_opts)?;
     let report = planner.plan_report(starts);
     draw_shaded(&planner, &report, common, map.cost_shading())?;
     if !headings.wanted() {
         return if common.json {
-            let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+            let json = serde_json::to_string(&report)?;
             print_out(&format!("{json}\n"))
         } else {
             print_out(&report.summary())
@@ -602,7 +638,7 @@ impl Headings {
     }
 
     /// The starts as points, with the headings of goals and starts given as poses.
-    fn of(goals: &[Vec<f64>], starts: &[Vec<f64>]) -> Result<(Headings, Vec<[f64; 2]>), String> {
+    fn of(goals: &[Vec<f64>], starts: &[Vec<f64>]) -> Result<(Headings, Vec<[f64; 2]>), CliError> {
         let mut h = Headings::default();
         for g in goals {
             if let [x, y, theta] = g[..] {
@@ -617,7 +653,13 @@ impl Headings {
                     h.starts.insert(Self::key([x, y]), theta);
                     points.push([x, y]);
                 }
-                _ => return Err(format!("--start {s:?}: expected X,Y or X,Y,THETA on a map")),
+                _ => {
+                    let text: Vec<String> = s.iter().map(f64::to_string).collect();
+                    return Err(CliError::StartShape {
+                        start: text.join(","),
+                        expected: "X,Y or X,Y,THETA on a map",
+                    });
+                }
             }
         }
         Ok((h, points))
@@ -637,8 +679,8 @@ impl Headings {
         &self,
         report: &PlanReport,
         goal: [f64; 2],
-    ) -> Result<serde_json::Value, String> {
-        let mut json = serde_json::to_value(report).map_err(|e| e.to_string())?;
+    ) -> Result<serde_json::Value, CliError> {
+        let mut json = serde_json::to_value(report)?;
         for (k, path) in report.paths.iter().enumerate() {
             json["paths"][k]["poses"] = serde_json::json!(self.poses(path, goal));
         }
@@ -657,7 +699,7 @@ impl Headings {
 }
 
 /// The SVG and VTU files a plan report asks for.
-fn draw(planner: &Planner, report: &PlanReport, common: &Common) -> Result<(), String> {
+fn draw(planner: &Planner, report: &PlanReport, common: &Common) -> Result<(), CliError> {
     draw_shaded(planner, report, common, Vec::new())
 }
 
@@ -667,7 +709,7 @@ fn draw_shaded(
     report: &PlanReport,
     common: &Common,
     shaded: Vec<(Vec<[f64; 2]>, f64)>,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if let Some(svg) = &common.svg {
         let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
         let opts = SvgOptions {
@@ -684,11 +726,11 @@ fn draw_shaded(
 }
 
 /// A map_server YAML (and its image), or a MovingAI `.map` of `resolution` metres per cell.
-fn load_map(path: &Path, resolution: f64) -> Result<OccupancyMap, String> {
+fn load_map(path: &Path, resolution: f64) -> Result<OccupancyMap, CliError> {
     if path.extension().is_some_and(|e| e == "map") {
-        movingai::load_map(path, resolution).map_err(|e| e.to_string())
+        Ok(movingai::load_map(path, resolution)?)
     } else {
-        OccupancyMap::load(path).map_err(|e| e.to_string())
+        Ok(OccupancyMap::load(path)?)
     }
 }
 
@@ -713,8 +755,8 @@ fn bench(
     mesher: MapMesher,
     limit: usize,
     json: bool,
-) -> Result<(), String> {
-    let mut scenarios = movingai::load_scen(scen).map_err(|e| e.to_string())?;
+) -> Result<(), CliError> {
+    let mut scenarios = movingai::load_scen(scen)?;
     if limit > 0 {
         scenarios.truncate(limit);
     }
@@ -741,12 +783,15 @@ fn bench(
             }
         };
         if !maps.contains_key(&file) {
-            let m = movingai::load_map(&file, resolution).map_err(|e| e.to_string())?;
+            let m = movingai::load_map(&file, resolution)?;
             maps.insert(file.clone(), m);
         }
         let grid = &maps[&file];
-        s.check_against(grid)
-            .map_err(|e| format!("{}: scenario {}: {e}", scen.display(), k + 1))?;
+        s.check_against(grid).map_err(|source| CliError::Scenario {
+            path: scen.to_path_buf(),
+            scenario: k + 1,
+            source,
+        })?;
         let goal = grid.cell_center(s.goal.0, s.goal.1);
         let start = grid.cell_center(s.start.0, s.start.1);
         let t = std::time::Instant::now();
@@ -822,8 +867,7 @@ fn bench(
         let text = serde_json::to_string(&serde_json::json!({
             "scen": scen.display().to_string(),
             "buckets": buckets,
-        }))
-        .map_err(|e| e.to_string())?;
+        }))?;
         return print_out(&format!("{text}\n"));
     }
     let mut out = format!(
@@ -858,8 +902,11 @@ fn bench(
     print_out(&out)
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), String> {
-    std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+fn write_file(path: &Path, text: &str) -> Result<(), CliError> {
+    std::fs::write(path, text).map_err(|source| CliError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 fn build(
@@ -867,13 +914,13 @@ fn build(
     path: &Path,
     quiet: bool,
     multigrid: Option<u8>,
-) -> Result<Planner, String> {
+) -> Result<Planner, CliError> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(quiet),
         multigrid: multigrid.map(usize::from),
         ..PlannerOptions::default()
     };
-    Planner::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))
+    Planner::with_options(scene, &opts).map_err(|e| CliError::in_file(path, e))
 }
 
 /// Where each `--goal` and `--start` of `hplan plan` stood on the command line, so each
@@ -932,20 +979,20 @@ impl ArgOrder {
 }
 
 /// The starts of `--poly` and `--mesh-in` (they have no scene to take defaults from).
-fn given_starts(starts: &[Vec<f64>], input: &str) -> Result<Vec<[f64; 2]>, String> {
+fn given_starts(starts: &[Vec<f64>], input: &'static str) -> Result<Vec<[f64; 2]>, CliError> {
     let starts = starts_of::<2>(starts, "X,Y")?;
     if starts.is_empty() {
-        return Err(format!("{input} needs at least one --start X,Y"));
+        return Err(CliError::NoStart { input });
     }
     Ok(starts)
 }
 
 /// Plans from `starts` on `planner` and writes what `common` asks for.
-fn report_plan(planner: &Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), String> {
+fn report_plan(planner: &Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), CliError> {
     let report = planner.plan_report(starts);
     draw(planner, &report, common)?;
     if common.json {
-        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        let json = serde_json::to_string(&report)?;
         print_out(&format!("{json}\n"))
     } else {
         print_out(&report.summary())
@@ -958,18 +1005,24 @@ fn plan_poly(
     common: &Common,
     goal: &[[f64; 2]],
     starts: &[Vec<f64>],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let [goal] = goal else {
-        return Err("--poly takes one --goal X,Y".into());
+        return Err(CliError::Usage("--poly takes one --goal X,Y"));
     };
     if common.max_volume.is_some() || common.blend.is_some() {
-        return Err("--max-volume and --blend are not for --poly".into());
+        return Err(CliError::Usage(
+            "--max-volume and --blend are not for --poly",
+        ));
     }
     let starts = given_starts(starts, "--poly")?;
-    let mut poly = PolyScene::read(path, *goal).map_err(|e| e.to_string())?;
+    let mut poly = PolyScene::read(path, *goal)?;
     if let Some(a) = common.max_area {
         if !(a.is_finite() && a > 0.0) {
-            return Err(format!("--max-area must be a positive number, got {a}"));
+            return Err(CliError::OutOfRange {
+                option: "--max-area",
+                requirement: "be a positive number",
+                value: a,
+            });
         }
         poly.scene.mesh.max_area = Some(a);
     }
@@ -979,7 +1032,7 @@ fn plan_poly(
     };
     let planner = poly
         .planner(&opts)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+        .map_err(|e| CliError::in_file(path, e))?;
     report_plan(&planner, &starts, common)
 }
 
@@ -990,28 +1043,31 @@ fn plan_mesh_in(
     goal: &[[f64; 2]],
     goal_tag: Option<&str>,
     starts: &[Vec<f64>],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if common.max_area.is_some() || common.max_volume.is_some() || common.blend.is_some() {
-        return Err(
-            "--max-area, --max-volume and --blend are not for --mesh-in (the mesh is planned on as it is)"
-                .into(),
-        );
+        return Err(CliError::Usage(
+            "--max-area, --max-volume and --blend are not for --mesh-in (the mesh is planned on as it is)",
+        ));
     }
     let goal = match (goal_tag, goal) {
         (Some(tag), []) => MeshGoal::Tag(tag.to_string()),
         (None, [p]) => MeshGoal::Point(*p),
-        _ => return Err("--mesh-in takes one goal: --goal-tag NAME|NUMBER or --goal X,Y".into()),
+        _ => {
+            return Err(CliError::Usage(
+                "--mesh-in takes one goal: --goal-tag NAME|NUMBER or --goal X,Y",
+            ));
+        }
     };
     let starts = given_starts(starts, "--mesh-in")?;
-    let mesh = read_mesh(path).map_err(|e| e.to_string())?;
+    let mesh = read_mesh(path)?;
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
         ..Default::default()
     };
     let planner = mesh_planner(&mesh, &goal, &opts).map_err(|e| match e {
         // Errors about the file name it already.
-        harmonic_planner::PlanError::Mesh(e) => e.to_string(),
-        e => format!("{}: {e}", path.display()),
+        e @ harmonic_planner::PlanError::Mesh(_) => CliError::from(e),
+        e => CliError::in_file(path, e),
     })?;
     report_plan(&planner, &starts, common)
 }
@@ -1023,14 +1079,14 @@ fn plan_goals(
     path: &Path,
     common: &Common,
     goals: &[(Point, Vec<[f64; 2]>)],
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let opts = PlannerOptions {
         on_stage: progress::spinner(common.json),
         ..PlannerOptions::default()
     };
     let workspace =
-        Workspace::with_options(scene, &opts).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (report, planners) = workspace.report(goals).map_err(|e| e.to_string())?;
+        Workspace::with_options(scene, &opts).map_err(|e| CliError::in_file(path, e))?;
+    let (report, planners) = workspace.report(goals)?;
     if let (Some(svg), Some(first)) = (&common.svg, planners.first()) {
         let paths: Vec<_> = report
             .goals
@@ -1051,14 +1107,14 @@ fn plan_goals(
         write_file(vtk, &first.vtu())?;
     }
     if common.json {
-        let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+        let json = serde_json::to_string(&report)?;
         print_out(&format!("{json}\n"))
     } else {
         print_out(&report.summary())
     }
 }
 
-fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
+fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
     match cli.command {
         Command::Plan {
             common,
@@ -1077,7 +1133,9 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             let pose_goals = goal.clone();
             let goal: Vec<[f64; 2]> = goal.iter().map(|g| [g[0], g[1]]).collect();
             if map.is_none() && pose_goals.iter().any(|g| g.len() == 3) {
-                return Err("--goal X,Y,THETA (a pose goal) is for maps; give X,Y".into());
+                return Err(CliError::Usage(
+                    "--goal X,Y,THETA (a pose goal) is for maps; give X,Y",
+                ));
             }
             if let Some(poly) = &poly {
                 return plan_poly(poly, &common, &goal, &starts);
@@ -1112,39 +1170,48 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 (Some(path), None, _) => match load(path, &common)? {
                     AnyScene::Plane(scene) => (*scene, path.clone()),
                     _ if multigrid.is_some() => {
-                        return Err(format!(
-                            "{}: --multigrid is for plane scenes; this scene is a volume or a polygon or arm robot's",
-                            path.display()
+                        return Err(CliError::in_file(
+                            path,
+                            CliError::Usage(
+                                "--multigrid is for plane scenes; this scene is a volume or a polygon or arm robot's",
+                            ),
                         ));
                     }
                     AnyScene::Volume(scene) if goal.is_empty() => {
                         return plan_volume(&scene, path, &common, &starts);
                     }
                     AnyScene::Volume(_) => {
-                        return Err(format!(
-                            "{}: --goal X,Y is for plane scenes and maps; a volume scene names its goal",
-                            path.display()
+                        return Err(CliError::in_file(
+                            path,
+                            CliError::Usage(
+                                "--goal X,Y is for plane scenes and maps; a volume scene names its goal",
+                            ),
                         ));
                     }
                     AnyScene::Config(scene) if goal.is_empty() => {
                         return plan_config(&scene, path, &common, &starts);
                     }
                     AnyScene::Config(_) => {
-                        return Err(format!(
-                            "{}: --goal X,Y is for plane scenes and maps; a polygon or arm robot's scene names its goal",
-                            path.display()
+                        return Err(CliError::in_file(
+                            path,
+                            CliError::Usage(
+                                "--goal X,Y is for plane scenes and maps; a polygon or arm robot's scene names its goal",
+                            ),
                         ));
                     }
                 },
-                _ => return Err("plan needs SCENE.json or --map MAP.yaml --goal X,Y".into()),
+                _ => {
+                    return Err(CliError::Usage(
+                        "plan needs SCENE.json or --map MAP.yaml --goal X,Y",
+                    ));
+                }
             };
             let all_starts = starts_of::<2>(&starts, "X,Y on a plane scene")?;
             if goal.len() > 1 {
                 if multigrid.is_some() {
-                    return Err(
-                        "--multigrid plans for one goal (several goals share one factorisation, which a multigrid solve does not keep)"
-                            .into(),
-                    );
+                    return Err(CliError::Usage(
+                        "--multigrid plans for one goal (several goals share one factorisation, which a multigrid solve does not keep)",
+                    ));
                 }
                 let goals = order.starts_per_goal(&goal, &all_starts, &scene.starts);
                 return plan_goals(&scene, &path, &common, &goals);
@@ -1171,10 +1238,13 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             wheelbase,
             max_steer,
         } => {
-            let path = common.scene.clone().ok_or("car needs a SCENE.json")?;
+            let path = common
+                .scene
+                .clone()
+                .ok_or(CliError::Usage("car needs a SCENE.json"))?;
             let scene = plane(load(&path, &common)?, "car")?;
             if pose.is_empty() {
-                return Err("car needs at least one --pose X,Y,THETA".into());
+                return Err(CliError::Usage("car needs at least one --pose X,Y,THETA"));
             }
             let planner = build(&scene, &path, common.json, None)?;
             let mut params = CarParams::for_scene(&planner);
@@ -1182,10 +1252,8 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 params.wheelbase = l;
             }
             params.max_steer = max_steer.to_radians();
-            params.validate().map_err(|e| e.to_string())?;
-            let report = planner
-                .car_report(&pose, &params)
-                .map_err(|e| e.to_string())?;
+            params.validate()?;
+            let report = planner.car_report(&pose, &params)?;
             if let Some(svg) = &common.svg {
                 let poses: Vec<_> = report.paths.iter().map(|p| p.poses.clone()).collect();
                 let opts = SvgOptions {
@@ -1199,7 +1267,7 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
                 write_file(vtk, &planner.vtu())?;
             }
             if common.json {
-                let json = serde_json::to_string(&report).map_err(|e| e.to_string())?;
+                let json = serde_json::to_string(&report)?;
                 print_out(&format!("{json}\n"))?;
             } else {
                 print_out(&report.summary())?;
@@ -1230,7 +1298,9 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             vtk,
         } => {
             if potential.is_none() && vtk.is_none() {
-                return Err("export needs --potential OUT.json and/or --vtk OUT.vtu".into());
+                return Err(CliError::Usage(
+                    "export needs --potential OUT.json and/or --vtk OUT.vtu",
+                ));
             }
             let no_overrides = Common {
                 scene: None,
@@ -1245,19 +1315,18 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), String> {
             if let AnyScene::Volume(scene) = load(&path, &no_overrides)? {
                 let planner = build_volume(&scene, &path)?;
                 if let Some(out) = &potential {
-                    let text =
-                        serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;
+                    let text = serde_json::to_string(&planner.export())?;
                     write_file(out, &text)?;
                 }
                 if let Some(vtk) = &vtk {
-                    write_file(vtk, &planner.vtu().map_err(|e| e.to_string())?)?;
+                    write_file(vtk, &planner.vtu()?)?;
                 }
                 return Ok(());
             }
             let scene = plane(load(&path, &no_overrides)?, "export")?;
             let planner = build(&scene, &path, true, None)?;
             if let Some(out) = &potential {
-                let text = serde_json::to_string(&planner.export()).map_err(|e| e.to_string())?;
+                let text = serde_json::to_string(&planner.export())?;
                 write_file(out, &text)?;
             }
             if let Some(vtk) = &vtk {
