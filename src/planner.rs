@@ -5,13 +5,13 @@ use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use harmonic_fem::{
-    Assembler, AssemblyOptions, BoundaryCondition, BoundaryConditions, MULTIGRID_REL_TOL,
-    MultigridOptions, MultilevelSystem, Parallelism, Potential, SolveMethod, SolveReport, Solver,
+    Assembler, AssemblyOptions, BoundaryConditions, MULTIGRID_REL_TOL, MultigridOptions,
+    MultilevelSystem, Parallelism, Potential, SolveMethod, SolveReport, Solver,
     interior_local_extrema_except,
 };
 use harmonic_mesh::{
-    BoundaryTag, Domain, DomainSpec, GoalShape, Mesh, MeshHierarchy, MeshOptions, MeshReport,
-    Point, QualityReport, Shape,
+    BoundaryTag, Domain, DomainSpec, Mesh, MeshHierarchy, MeshOptions, MeshReport, Point,
+    QualityReport,
 };
 use harmonic_trajectory::{
     CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, SmoothOptions, SmoothP1Field,
@@ -20,7 +20,7 @@ use harmonic_trajectory::{
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::scene::{Region, Scene};
+use crate::scene::Scene;
 
 /// Why a planner could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -628,80 +628,6 @@ impl CarParams {
     pub fn validate(&self) -> Result<(), PlanError> {
         self.options().validate()?;
         Ok(())
-    }
-}
-
-fn point(p: [f64; 2]) -> Point {
-    Point::new(p[0], p[1])
-}
-
-impl Scene {
-    /// The geometry of the scene for the mesher.
-    pub fn domain_spec(&self) -> DomainSpec {
-        let shape = |r: &Region| match (&r.polygon, &r.circle) {
-            (Some(p), _) => Shape::Polygon(p.iter().copied().map(point).collect()),
-            (None, Some(c)) => Shape::Circle {
-                center: point(c.center),
-                radius: c.radius,
-            },
-            // `Scene::from_json` guarantees one shape per obstacle; an empty polygon is
-            // reported by the mesher as too few vertices.
-            (None, None) => Shape::Polygon(Vec::new()),
-        };
-        let goal = |r: &Region| match (&r.polygon, &r.circle, &r.point) {
-            (Some(p), _, _) => GoalShape::Polygon(p.iter().copied().map(point).collect()),
-            (None, Some(c), _) => GoalShape::Circle {
-                center: point(c.center),
-                radius: c.radius,
-            },
-            (None, None, Some(p)) => GoalShape::Point(point(*p)),
-            (None, None, None) => GoalShape::Polygon(Vec::new()),
-        };
-        DomainSpec {
-            workspace: self.workspace.iter().copied().map(point).collect(),
-            obstacles: self.obstacles.iter().map(shape).collect(),
-            goals: self.goals().iter().map(goal).collect(),
-            robot_radius: self.robot.radius,
-        }
-    }
-
-    /// The mesh options of the scene (defaults where it gives none).
-    pub fn mesh_options(&self) -> MeshOptions {
-        let mut opts = MeshOptions {
-            max_area: self.mesh.max_area,
-            grading: self.mesh.grading,
-            simplify: self.mesh.simplify,
-            ..MeshOptions::default()
-        };
-        if let Some(d) = self.mesh.min_angle_deg {
-            opts.min_angle_deg = d;
-        }
-        opts
-    }
-
-    /// The boundary conditions of the scene, per part, with per-obstacle and per-goal overrides.
-    pub fn boundary_conditions(&self) -> BoundaryConditions {
-        self.boundary.conditions(
-            self.obstacles.iter().map(|o| o.boundary),
-            self.goals().iter().map(|g| g.boundary),
-        )
-    }
-
-    /// With `boundary.blend`: its weight `k` and the conditions of its Dirichlet and Neumann
-    /// solves.
-    pub fn blend_conditions(&self) -> Option<(f64, BoundaryConditions, BoundaryConditions)> {
-        let b = self.boundary.blend?;
-        let mut dirichlet = self.boundary_conditions();
-        if self.boundary.walls.is_none() {
-            dirichlet.walls = BoundaryCondition::Dirichlet(1.0);
-        }
-        if self.boundary.obstacles.is_none() {
-            dirichlet.obstacles = BoundaryCondition::Dirichlet(1.0);
-        }
-        let mut neumann = dirichlet.clone();
-        neumann.walls = BoundaryCondition::Neumann(b.neumann);
-        neumann.obstacles = BoundaryCondition::Neumann(b.neumann);
-        Some((b.k, dirichlet, neumann))
     }
 }
 
@@ -1360,7 +1286,7 @@ impl Planner {
             shaded: opts
                 .shaded
                 .iter()
-                .map(|(ring, d)| (ring.iter().copied().map(point).collect(), *d))
+                .map(|(ring, d)| (ring.iter().copied().map(Point::from).collect(), *d))
                 .collect(),
             goals: match &self.vertex_goals {
                 None => rings!(self.domain.goal_polygons()),
@@ -1379,7 +1305,7 @@ impl Planner {
                 .enumerate()
                 .map(|(i, p)| {
                     let colour = crate::render::PATH_COLOURS[i % crate::render::PATH_COLOURS.len()];
-                    (p.iter().copied().map(point).collect(), colour)
+                    (p.iter().copied().map(Point::from).collect(), colour)
                 })
                 .collect(),
             car_poses: car_poses.to_vec(),
