@@ -49,7 +49,7 @@ use serde_yaml_ng::Value;
 use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
 use harmonic_mesh::{Bridges, MeshOptions, Point};
 
-use crate::planner::{PlanError, Planner, PlannerOptions};
+use crate::planner::{Entry, PlanError, Planner, PlannerOptions};
 use crate::scene::{Goals, MeshSpec, Region, RobotSpec, Scene};
 use crate::workspace::Workspace;
 use harmonic_fem::SolveMethod;
@@ -1177,12 +1177,12 @@ impl OccupancyMap {
                 let (domain, mesh_options, entry) =
                     self.traced_domain(goal, robot_radius, opts, &[goal_shape], known)?;
                 let ms = t.elapsed().as_secs_f64() * 1e3;
-                Planner::from_domain(domain, &mesh_options, planner)
-                    .map(|p| {
-                        p.with_mesh_time(check_ms + ms)
-                            .with_entry(Arc::new(entry))
-                            .with_trace_tolerance(self.trace_tolerance())
-                    })
+                let entry = Entry {
+                    start: Arc::new(entry),
+                    trace_tolerance: self.trace_tolerance(),
+                    mesh_ms: check_ms + ms,
+                };
+                Planner::entered_domain(domain, &mesh_options, planner, Some(entry))
                     .map_err(plan_error)
             }
             false => {
@@ -1199,13 +1199,12 @@ impl OccupancyMap {
                     },
                     ..planner.clone()
                 };
-                Planner::from_mesh(mesh, &planner)
-                    .map(|p| {
-                        p.with_mesh_time(check_ms + ms)
-                            .with_entry(Arc::new(entry))
-                            .with_trace_tolerance(self.trace_tolerance())
-                    })
-                    .map_err(plan_error)
+                let entry = Entry {
+                    start: Arc::new(entry),
+                    trace_tolerance: self.trace_tolerance(),
+                    mesh_ms: check_ms + ms,
+                };
+                Planner::entered_mesh(mesh, &planner, Some(entry)).map_err(plan_error)
             }
         }
     }
@@ -1276,12 +1275,12 @@ impl OccupancyMap {
             self.traced_domain(around, robot_radius, opts, &[], Known::default())?;
         let meshed =
             crate::planner::Meshed::of_domain(domain, &mesh_options, t).map_err(plan_error)?;
-        Workspace::factored(meshed, &Default::default(), planner)
-            .map(|w| {
-                w.with_entry(Arc::new(entry))
-                    .with_trace_tolerance(self.trace_tolerance())
-            })
-            .map_err(plan_error)
+        let entry = Entry {
+            start: Arc::new(entry),
+            trace_tolerance: self.trace_tolerance(),
+            mesh_ms: 0.0,
+        };
+        Workspace::factored(meshed, &Default::default(), planner, Some(entry)).map_err(plan_error)
     }
 
     /// The traced configuration space around `goal` as a domain with `goals` in it (no

@@ -321,7 +321,7 @@ pub struct Planner {
     /// A way into the mesh for starts outside it, if the planner's source has one.
     pub(crate) entry: Option<Arc<dyn StartEntry>>,
     /// The smooth tracer's options: [`SmoothOptions::for_scale`] of the scene's size, with
-    /// the tolerance the planner's source may set ([`Planner::with_trace_tolerance`]).
+    /// the tolerance the planner's source may set (a map's `Entry`).
     pub(crate) smooth: SmoothOptions,
     /// What produced ψ (`potential.solved_by` in the report).
     pub(crate) solved_by: &'static str,
@@ -690,6 +690,16 @@ enum Clearance {
     Zero,
 }
 
+/// What a planner built on a map's clear cells is given up front, with its mesh: how starts
+/// beside the mesh enter it, the tracer's tolerance for the map's resolution, and the
+/// meshing time spent before it was asked (checking, tracing or snapping the cells).
+#[derive(Clone)]
+pub(crate) struct Entry {
+    pub(crate) start: Arc<dyn StartEntry>,
+    pub(crate) trace_tolerance: f64,
+    pub(crate) mesh_ms: f64,
+}
+
 impl Planner {
     /// Builds the planner: validates and meshes the scene, assembles and solves for the
     /// potential.
@@ -712,6 +722,7 @@ impl Planner {
                     &scene.boundary_conditions(),
                     scene.blend_conditions(),
                     options,
+                    None,
                 )
             },
         )
@@ -744,6 +755,7 @@ impl Planner {
                     &scene.boundary_conditions(),
                     scene.blend_conditions(),
                     options,
+                    None,
                 )
             },
         )
@@ -757,13 +769,24 @@ impl Planner {
         mesh_options: &MeshOptions,
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
+        Planner::entered_domain(domain, mesh_options, options, None)
+    }
+
+    /// [`Planner::from_domain`] with a map's [`Entry`].
+    pub(crate) fn entered_domain(
+        domain: Domain,
+        mesh_options: &MeshOptions,
+        options: &PlannerOptions,
+        entry: Option<Entry>,
+    ) -> Result<Planner, PlanError> {
         crate::threads::build_in(
             options,
             |e| e,
             |options| {
                 options.stage(Stage::Meshing)?;
                 let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
-                Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+                let bcs = BoundaryConditions::default();
+                Planner::solved(meshed, &bcs, None, options, entry)
             },
         )
     }
@@ -772,24 +795,36 @@ impl Planner {
     /// it is: goal-tagged boundary edges ([`BoundaryTag::Goal`]) held at φ = 0, every other
     /// boundary edge at φ = 1 (the default conditions). The mesh must have goal edges.
     pub fn from_mesh(mesh: Mesh, options: &PlannerOptions) -> Result<Planner, PlanError> {
+        Planner::entered_mesh(mesh, options, None)
+    }
+
+    /// [`Planner::from_mesh`] with a map's [`Entry`].
+    pub(crate) fn entered_mesh(
+        mesh: Mesh,
+        options: &PlannerOptions,
+        entry: Option<Entry>,
+    ) -> Result<Planner, PlanError> {
         crate::threads::build_in(
             options,
             |e| e,
             |options| {
                 options.stage(Stage::Meshing)?;
                 let meshed = Meshed::of_mesh(mesh)?;
-                Planner::solved(meshed, &BoundaryConditions::default(), None, options)
+                let bcs = BoundaryConditions::default();
+                Planner::solved(meshed, &bcs, None, options, entry)
             },
         )
     }
 
     /// Assembles and solves on `meshed` under `bcs` (or the blend), the stages after
-    /// meshing that every way of building a planner shares.
+    /// meshing that every way of building a planner shares; a map's `entry` is part of the
+    /// planner from the start.
     fn solved(
         meshed: Meshed,
         bcs: &BoundaryConditions,
         blend: Option<(f64, BoundaryConditions, BoundaryConditions)>,
         options: &PlannerOptions,
+        entry: Option<Entry>,
     ) -> Result<Planner, PlanError> {
         let stage = |s: Stage| options.stage(s);
         let mesh = Arc::clone(&meshed.mesh);
@@ -865,37 +900,25 @@ impl Planner {
             potential,
             nodal_gradients,
             timings: Timings {
-                mesh: meshed.ms,
+                mesh: meshed.ms + entry.as_ref().map_or(0.0, |e| e.mesh_ms),
                 assemble: assemble_ms,
                 solve: solve_ms,
                 trace: 0.0,
             },
             scale: meshed.scale,
             vertex_goals: None,
-            entry: None,
-            smooth: SmoothOptions::for_scale(meshed.scale),
+            smooth: SmoothOptions {
+                tolerance: entry
+                    .as_ref()
+                    .map_or(SmoothOptions::for_scale(meshed.scale).tolerance, |e| {
+                        e.trace_tolerance
+                    }),
+                ..SmoothOptions::for_scale(meshed.scale)
+            },
+            entry: entry.map(|e| e.start),
             solved_by,
             pool: None,
         })
-    }
-
-    /// Leads starts outside the mesh in through `entry`.
-    pub(crate) fn with_entry(mut self, entry: Arc<dyn StartEntry>) -> Planner {
-        self.entry = Some(entry);
-        self
-    }
-
-    /// Traces with a local error of `tolerance` per step instead of the one for the scene's
-    /// size (a map's is set by its resolution).
-    pub(crate) fn with_trace_tolerance(mut self, tolerance: f64) -> Planner {
-        self.smooth.tolerance = tolerance;
-        self
-    }
-
-    /// Counts `ms` more of meshing (a mesh made before [`Planner::from_mesh`], e.g. of a map).
-    pub(crate) fn with_mesh_time(mut self, ms: f64) -> Planner {
-        self.timings.mesh += ms;
-        self
     }
 
     /// The validated free space (merged obstacles, tagged rings, clearance queries).

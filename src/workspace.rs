@@ -177,7 +177,7 @@ impl Workspace {
             ..scene.domain_spec()
         };
         let meshed = Meshed::new(scene, &spec)?;
-        Workspace::factored(meshed, &scene.boundary_conditions(), options)
+        Workspace::factored(meshed, &scene.boundary_conditions(), options, None)
     }
 
     /// A workspace on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]): every
@@ -190,27 +190,17 @@ impl Workspace {
             meshed,
             &harmonic_fem::BoundaryConditions::default(),
             options,
+            None,
         )
     }
 
-    /// Leads starts outside the mesh in through `entry`, in every planner made from here on.
-    pub(crate) fn with_entry(mut self, entry: Arc<dyn crate::planner::StartEntry>) -> Workspace {
-        self.entry = Some(entry);
-        self
-    }
-
-    /// Traces with a local error of `tolerance` per step in every planner made from here on
-    /// (see [`Planner::with_trace_tolerance`]).
-    pub(crate) fn with_trace_tolerance(mut self, tolerance: f64) -> Workspace {
-        self.trace_tolerance = Some(tolerance);
-        self
-    }
-
-    /// Assembles the walls' system of `meshed` under `bcs` and factors it.
+    /// Assembles the walls' system of `meshed` under `bcs` and factors it; a map's `entry`
+    /// goes into every planner made from it.
     pub(crate) fn factored(
         meshed: Meshed,
         bcs: &harmonic_fem::BoundaryConditions,
         options: &PlannerOptions,
+        entry: Option<crate::planner::Entry>,
     ) -> Result<Workspace, PlanError> {
         if options.multigrid.unwrap_or(0) > 0 {
             // New goals reuse one factorisation; a multigrid solve keeps none.
@@ -238,8 +228,8 @@ impl Workspace {
             },
             meshed,
             goals,
-            entry: None,
-            trace_tolerance: None,
+            trace_tolerance: entry.as_ref().map(|e| e.trace_tolerance),
+            entry: entry.map(|e| e.start),
         })
     }
 
