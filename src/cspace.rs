@@ -638,8 +638,53 @@ impl ConfigPlanner {
         }
     }
 
-    /// A human-readable summary of a report.
-    pub fn summary(report: &ConfigPlanReport) -> String {
+    /// The slab of one period (in the space's scaled coordinates) with φ, ψ and ∇φ as a VTK
+    /// unstructured grid, for ParaView.
+    pub fn vtu(&self) -> Result<String, harmonic_volume::VolumeError> {
+        let phi = self.potential.phi_at_vertices();
+        let grad: Vec<[f64; 3]> = self
+            .potential
+            .recovered_gradients()
+            .iter()
+            .map(|g| [-g.x, -g.y, -g.z])
+            .collect();
+        harmonic_volume::io::vtu_string(
+            self.slab(),
+            &[
+                harmonic_volume::io::PointData::Scalar("phi", &phi),
+                harmonic_volume::io::PointData::Scalar("psi", self.potential.psi()),
+                harmonic_volume::io::PointData::Vector("grad_phi", &grad),
+            ],
+        )
+    }
+
+    /// The scene with the robot drawn along each path.
+    pub fn svg(&self, paths: &[Vec<Vec<f64>>], title: Option<String>) -> String {
+        let marker = match self.space.goal() {
+            ConfigGoal::Pose { pose, .. } => Some([pose[0], pose[1]]),
+            ConfigGoal::EndEffector { point, .. } => Some(*point),
+            ConfigGoal::Joints { joints, .. } => match self.space.robot() {
+                Robot::Arm(a) => Some(a.tip(joints)),
+                Robot::Rigid(_) => None,
+            },
+        };
+        motion_svg(
+            self.space.robot(),
+            self.space.world(),
+            paths,
+            marker,
+            &MotionSvgOptions {
+                title,
+                ..MotionSvgOptions::default()
+            },
+        )
+    }
+}
+
+impl ConfigPlanReport {
+    /// A human-readable summary.
+    pub fn summary(&self) -> String {
+        let report = self;
         use std::fmt::Write as _;
         let (m, t) = (&report.mesh, &report.timings_ms);
         let mut s = String::new();
@@ -673,27 +718,5 @@ impl ConfigPlanner {
             );
         }
         s
-    }
-
-    /// The scene with the robot drawn along each path.
-    pub fn svg(&self, paths: &[Vec<Vec<f64>>], title: Option<String>) -> String {
-        let marker = match self.space.goal() {
-            ConfigGoal::Pose { pose, .. } => Some([pose[0], pose[1]]),
-            ConfigGoal::EndEffector { point, .. } => Some(*point),
-            ConfigGoal::Joints { joints, .. } => match self.space.robot() {
-                Robot::Arm(a) => Some(a.tip(joints)),
-                Robot::Rigid(_) => None,
-            },
-        };
-        motion_svg(
-            self.space.robot(),
-            self.space.world(),
-            paths,
-            marker,
-            &MotionSvgOptions {
-                title,
-                ..MotionSvgOptions::default()
-            },
-        )
     }
 }

@@ -32,6 +32,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod api;
 pub mod cspace;
 pub mod inputs;
 #[cfg(feature = "map")]
@@ -43,6 +44,7 @@ mod threads;
 pub mod volume;
 pub mod workspace;
 
+pub use api::{AnyPlanError, AnyPlanner, AnyReport, PlannerApi, StartError, Summary, VtuError};
 pub use cspace::{ConfigPlanner, ConfigScene};
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;

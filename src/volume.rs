@@ -493,45 +493,6 @@ impl VolumePlanner {
         }
     }
 
-    /// A human-readable summary of a report.
-    pub fn summary(report: &VolumePlanReport) -> String {
-        use std::fmt::Write as _;
-        let (m, t, p) = (&report.mesh, &report.timings_ms, &report.potential);
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
-            m.vertices, m.tetrahedra, m.min_dihedral_deg, m.max_dihedral_deg
-        );
-        let _ = writeln!(
-            s,
-            "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
-            t.mesh, t.assemble, t.solve, t.trace
-        );
-        let _ = writeln!(
-            s,
-            "potential: φ in [{:.6}, {:.6}], smallest ψ {:.2e}, interior local extrema {}",
-            p.min, p.max, p.min_psi, p.interior_local_extrema
-        );
-        for path in &report.paths {
-            let [x, y, z] = path.start;
-            let blocked = path
-                .blocked_by
-                .as_ref()
-                .map(|b| format!(" ({b}, robot radius counted)"))
-                .unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "({x}, {y}, {z}): {}{blocked}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
-                path.status.as_str(),
-                path.length + 0.0, // no "-0.000"
-                path.min_clearance,
-                path.min_gradient
-            );
-        }
-        s
-    }
-
     /// The mesh and the potential for outside tools.
     pub fn export(&self) -> VolumeExport {
         VolumeExport {
@@ -582,5 +543,47 @@ impl VolumePlanner {
             .map(|p| p.iter().map(|q| Point::new(q[0], q[1], q[2])).collect())
             .collect();
         harmonic_volume::io::projections_svg(&self.mesh, &paths)
+    }
+}
+
+impl VolumePlanReport {
+    /// A human-readable summary.
+    pub fn summary(&self) -> String {
+        let report = self;
+        use std::fmt::Write as _;
+        let (m, t, p) = (&report.mesh, &report.timings_ms, &report.potential);
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
+            m.vertices, m.tetrahedra, m.min_dihedral_deg, m.max_dihedral_deg
+        );
+        let _ = writeln!(
+            s,
+            "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
+            t.mesh, t.assemble, t.solve, t.trace
+        );
+        let _ = writeln!(
+            s,
+            "potential: φ in [{:.6}, {:.6}], smallest ψ {:.2e}, interior local extrema {}",
+            p.min, p.max, p.min_psi, p.interior_local_extrema
+        );
+        for path in &report.paths {
+            let [x, y, z] = path.start;
+            let blocked = path
+                .blocked_by
+                .as_ref()
+                .map(|b| format!(" ({b}, robot radius counted)"))
+                .unwrap_or_default();
+            let _ = writeln!(
+                s,
+                "({x}, {y}, {z}): {}{blocked}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
+                path.status.as_str(),
+                path.length + 0.0, // no "-0.000"
+                path.min_clearance,
+                path.min_gradient
+            );
+        }
+        s
     }
 }

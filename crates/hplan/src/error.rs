@@ -3,7 +3,6 @@
 
 use std::path::PathBuf;
 
-use harmonic_planner::cspace::ConfigPlanError;
 use harmonic_planner::map::MapError;
 use harmonic_planner::map::movingai::MovingAiError;
 use harmonic_planner::volume::VolumePlanError;
@@ -37,16 +36,6 @@ pub enum CliError {
         start: String,
         /// What this input takes (`X,Y,Z on a volume scene`).
         expected: &'static str,
-    },
-    /// A start of a configuration-space scene with the wrong number of coordinates.
-    #[error("start {start}: expected {dof} numbers ({names})")]
-    ConfigStart {
-        /// The start as given.
-        start: String,
-        /// The robot's degrees of freedom.
-        dof: usize,
-        /// What the numbers are (`X,Y,THETA`, `the joint angles`).
-        names: &'static str,
     },
     /// A numeric option out of its range.
     #[error("{option} must {requirement}, got {value}")]
@@ -102,6 +91,12 @@ pub enum CliError {
         /// Each goal's index and why it was refused.
         refused: Vec<(usize, MapError)>,
     },
+    /// A start of the wrong dimension for the scene.
+    #[error(transparent)]
+    Start(#[from] harmonic_planner::StartError),
+    /// A mesh and potential that cannot be written as VTK.
+    #[error(transparent)]
+    Vtu(#[from] harmonic_planner::VtuError),
     /// A scene file that does not read.
     #[error(transparent)]
     Scene(#[from] SceneError),
@@ -114,9 +109,9 @@ pub enum CliError {
     /// A volume mesh could not be written.
     #[error(transparent)]
     VolumeMesh(#[from] harmonic_planner::volume::VolumeError),
-    /// A configuration-space scene's planner could not be built.
+    /// A scene file's planner could not be built.
     #[error(transparent)]
-    Config(#[from] ConfigPlanError),
+    Planner(#[from] harmonic_planner::AnyPlanError),
     /// An occupancy map that does not load.
     #[error(transparent)]
     Map(#[from] MapError),

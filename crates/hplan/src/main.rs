@@ -25,8 +25,8 @@ use error::CliError;
 use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
 use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, movingai};
 use harmonic_planner::{
-    AnyScene, CarParams, ConfigPlanner, ConfigScene, PlanReport, Planner, PlannerOptions, Point,
-    Scene, SvgOptions, VolumePlanner, VolumeScene, Workspace,
+    AnyPlanner, AnyScene, CarParams, PlanReport, Planner, PlannerOptions, Point, Scene, Summary,
+    SvgOptions, VolumePlanner, Workspace,
 };
 
 #[derive(Parser)]
@@ -441,27 +441,49 @@ fn plane(scene: AnyScene, command: &'static str) -> Result<Scene, CliError> {
     }
 }
 
-fn build_volume(scene: &VolumeScene, path: &Path) -> Result<VolumePlanner, CliError> {
-    VolumePlanner::new(scene).map_err(|e| CliError::in_file(path, e))
-}
-
-/// `hplan plan` on a volume scene.
-fn plan_volume(
-    scene: &VolumeScene,
+/// `hplan plan` on a scene file of any kind: a plane, a volume, a polygon or arm robot.
+fn plan_scene(
+    scene: &AnyScene,
     path: &Path,
     common: &Common,
     starts: &[Vec<f64>],
+    multigrid: Option<u8>,
 ) -> Result<(), CliError> {
     let starts = if starts.is_empty() {
-        scene.starts.clone()
+        scene.starts()
     } else {
-        starts_of::<3>(starts, "X,Y,Z on a volume scene")?
+        starts.to_vec()
     };
-    let planner = build_volume(scene, path)?;
-    let report = planner.plan_report(&starts);
+    scene.check_starts(&starts)?;
+    let opts = PlannerOptions {
+        on_stage: progress::spinner(common.json),
+        multigrid: multigrid.map(usize::from),
+        ..PlannerOptions::default()
+    };
+    let planner = AnyPlanner::new(scene, &opts).map_err(|e| CliError::in_file(path, e))?;
+    let title = match scene {
+        AnyScene::Config(s) => s.name.clone(),
+        _ => None,
+    };
+    report_any(&planner, &starts, common, title)
+}
+
+/// The one output of `hplan plan` for one goal: the report as JSON or text, `--svg` and
+/// `--vtk`, whatever the planner.
+fn report_any(
+    planner: &AnyPlanner,
+    starts: &[Vec<f64>],
+    common: &Common,
+    title: Option<String>,
+) -> Result<(), CliError> {
+    let report = planner.report(starts)?;
     if let Some(svg) = &common.svg {
-        let paths: Vec<_> = report.paths.iter().map(|p| p.points.clone()).collect();
-        write_file(svg, &planner.svg(&paths))?;
+        let opts = SvgOptions {
+            show_mesh: common.mesh,
+            title,
+            ..SvgOptions::default()
+        };
+        write_file(svg, &planner.svg(&report, &opts))?;
     }
     if let Some(vtk) = &common.vtk {
         write_file(vtk, &planner.vtu()?)?;
@@ -470,50 +492,7 @@ fn plan_volume(
         let json = serde_json::to_string(&report)?;
         print_out(&format!("{json}\n"))
     } else {
-        print_out(&VolumePlanner::summary(&report))
-    }
-}
-
-/// `hplan plan` on a scene whose robot is a polygon or an arm: starts are configurations
-/// (X,Y,THETA or the joint angles).
-fn plan_config(
-    scene: &ConfigScene,
-    path: &Path,
-    common: &Common,
-    starts: &[Vec<f64>],
-) -> Result<(), CliError> {
-    let starts = if starts.is_empty() {
-        scene.starts.clone()
-    } else {
-        starts.to_vec()
-    };
-    let planner = ConfigPlanner::new(scene).map_err(|e| CliError::in_file(path, e))?;
-    let dof = planner.space().dof();
-    if let Some(bad) = starts.iter().find(|s| s.len() != dof) {
-        let text: Vec<String> = bad.iter().map(f64::to_string).collect();
-        return Err(CliError::ConfigStart {
-            start: text.join(","),
-            dof,
-            names: if dof == 3 && scene.robot.polygon.is_some() {
-                "X,Y,THETA"
-            } else {
-                "the joint angles"
-            },
-        });
-    }
-    let report = planner.plan_report(&starts);
-    if let Some(svg) = &common.svg {
-        let paths: Vec<_> = report.paths.iter().map(|p| p.configurations()).collect();
-        write_file(svg, &planner.svg(&paths, scene.name.clone()))?;
-    }
-    if common.vtk.is_some() {
-        return Err(CliError::Usage("--vtk is for plane and volume scenes"));
-    }
-    if common.json {
-        let json = serde_json::to_string(&report)?;
-        print_out(&format!("{json}\n"))
-    } else {
-        print_out(&ConfigPlanner::summary(&report))
+        print_out(&report.summary())
     }
 }
 
@@ -699,10 +678,6 @@ impl Headings {
 }
 
 /// The SVG and VTU files a plan report asks for.
-fn draw(planner: &Planner, report: &PlanReport, common: &Common) -> Result<(), CliError> {
-    draw_shaded(planner, report, common, Vec::new())
-}
-
 /// [`draw`], with regions shaded under the picture (a map's graded costs).
 fn draw_shaded(
     planner: &Planner,
@@ -988,15 +963,9 @@ fn given_starts(starts: &[Vec<f64>], input: &'static str) -> Result<Vec<[f64; 2]
 }
 
 /// Plans from `starts` on `planner` and writes what `common` asks for.
-fn report_plan(planner: &Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), CliError> {
-    let report = planner.plan_report(starts);
-    draw(planner, &report, common)?;
-    if common.json {
-        let json = serde_json::to_string(&report)?;
-        print_out(&format!("{json}\n"))
-    } else {
-        print_out(&report.summary())
-    }
+fn report_plan(planner: Planner, starts: &[[f64; 2]], common: &Common) -> Result<(), CliError> {
+    let starts: Vec<Vec<f64>> = starts.iter().map(|s| s.to_vec()).collect();
+    report_any(&AnyPlanner::Plane(Box::new(planner)), &starts, common, None)
 }
 
 /// `hplan plan --poly FILE.poly --goal X,Y --start X,Y...`.
@@ -1033,7 +1002,7 @@ fn plan_poly(
     let planner = poly
         .planner(&opts)
         .map_err(|e| CliError::in_file(path, e))?;
-    report_plan(&planner, &starts, common)
+    report_plan(planner, &starts, common)
 }
 
 /// `hplan plan --mesh-in (BASE | FILE.msh) (--goal-tag TAG | --goal X,Y) --start X,Y...`.
@@ -1069,7 +1038,7 @@ fn plan_mesh_in(
         e @ harmonic_planner::PlanError::Mesh(_) => CliError::from(e),
         e => CliError::in_file(path, e),
     })?;
-    report_plan(&planner, &starts, common)
+    report_plan(planner, &starts, common)
 }
 
 /// `hplan plan SCENE` with several goals: one workspace, one factorisation, one result per
@@ -1177,8 +1146,8 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
                             ),
                         ));
                     }
-                    AnyScene::Volume(scene) if goal.is_empty() => {
-                        return plan_volume(&scene, path, &common, &starts);
+                    scene @ AnyScene::Volume(_) if goal.is_empty() => {
+                        return plan_scene(&scene, path, &common, &starts, None);
                     }
                     AnyScene::Volume(_) => {
                         return Err(CliError::in_file(
@@ -1188,8 +1157,8 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
                             ),
                         ));
                     }
-                    AnyScene::Config(scene) if goal.is_empty() => {
-                        return plan_config(&scene, path, &common, &starts);
+                    scene @ AnyScene::Config(_) if goal.is_empty() => {
+                        return plan_scene(&scene, path, &common, &starts, None);
                     }
                     AnyScene::Config(_) => {
                         return Err(CliError::in_file(
@@ -1224,13 +1193,13 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
                         ..Default::default()
                     }]);
             }
-            let planner = build(&scene, &path, common.json, multigrid)?;
-            let starts = if all_starts.is_empty() {
-                scene.starts.clone()
-            } else {
-                all_starts
-            };
-            report_plan(&planner, &starts, &common)?;
+            plan_scene(
+                &AnyScene::Plane(Box::new(scene)),
+                &path,
+                &common,
+                &starts,
+                multigrid,
+            )?;
         }
         Command::Car {
             common,
@@ -1313,7 +1282,8 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
                 blend: None,
             };
             if let AnyScene::Volume(scene) = load(&path, &no_overrides)? {
-                let planner = build_volume(&scene, &path)?;
+                let planner =
+                    VolumePlanner::new(&scene).map_err(|e| CliError::in_file(&path, e))?;
                 if let Some(out) = &potential {
                     let text = serde_json::to_string(&planner.export())?;
                     write_file(out, &text)?;
