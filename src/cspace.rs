@@ -641,21 +641,7 @@ impl ConfigPlanner {
     /// The slab of one period (in the space's scaled coordinates) with φ, ψ and ∇φ as a VTK
     /// unstructured grid, for ParaView.
     pub fn vtu(&self) -> Result<String, harmonic_volume::VolumeError> {
-        let phi = self.potential.phi_at_vertices();
-        let grad: Vec<[f64; 3]> = self
-            .potential
-            .recovered_gradients()
-            .iter()
-            .map(|g| [-g.x, -g.y, -g.z])
-            .collect();
-        harmonic_volume::io::vtu_string(
-            self.slab(),
-            &[
-                harmonic_volume::io::PointData::Scalar("phi", &phi),
-                harmonic_volume::io::PointData::Scalar("psi", self.potential.psi()),
-                harmonic_volume::io::PointData::Vector("grad_phi", &grad),
-            ],
-        )
+        crate::volume::potential_vtu(self.slab(), &self.potential)
     }
 
     /// The scene with the robot drawn along each path.

@@ -290,6 +290,17 @@ pub struct Timings {
     pub trace: f64,
 }
 
+impl std::fmt::Display for Timings {
+    /// `time: mesh … ms, assemble … ms, solve … ms, trace … ms`, the summaries' line.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
+            self.mesh, self.assemble, self.solve, self.trace
+        )
+    }
+}
+
 /// A harmonic-potential planner for one scene.
 ///
 /// ```
@@ -1430,11 +1441,7 @@ fn summary(
         "mesh: {} vertices, {} triangles, min angle {:.1}°",
         mesh.vertices, mesh.triangles, mesh.min_angle_deg
     );
-    let _ = writeln!(
-        s,
-        "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
-        t.mesh, t.assemble, t.solve, t.trace
-    );
+    let _ = writeln!(s, "{t}");
     let _ = writeln!(
         s,
         "potential: φ in [{:.6}, {:.6}], smallest ψ = φ_wall − φ {:.2e}, interior local minima {}",

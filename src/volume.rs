@@ -519,21 +519,7 @@ impl VolumePlanner {
 
     /// The mesh with φ, ψ and ∇φ (recovered) as a VTK unstructured grid, for ParaView.
     pub fn vtu(&self) -> Result<String, VolumeError> {
-        let phi = self.potential.phi_at_vertices();
-        let grad: Vec<[f64; 3]> = self
-            .potential
-            .recovered_gradients()
-            .iter()
-            .map(|g| [-g.x, -g.y, -g.z])
-            .collect();
-        harmonic_volume::io::vtu_string(
-            &self.mesh,
-            &[
-                PointData::Scalar("phi", &phi),
-                PointData::Scalar("psi", self.potential.psi()),
-                PointData::Vector("grad_phi", &grad),
-            ],
-        )
+        potential_vtu(&self.mesh, &self.potential)
     }
 
     /// The three orthographic projections (xy, xz, yz) of the boundary and the paths.
@@ -558,11 +544,7 @@ impl VolumePlanReport {
             "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
             m.vertices, m.tetrahedra, m.min_dihedral_deg, m.max_dihedral_deg
         );
-        let _ = writeln!(
-            s,
-            "time: mesh {:.1} ms, assemble {:.1} ms, solve {:.1} ms, trace {:.1} ms",
-            t.mesh, t.assemble, t.solve, t.trace
-        );
+        let _ = writeln!(s, "{t}");
         let _ = writeln!(
             s,
             "potential: φ in [{:.6}, {:.6}], smallest ψ {:.2e}, interior local extrema {}",
@@ -586,4 +568,26 @@ impl VolumePlanReport {
         }
         s
     }
+}
+
+/// `mesh` with `potential`'s φ, ψ and ∇φ (recovered) as a VTK unstructured grid: a volume's,
+/// or a configuration space's slab.
+pub(crate) fn potential_vtu(
+    mesh: &TetMesh,
+    potential: &VolumePotential,
+) -> Result<String, VolumeError> {
+    let phi = potential.phi_at_vertices();
+    let grad: Vec<[f64; 3]> = potential
+        .recovered_gradients()
+        .iter()
+        .map(|g| [-g.x, -g.y, -g.z])
+        .collect();
+    harmonic_volume::io::vtu_string(
+        mesh,
+        &[
+            PointData::Scalar("phi", &phi),
+            PointData::Scalar("psi", potential.psi()),
+            PointData::Vector("grad_phi", &grad),
+        ],
+    )
 }
