@@ -1,0 +1,128 @@
+//! The first stage of every build: a scene's free space meshed (`Meshed`), whatever the
+//! input (a scene, a validated domain, a mesh made elsewhere).
+
+use super::*;
+
+/// A scene's free space meshed: what [`Planner`] and [`crate::Workspace`] both start from.
+pub(crate) struct Meshed {
+    pub(crate) domain: Arc<Domain>,
+    pub(crate) mesh: Arc<Mesh>,
+    pub(crate) report: MeshReport,
+    /// The mesh's quality report, made when first asked for (a first plan needs none).
+    pub(crate) quality: Arc<OnceLock<QualityReport>>,
+    /// The larger side of the domain's bounding box.
+    pub(crate) scale: f64,
+    /// Validating and meshing, in milliseconds.
+    pub(crate) ms: f64,
+    /// The levels `mesh` is the finest of, when it was refined uniformly for a multigrid
+    /// solve ([`PlannerOptions::multigrid`]).
+    pub(crate) hierarchy: Option<MeshHierarchy>,
+}
+
+impl Meshed {
+    /// Validates and meshes `spec` with the scene's mesh options.
+    pub(crate) fn new(scene: &Scene, spec: &DomainSpec) -> Result<Meshed, PlanError> {
+        Meshed::constrained(scene, spec, &[], &[], 0)
+    }
+
+    /// [`Meshed::new`] with interior constraint segments and points the mesh must hold
+    /// (see [`Domain::with_constraints`]), meshed at `4^refinements` times the scene's
+    /// largest area and refined uniformly `refinements` times.
+    pub(crate) fn constrained(
+        scene: &Scene,
+        spec: &DomainSpec,
+        segments: &[[Point; 2]],
+        points: &[Point],
+        refinements: usize,
+    ) -> Result<Meshed, PlanError> {
+        let t = Instant::now();
+        let mut mesh_options = scene.mesh_options();
+        let mut domain = Domain::new(spec, &mesh_options)?;
+        if !segments.is_empty() || !points.is_empty() {
+            domain = domain.with_constraints(segments, points)?;
+        }
+        if refinements == 0 {
+            return Meshed::of_domain(domain, &mesh_options, t);
+        }
+        // Past 8 refinements any mesh is over the hierarchy's triangle budget anyway.
+        let factor = 4f64.powi(refinements.min(16) as i32);
+        mesh_options.max_area = mesh_options.max_area.map(|a| a * factor);
+        let mut meshed = Meshed::of_domain(domain, &mesh_options, t)?;
+        let coarse = Arc::try_unwrap(meshed.mesh).unwrap_or_else(|shared| (*shared).clone());
+        let hierarchy = harmonic_mesh::uniform_hierarchy(coarse, refinements)?;
+        meshed.mesh = Arc::clone(hierarchy.finest());
+        meshed.quality = Arc::new(OnceLock::new());
+        meshed.hierarchy = Some(hierarchy);
+        meshed.ms = millis(t);
+        Ok(meshed)
+    }
+
+    /// Meshes a validated domain; `t` is when its validation began (counted as meshing).
+    pub(crate) fn of_domain(
+        domain: Domain,
+        mesh_options: &MeshOptions,
+        t: Instant,
+    ) -> Result<Meshed, PlanError> {
+        let (mesh, report) = domain.mesh(mesh_options)?;
+        let ms = millis(t);
+        let (lo, hi) = domain.bounding_box();
+        Ok(Meshed {
+            domain: Arc::new(domain),
+            mesh: Arc::new(mesh),
+            report,
+            quality: Arc::new(OnceLock::new()),
+            scale: (hi.x - lo.x).max(hi.y - lo.y),
+            ms,
+            hierarchy: None,
+        })
+    }
+
+    /// A mesh made elsewhere, as it is: its domain from its boundary loops
+    /// ([`Domain::of_mesh`]).
+    pub(crate) fn of_mesh(mesh: Mesh) -> Result<Meshed, PlanError> {
+        let t = Instant::now();
+        let domain = Domain::of_mesh(&mesh)?;
+        // The largest area and smallest angle in one pass (each triangle's smallest angle is
+        // the one opposite its shortest side); the full quality report (Delaunay checks,
+        // boundary loops) is made when a report asks for it.
+        let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
+        for t in mesh.triangles() {
+            let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
+            let sides = [(b, c, a), (c, a, b), (a, b, c)];
+            let (p, q, apex) = sides
+                .into_iter()
+                .min_by(|x, y| {
+                    (x.1 - x.0)
+                        .norm_squared()
+                        .total_cmp(&(y.1 - y.0).norm_squared())
+                })
+                .expect("three sides");
+            let (u, v) = (p - apex, q - apex);
+            let cross = u.x * v.y - u.y * v.x;
+            max_area = max_area.max(0.5 * cross.abs());
+            min_angle = min_angle.min(cross.abs().atan2(u.dot(&v)));
+        }
+        let report = MeshReport {
+            refinement_complete: true,
+            seam: None,
+            input_vertices: mesh.vertices().len(),
+            added_vertices: 0,
+            max_area,
+            min_angle_deg: min_angle.to_degrees(),
+            estimated_triangles: mesh.triangles().len(),
+            bridges_split: 0,
+            bridges_remaining: 0,
+            seam_refinements: Default::default(),
+        };
+        let (lo, hi) = domain.bounding_box();
+        Ok(Meshed {
+            domain: Arc::new(domain),
+            mesh: Arc::new(mesh),
+            report,
+            quality: Arc::new(OnceLock::new()),
+            scale: (hi.x - lo.x).max(hi.y - lo.y),
+            ms: millis(t),
+            hierarchy: None,
+        })
+    }
+}
