@@ -210,7 +210,7 @@ mod tests {
         Domain::of_rings(&outer, &holes, &[], &MeshOptions::default())
             .map(|_| ())
             .map_err(|e| {
-                let mut refused = super::super::refused(t, e);
+                let mut refused = crate::map::traced::refused(t, e);
                 refused.rings.sort_unstable();
                 refused
             })
