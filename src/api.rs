@@ -18,14 +18,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use harmonic_types::Point3;
 use serde::Serialize;
 
 use crate::cspace::{ConfigPlanError, ConfigPlanReport, ConfigPlannedPath, ConfigPlanner};
 use crate::planner::{PlanError, PlanReport, PlannedPath, Planner, PlannerOptions, SvgOptions};
 use crate::scene::AnyScene;
-use crate::volume::{
-    VolumeError, VolumePlanError, VolumePlanReport, VolumePlannedPath, VolumePlanner,
-};
+use crate::volume::{VolumeError, VolumePlanError, VolumePlanReport, VolumePlanner};
 
 /// A report of several starts, as `hplan plan --json` prints it, that can also say itself as
 /// text (`hplan plan` without `--json`).
@@ -102,12 +101,12 @@ impl PlannerApi for Planner {
 
 impl PlannerApi for VolumePlanner {
     type Start = [f64; 3];
-    type Path = VolumePlannedPath;
+    type Path = PlannedPath<Point3>;
     type Report = VolumePlanReport;
-    fn plan(&self, start: &[f64; 3]) -> VolumePlannedPath {
+    fn plan(&self, start: &[f64; 3]) -> PlannedPath<Point3> {
         VolumePlanner::plan(self, *start)
     }
-    fn plan_many(&self, starts: &[[f64; 3]]) -> Vec<VolumePlannedPath> {
+    fn plan_many(&self, starts: &[[f64; 3]]) -> Vec<PlannedPath<Point3>> {
         VolumePlanner::plan_many(self, starts)
     }
     fn report(&self, starts: &[[f64; 3]]) -> VolumePlanReport {

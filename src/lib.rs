@@ -51,6 +51,7 @@ pub use harmonic_mesh as mesh;
 pub use harmonic_mesh::{Point, Vector};
 pub use harmonic_solver as solver;
 pub use harmonic_trajectory as trajectory;
+pub use harmonic_types::{Point3, Vector3};
 pub use planner::{
     CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
     PlannerOptions, Report, Stage, StartEntry, SvgOptions, Timings, poses_along,

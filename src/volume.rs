@@ -36,7 +36,7 @@ use harmonic_volume::{
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::planner::{Timings, finite_or_zero, tag_name};
+use crate::planner::{PlannedPath, Timings, finite_or_zero, tag_name};
 use crate::scene::SceneError;
 
 pub use crate::scene::VolumeScene;
@@ -78,34 +78,6 @@ pub struct VolumePlanner {
     positive_offdiagonals: usize,
     timings: Timings,
     scale: f64,
-}
-
-/// One planned path through a volume, as `hplan plan --json` prints it.
-#[derive(Clone, Debug, Serialize)]
-pub struct VolumePlannedPath {
-    /// The start point.
-    pub start: [f64; 3],
-    /// How the path ended (`reached_goal`, `unreachable`, `stalled`, `start_in_obstacle`,
-    /// `outside_workspace`, `max_steps`).
-    pub status: TraceStatus<Point>,
-    /// The goal reached, if any.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub goal: Option<u32>,
-    /// For a start in an obstacle or outside the workspace: which (`"obstacle 2"`,
-    /// `"the workspace"`), with the robot's radius counted.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub blocked_by: Option<String>,
-    /// Which tracer made the path: `smooth`, or `exact` where the smooth one stalled.
-    pub tracer: Tracer,
-    /// Length of the polyline.
-    pub length: f64,
-    /// Smallest distance from the path's vertices to a wall or an obstacle, against the exact
-    /// solids (the robot radius not subtracted).
-    pub min_clearance: f64,
-    /// Smallest |∇φ| met along the path.
-    pub min_gradient: f64,
-    /// The polyline `[[x, y, z], ...]`.
-    pub points: Vec<[f64; 3]>,
 }
 
 /// The mesh part of a volume report.
@@ -157,7 +129,7 @@ pub struct VolumePlanReport {
     /// The potential.
     pub potential: VolumePotentialSummary,
     /// One entry per start.
-    pub paths: Vec<VolumePlannedPath>,
+    pub paths: Vec<PlannedPath<Point>>,
 }
 
 /// The mesh and the potential for outside tools (`hplan export --potential` on a volume).
@@ -249,7 +221,7 @@ impl VolumePlanner {
     /// one stalls or runs out of steps. A free start that the mesh does not reach (it keeps
     /// a safety margin off curved and sharp obstacles) is first led straight to the nearest
     /// point of the mesh, where that segment keeps the robot's radius from every solid.
-    pub fn plan(&self, start: [f64; 3]) -> VolumePlannedPath {
+    pub fn plan(&self, start: [f64; 3]) -> PlannedPath<Point> {
         let p = Point::new(start[0], start[1], start[2]);
         if let Some(entry) = self.lead_in(&p) {
             let mut out = self.trace_from(entry);
@@ -294,7 +266,7 @@ impl VolumePlanner {
     }
 
     /// Traces from `start` as it is.
-    fn trace_from(&self, p: Point) -> VolumePlannedPath {
+    fn trace_from(&self, p: Point) -> PlannedPath<Point> {
         let start = [p.x, p.y, p.z];
         let goal_radius = self.report.point_goal_radius;
         let classify = |q: &Point| match self.domain.classify(q, goal_radius) {
@@ -325,11 +297,16 @@ impl VolumePlanner {
     }
 
     /// Plans from every start, in parallel.
-    pub fn plan_many(&self, starts: &[[f64; 3]]) -> Vec<VolumePlannedPath> {
+    pub fn plan_many(&self, starts: &[[f64; 3]]) -> Vec<PlannedPath<Point>> {
         starts.par_iter().map(|&s| self.plan(s)).collect()
     }
 
-    fn planned(&self, start: [f64; 3], mut path: Path<Point>, tracer: Tracer) -> VolumePlannedPath {
+    fn planned(
+        &self,
+        start: [f64; 3],
+        mut path: Path<Point>,
+        tracer: Tracer,
+    ) -> PlannedPath<Point> {
         // A point goal is carved as a small free ball around it: the last straight step from
         // the ball's face ends exactly on the point.
         if let TraceStatus::ReachedGoal(j) = path.status
@@ -376,7 +353,7 @@ impl VolumePlanner {
                 q.x, q.y, q.z
             ));
         }
-        VolumePlannedPath {
+        PlannedPath {
             start,
             status,
             goal: path.goal,

@@ -1,6 +1,6 @@
 //! `hp.Path` (a planned path, plane or volume) and `hp.CarRun` (a car's drive).
 
-use harmonic_planner::volume::VolumePlannedPath;
+use harmonic_planner::Point3;
 use harmonic_planner::{CarRun, PlannedPath};
 use numpy::PyArray2;
 use numpy::ndarray::Array2;
@@ -50,8 +50,8 @@ impl From<PlannedPath> for PyPath {
     }
 }
 
-impl From<VolumePlannedPath> for PyPath {
-    fn from(p: VolumePlannedPath) -> PyPath {
+impl From<PlannedPath<Point3>> for PyPath {
+    fn from(p: PlannedPath<Point3>) -> PyPath {
         PyPath {
             start: p.start.to_vec(),
             status: p.status.as_str(),

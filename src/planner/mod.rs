@@ -14,8 +14,8 @@ use harmonic_mesh::{
     QualityReport,
 };
 use harmonic_trajectory::{
-    CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, SmoothOptions, SmoothP1Field,
-    TraceStatus, Tracer, descend, drive, polyline_length, trace_exact,
+    CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, PathPoint, SmoothOptions,
+    SmoothP1Field, TraceStatus, Tracer, descend, drive, polyline_length, trace_exact,
 };
 use rayon::prelude::*;
 use serde::Serialize;

@@ -91,6 +91,7 @@ impl Planner {
                 TraceStatus::ReachedGoal(j) => Some(j),
                 _ => None,
             },
+            blocked_by: None,
             tracer: Tracer::Straight,
             // (+0, not the −0 an empty sum gives, for a start alone.)
             length: polyline_length(&points).max(0.0),
@@ -133,6 +134,7 @@ impl Planner {
             start: [start.x, start.y],
             status: path.status,
             goal: path.goal,
+            blocked_by: None,
             tracer,
             length: polyline_length(&path.points),
             min_clearance: finite_or_zero(min_clearance),

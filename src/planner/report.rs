@@ -27,28 +27,35 @@ impl std::fmt::Display for Timings {
     }
 }
 
-/// One planned path, as the `hplan plan --json` contract prints it.
+/// One planned path, as the `hplan plan --json` contract prints it: in the plane
+/// (`PlannedPath`) or through a volume (`PlannedPath<Point3>`).
 #[derive(Clone, Debug, Serialize)]
-pub struct PlannedPath {
-    /// The query point `[x, y]`, as given.
-    pub start: [f64; 2],
+#[serde(bound = "")]
+pub struct PlannedPath<P: PathPoint = Point> {
+    /// The query point (`[x, y]`, `[x, y, z]`), as given.
+    pub start: P::Array,
     /// How the path ended, serialised as `reached_goal`, `unreachable`, `stalled`,
-    /// `start_in_obstacle`, `outside_workspace` or `max_steps`.
-    pub status: TraceStatus,
+    /// `start_in_obstacle`, `outside_workspace`, `max_steps` or `collision`.
+    pub status: TraceStatus<P>,
     /// The goal reached, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub goal: Option<u32>,
+    /// For a start in an obstacle or outside the workspace, where the planner says which
+    /// (`"obstacle 2"`, `"the workspace"`; volumes), with the robot's radius counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub blocked_by: Option<String>,
     /// Which tracer made the path: `smooth` (the default) or `exact` (the fallback).
     pub tracer: Tracer,
     /// Length of the polyline `points`, in scene units.
     pub length: f64,
-    /// Smallest distance from the path to a wall or an obstacle (exact geometry).
+    /// Smallest distance from the path to a wall or an obstacle (exact geometry; in a volume,
+    /// from the path's vertices, the robot's radius not subtracted).
     pub min_clearance: f64,
     /// Smallest |∇φ| met along the path (0 if none was met).
     pub min_gradient: f64,
-    /// The path's vertices `[x, y]` from the start; on reaching the goal the last lies on its
-    /// boundary.
-    pub points: Vec<[f64; 2]>,
+    /// The path's vertices from the start; on reaching the goal the last lies on its
+    /// boundary (or on a point goal).
+    pub points: Vec<P::Array>,
 }
 
 impl PlannedPath {

@@ -806,6 +806,7 @@ impl DynamicPlanner {
             start: robot,
             status: plan.path.status,
             goal: plan.path.goal,
+            blocked_by: None,
             tracer: plan.tracer,
             length: metrics.length,
             min_clearance: finite(metrics.min_clearance),

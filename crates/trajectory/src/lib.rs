@@ -29,7 +29,7 @@ pub use exact::{ExactOptions, trace_exact, trace_exact_with_hint};
 pub use field::{Fallback, Field, Locate, NOT_A_GOAL, P1Field, Segment, SmoothP1Field};
 pub use harmonic_types::geom::polyline_length;
 pub use metrics::{PathMetrics, max_curvature, max_pose_curvature, path_metrics};
-pub use path::{CarPath, Path, TraceStatus};
+pub use path::{CarPath, Path, PathPoint, TraceStatus};
 pub use smooth::{SmoothOptions, trace_smooth, trace_smooth_with_hint};
 
 /// Errors from building fields or from invalid tracer options.

@@ -6,16 +6,24 @@ use harmonic_types::{Point, Point3};
 use serde::{Serialize, Serializer};
 
 /// A point a path is made of: a point of the plane or of space.
-pub trait PathPoint: Copy + std::fmt::Debug + PartialEq {
+pub trait PathPoint: Copy + std::fmt::Debug + PartialEq + Send + Sync {
+    /// Its coordinates as an array (`[f64; 2]`, `[f64; 3]`), as reports keep them.
+    type Array: Copy + std::fmt::Debug + PartialEq + Serialize + Send + Sync;
     /// Its coordinates, as the JSON writes them (`[x, y]`, `[x, y, z]`).
     fn coords(&self) -> &[f64];
+    /// Its coordinates as an array.
+    fn array(&self) -> Self::Array;
     /// The distance to `other`.
     fn distance(&self, other: &Self) -> f64;
 }
 
 impl PathPoint for Point {
+    type Array = [f64; 2];
     fn coords(&self) -> &[f64] {
         self.coords.as_slice()
+    }
+    fn array(&self) -> [f64; 2] {
+        [self.x, self.y]
     }
     fn distance(&self, other: &Self) -> f64 {
         (other - self).norm()
@@ -23,8 +31,12 @@ impl PathPoint for Point {
 }
 
 impl PathPoint for Point3 {
+    type Array = [f64; 3];
     fn coords(&self) -> &[f64] {
         self.coords.as_slice()
+    }
+    fn array(&self) -> [f64; 3] {
+        [self.x, self.y, self.z]
     }
     fn distance(&self, other: &Self) -> f64 {
         (other - self).norm()
