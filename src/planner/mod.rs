@@ -200,23 +200,7 @@ impl Planner {
 
     /// [`Planner::new`] with options (a stage observer).
     pub fn with_options(scene: &Scene, options: &PlannerOptions) -> Result<Planner, PlanError> {
-        crate::threads::build_in(
-            options,
-            |e| e,
-            |options| {
-                options.stage(Stage::Meshing)?;
-                let refinements = options.multigrid.unwrap_or(0);
-                let meshed =
-                    Meshed::constrained(scene, &scene.domain_spec(), &[], &[], refinements)?;
-                Planner::solved(
-                    meshed,
-                    &scene.boundary_conditions(),
-                    scene.blend_conditions(),
-                    options,
-                    None,
-                )
-            },
-        )
+        Planner::with_constraints(scene, &[], &[], options)
     }
 
     /// [`Planner::with_options`] on a scene whose mesh must also hold interior constraint
