@@ -21,10 +21,13 @@
 use harmonic_types::Point3;
 use serde::Serialize;
 
-use crate::cspace::{ConfigPlanError, ConfigPlanReport, ConfigPlannedPath, ConfigPlanner};
-use crate::planner::{PlanError, PlanReport, PlannedPath, Planner, PlannerOptions, SvgOptions};
+use crate::PlanError;
+use crate::cspace::{ConfigPlanReport, ConfigPlannedPath, ConfigPlanner};
+use crate::planner::{
+    PathSummary, PlanReport, PlannedPath, Planner, PlannerOptions, Report, SvgOptions,
+};
 use crate::scene::AnyScene;
-use crate::volume::{VolumeError, VolumePlanError, VolumePlanReport, VolumePlanner};
+use crate::volume::{VolumeError, VolumePlanReport, VolumePlanner};
 
 /// A report of several starts, as `hplan plan --json` prints it, that can also say itself as
 /// text (`hplan plan` without `--json`).
@@ -33,21 +36,13 @@ pub trait Summary: Serialize {
     fn summary(&self) -> String;
 }
 
-impl Summary for PlanReport {
+impl<P, M> Summary for Report<P, M>
+where
+    P: PathSummary + Serialize,
+    M: std::fmt::Display + Serialize,
+{
     fn summary(&self) -> String {
-        PlanReport::summary(self)
-    }
-}
-
-impl Summary for VolumePlanReport {
-    fn summary(&self) -> String {
-        VolumePlanReport::summary(self)
-    }
-}
-
-impl Summary for ConfigPlanReport {
-    fn summary(&self) -> String {
-        ConfigPlanReport::summary(self)
+        Report::summary(self)
     }
 }
 
@@ -145,20 +140,6 @@ impl PlannerApi for ConfigPlanner {
     }
 }
 
-/// Why the planner of a scene file could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum AnyPlanError {
-    /// A plane scene's.
-    #[error(transparent)]
-    Plane(#[from] PlanError),
-    /// A volume scene's.
-    #[error(transparent)]
-    Volume(#[from] VolumePlanError),
-    /// A configuration-space scene's.
-    #[error(transparent)]
-    Config(#[from] ConfigPlanError),
-}
-
 /// A start whose number of coordinates does not fit the scene.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("start {}: expected {expected}", start.iter().map(f64::to_string).collect::<Vec<_>>().join(","))]
@@ -218,7 +199,7 @@ impl AnyPlanner {
     /// Builds the planner of `scene`. `options` shape a plane scene's build (stages, solve
     /// method, multigrid, threads); a volume or a configuration space is built as its scene
     /// says.
-    pub fn new(scene: &AnyScene, options: &PlannerOptions) -> Result<AnyPlanner, AnyPlanError> {
+    pub fn new(scene: &AnyScene, options: &PlannerOptions) -> Result<AnyPlanner, PlanError> {
         Ok(match scene {
             AnyScene::Plane(s) => AnyPlanner::Plane(Box::new(Planner::with_options(s, options)?)),
             AnyScene::Volume(s) => AnyPlanner::Volume(Box::new(VolumePlanner::new(s)?)),

@@ -33,54 +33,25 @@ use std::time::Instant;
 use harmonic_cspace::check::{check_path, exact_clearance};
 use harmonic_cspace::svg::{MotionSvgOptions, motion_svg};
 use harmonic_cspace::{
-    ConfigClass, ConfigGoal, ConfigSpace, CspaceError, CspaceMeshReport, DEFAULT_MAX_TETRAHEDRA,
-    EXTRUDE_PART, Robot,
+    ConfigClass, ConfigGoal, ConfigSpace, CspaceMeshReport, DEFAULT_MAX_TETRAHEDRA, EXTRUDE_PART,
+    Robot,
 };
-use harmonic_fem::FemError;
 use harmonic_fem::volume::{VolumePotential, solve_periodic_for_planning};
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
     trace_smooth_volume,
 };
-use harmonic_trajectory::{Locate, Path, TraceError, TraceStatus, Tracer};
+use harmonic_trajectory::{Locate, Path, TraceStatus, Tracer};
 use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, quality};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::planner::{Timings, finite_or_zero};
-use crate::scene::SceneError;
+use crate::PlanError;
+use crate::planner::{PathSummary, Report, Timings, finite_or_zero};
 pub use crate::scene::config::{
     ArmSpec, ConfigGoalSpec, ConfigMeshSpec, ConfigRobotSpec, ConfigScene, ToleranceSpec,
     parse_config_scene,
 };
-
-/// Why a configuration-space planner could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum ConfigPlanError {
-    /// The scene is invalid (names the JSON path).
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The configuration space cannot be built or meshed.
-    #[error(transparent)]
-    Cspace(#[from] CspaceError),
-    /// Assembly or solve failed.
-    #[error(transparent)]
-    Fem(#[from] FemError),
-    /// The potential cannot be traced.
-    #[error(transparent)]
-    Trace(#[from] TraceError),
-    /// A mesh could not be built.
-    #[error(transparent)]
-    Volume(#[from] harmonic_volume::VolumeError),
-    /// The robot touches nothing in any configuration and every axis wraps around, so
-    /// nothing but the goal bounds the space a potential could flow through.
-    #[error(
-        "the robot touches nothing in any configuration (no obstacle in reach, no joint limit, \
-         no link that can meet another), so nothing but the goal bounds the configuration \
-         space: add a joint limit or an obstacle"
-    )]
-    NothingToAvoid,
-}
 
 /// One planned motion, as `hplan plan --json` prints it.
 #[derive(Clone, Debug, Serialize)]
@@ -153,33 +124,41 @@ pub struct ConfigMeshSummary {
     pub clamped_edges: usize,
 }
 
-/// The report of `hplan plan` on a configuration-space scene.
-#[derive(Clone, Debug, Serialize)]
-pub struct ConfigPlanReport {
-    /// `"pose"` or `"joints"`.
-    pub configuration: &'static str,
-    /// The mesh.
-    pub mesh: ConfigMeshSummary,
-    /// Milliseconds per stage.
-    pub timings_ms: Timings,
-    /// The potential on the slab.
-    pub potential: ConfigPotentialSummary,
-    /// Interior local extrema of the potential on the slab.
-    pub interior_local_extrema: usize,
-    /// One entry per start.
-    pub paths: Vec<ConfigPlannedPath>,
+/// The report of `hplan plan` on a configuration-space scene (`configuration`: `"pose"` or
+/// `"joints"`).
+pub type ConfigPlanReport = Report<ConfigPlannedPath, ConfigMeshSummary>;
+
+impl std::fmt::Display for ConfigMeshSummary {
+    /// `configuration space: … vertices, … tetrahedra per period (… unknowns), spacing …`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "configuration space: {} vertices, {} tetrahedra per period ({} unknowns), spacing {}, margin {}",
+            self.vertices, self.tetrahedra, self.unknowns, self.spacing, self.margin
+        )
+    }
 }
 
-/// The potential part of a configuration-space report, as the contract names it.
-#[derive(Clone, Debug, Serialize)]
-pub struct ConfigPotentialSummary {
-    /// Smallest φ at a vertex of the slab.
-    pub min: f64,
-    /// Largest φ at a vertex of the slab.
-    pub max: f64,
-    /// Vertices off the boundary (the goal, walls, obstacles and the slab's seam excluded)
-    /// where φ is a strict local minimum.
-    pub interior_local_minima: usize,
+impl PathSummary for ConfigPlannedPath {
+    /// `[start]: status (collides with …), length …, clearance …, end […]`.
+    fn line(&self) -> String {
+        let end = self.configurations().last().cloned().unwrap_or_default();
+        let blocked = self
+            .blocked_by
+            .as_ref()
+            .map(|b| format!(" (collides with {b})"))
+            .unwrap_or_default();
+        format!(
+            "{:?}: {}{blocked}, length {:.3}, clearance {:.3}, end {:?}",
+            self.start,
+            self.status.as_str(),
+            self.length + 0.0, // no "-0.000"
+            self.min_clearance,
+            end.iter()
+                .map(|v| (v * 1e3).round() / 1e3)
+                .collect::<Vec<_>>()
+        )
+    }
 }
 
 /// A harmonic planner in a robot's configuration space: built once, queried many times.
@@ -192,6 +171,9 @@ pub struct ConfigPlanner {
     report: CspaceMeshReport,
     unknowns: usize,
     clamped_edges: usize,
+    positive_offdiagonals: usize,
+    /// What produced ψ (`potential.solved_by`).
+    solved_by: &'static str,
     timings: Timings,
     scale: f64,
     size: f64,
@@ -215,7 +197,7 @@ fn free_everywhere(
     space: &ConfigSpace,
     mesh: &mut PeriodicMesh,
     spacing: f64,
-) -> Result<(), ConfigPlanError> {
+) -> Result<(), PlanError> {
     let bounded = mesh.slab.boundary_faces().iter().any(|f| {
         !matches!(f.tag, BoundaryTag::Goal(_))
             && f.tag != BoundaryTag::Obstacle(harmonic_volume::SEAM_PART)
@@ -244,7 +226,7 @@ fn free_everywhere(
         .iter()
         .any(|a| matches!(a, harmonic_cspace::Axis::Extruded { .. }));
     if goals.is_empty() || !extruded {
-        return Err(ConfigPlanError::NothingToAvoid);
+        return Err(PlanError::NothingToAvoid);
     }
     let goal = goals.iter().sum::<harmonic_volume::Vector>() / goals.len() as f64;
     let period = mesh.period;
@@ -273,7 +255,7 @@ fn free_everywhere(
 
 impl ConfigPlanner {
     /// Builds the planner: validates the scene, meshes its configuration space, solves.
-    pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, ConfigPlanError> {
+    pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, PlanError> {
         let t = Instant::now();
         let space = scene.build()?;
         let budget = scene.mesh.max_tetrahedra.unwrap_or(DEFAULT_MAX_TETRAHEDRA);
@@ -310,6 +292,8 @@ impl ConfigPlanner {
             report,
             unknowns: solved.unknowns,
             clamped_edges: solved.clamped_edges,
+            positive_offdiagonals: solved.positive_offdiagonals,
+            solved_by: crate::volume::volume_solved_by(&solved.solve, solved.clamped),
             timings: Timings {
                 mesh: mesh_ms,
                 assemble: 0.0,
@@ -605,10 +589,10 @@ impl ConfigPlanner {
         timings.trace = millis(t);
         let q = quality(&self.slab);
         ConfigPlanReport {
-            configuration: match self.space.robot() {
+            configuration: Some(match self.space.robot() {
                 Robot::Rigid(_) => "pose",
                 Robot::Arm(_) => "joints",
-            },
+            }),
             mesh: ConfigMeshSummary {
                 vertices: q.vertices,
                 tetrahedra: q.tetrahedra,
@@ -625,15 +609,11 @@ impl ConfigPlanner {
                 clamped_edges: self.clamped_edges,
             },
             timings_ms: timings,
-            potential: {
-                let phi = self.potential.phi_at_vertices();
-                ConfigPotentialSummary {
-                    min: phi.iter().copied().fold(f64::INFINITY, f64::min),
-                    max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                    interior_local_minima: self.potential.interior_local_minima(),
-                }
-            },
-            interior_local_extrema: self.potential.interior_local_extrema(),
+            potential: crate::volume::volume_potential_summary(
+                &self.potential,
+                self.solved_by,
+                self.positive_offdiagonals,
+            ),
             paths,
         }
     }
@@ -664,45 +644,5 @@ impl ConfigPlanner {
                 ..MotionSvgOptions::default()
             },
         )
-    }
-}
-
-impl ConfigPlanReport {
-    /// A human-readable summary.
-    pub fn summary(&self) -> String {
-        let report = self;
-        use std::fmt::Write as _;
-        let (m, t) = (&report.mesh, &report.timings_ms);
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "configuration space: {} vertices, {} tetrahedra per period ({} unknowns), spacing {}, margin {}",
-            m.vertices, m.tetrahedra, m.unknowns, m.spacing, m.margin
-        );
-        let _ = writeln!(
-            s,
-            "time: mesh {:.1} ms, assemble and solve {:.1} ms, trace {:.1} ms",
-            t.mesh, t.solve, t.trace
-        );
-        for path in &report.paths {
-            let end = path.configurations().last().cloned().unwrap_or_default();
-            let blocked = path
-                .blocked_by
-                .as_ref()
-                .map(|b| format!(" (collides with {b})"))
-                .unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "{:?}: {}{blocked}, length {:.3}, clearance {:.3}, end {:?}",
-                path.start,
-                path.status.as_str(),
-                path.length + 0.0, // no "-0.000"
-                path.min_clearance,
-                end.iter()
-                    .map(|v| (v * 1e3).round() / 1e3)
-                    .collect::<Vec<_>>()
-            );
-        }
-        s
     }
 }

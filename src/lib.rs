@@ -34,6 +34,7 @@
 
 pub mod api;
 pub mod cspace;
+mod error;
 pub mod inputs;
 #[cfg(feature = "map")]
 pub mod map;
@@ -44,8 +45,9 @@ mod threads;
 pub mod volume;
 pub mod workspace;
 
-pub use api::{AnyPlanError, AnyPlanner, AnyReport, PlannerApi, StartError, Summary, VtuError};
+pub use api::{AnyPlanner, AnyReport, PlannerApi, StartError, Summary, VtuError};
 pub use cspace::{ConfigPlanner, ConfigScene};
+pub use error::PlanError;
 pub use harmonic_fem as fem;
 pub use harmonic_mesh as mesh;
 pub use harmonic_mesh::{Point, Vector};
@@ -53,8 +55,8 @@ pub use harmonic_solver as solver;
 pub use harmonic_trajectory as trajectory;
 pub use harmonic_types::{Point3, Vector3};
 pub use planner::{
-    CarParams, CarReport, CarRun, Export, PlanError, PlanReport, PlannedPath, Planner,
-    PlannerOptions, Report, Stage, StartEntry, SvgOptions, Timings, poses_along,
+    CarParams, CarReport, CarRun, Export, PlanReport, PlannedPath, Planner, PlannerOptions, Report,
+    Stage, StartEntry, SvgOptions, Timings, poses_along,
 };
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};

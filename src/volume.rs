@@ -22,13 +22,15 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use harmonic_fem::FemError;
-use harmonic_fem::volume::{VolumeAssembler, VolumePotential, solve_assembled_for_planning};
+use harmonic_fem::volume::{
+    VolumeAssembler, VolumePotential, VolumeSolveMethod, VolumeSolveReport,
+    solve_assembled_for_planning,
+};
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
     trace_smooth_volume,
 };
-use harmonic_trajectory::{Locate, Path, TraceError, TraceStatus, Tracer};
+use harmonic_trajectory::{Locate, Path, TraceStatus, Tracer};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
     GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, quality,
@@ -36,28 +38,12 @@ use harmonic_volume::{
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::planner::{PlannedPath, Timings, finite_or_zero, tag_name};
+use crate::PlanError;
+use crate::planner::{PlannedPath, PotentialSummary, Report, Timings, finite_or_zero, tag_name};
 use crate::scene::SceneError;
 
 pub use crate::scene::VolumeScene;
 pub use harmonic_volume::VolumeError;
-
-/// Why a volume planner could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum VolumePlanError {
-    /// The scene is invalid: a part given twice or not at all, solids that are not solids.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// The free space cannot be meshed.
-    #[error(transparent)]
-    Volume(#[from] VolumeError),
-    /// Assembly or solve failed.
-    #[error(transparent)]
-    Fem(#[from] FemError),
-    /// The potential cannot be traced (not finite).
-    #[error(transparent)]
-    Trace(#[from] TraceError),
-}
 
 /// Parses a volume scene from JSON; errors name the field, line and column as for plane
 /// scenes. (A file of either kind: [`crate::AnyScene::from_file`].)
@@ -76,6 +62,8 @@ pub struct VolumePlanner {
     field: Arc<VolumeFieldParts>,
     clamped_edges: usize,
     positive_offdiagonals: usize,
+    /// What produced ψ (`potential.solved_by`).
+    solved_by: &'static str,
     timings: Timings,
     scale: f64,
 }
@@ -102,34 +90,50 @@ pub struct VolumeMeshSummary {
     pub spacing: f64,
 }
 
-/// The potential part of a volume report.
-#[derive(Clone, Debug, Serialize)]
-pub struct VolumePotentialSummary {
-    /// Smallest φ at a vertex.
-    pub min: f64,
-    /// Largest φ at a vertex.
-    pub max: f64,
-    /// Smallest ψ = φ_wall − φ at a vertex.
-    pub min_psi: f64,
-    /// Interior vertices where φ is a strict local minimum (a path would stop there).
-    pub interior_local_minima: usize,
-    /// Interior vertices where φ is a strict local minimum or maximum.
-    pub interior_local_extrema: usize,
-    /// Positive off-diagonals of the assembled (unclamped) matrix.
-    pub positive_offdiagonals: usize,
+/// The report of `hplan plan` on a volume scene.
+pub type VolumePlanReport = Report<PlannedPath<Point>, VolumeMeshSummary>;
+
+impl std::fmt::Display for VolumeMeshSummary {
+    /// `mesh: … vertices, … tetrahedra, dihedral angles …°–…°`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
+            self.vertices, self.tetrahedra, self.min_dihedral_deg, self.max_dihedral_deg
+        )
+    }
 }
 
-/// The report of `hplan plan` on a volume scene.
-#[derive(Clone, Debug, Serialize)]
-pub struct VolumePlanReport {
-    /// The mesh.
-    pub mesh: VolumeMeshSummary,
-    /// Milliseconds per stage.
-    pub timings_ms: Timings,
-    /// The potential.
-    pub potential: VolumePotentialSummary,
-    /// One entry per start.
-    pub paths: Vec<PlannedPath<Point>>,
+/// How a volume or configuration-space solve names itself in `potential.solved_by`.
+pub(crate) fn volume_solved_by(report: &VolumeSolveReport, clamped: bool) -> &'static str {
+    use VolumeSolveMethod::{Accurate, Auto, Cholesky, Pcg};
+    match (report.method, clamped) {
+        (Accurate, false) => "accurate",
+        (Accurate, true) => "accurate (clamped M-matrix)",
+        (Cholesky, false) => "cholesky",
+        (Cholesky, true) => "cholesky (clamped M-matrix)",
+        (Pcg | Auto, false) => "pcg",
+        (Pcg | Auto, true) => "pcg (clamped M-matrix)",
+    }
+}
+
+/// The potential's figures on a tetrahedral mesh (a volume, a configuration space's slab).
+pub(crate) fn volume_potential_summary(
+    potential: &VolumePotential,
+    solved_by: &'static str,
+    positive_offdiagonals: usize,
+) -> PotentialSummary {
+    let phi = potential.phi_at_vertices();
+    PotentialSummary {
+        min: phi.iter().copied().fold(f64::INFINITY, f64::min),
+        max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        interior_local_minima: potential.interior_local_minima(),
+        interior_local_extrema: Some(potential.interior_local_extrema()),
+        min_psi: PotentialSummary::smallest_positive(potential.psi()),
+        min_log10_psi: None,
+        positive_offdiagonals: Some(positive_offdiagonals),
+        solved_by,
+    }
 }
 
 /// The mesh and the potential for outside tools (`hplan export --potential` on a volume).
@@ -153,7 +157,7 @@ fn millis(t: Instant) -> f64 {
 
 impl VolumePlanner {
     /// Builds the planner: validates and meshes the scene, assembles and solves for ψ.
-    pub fn new(scene: &VolumeScene) -> Result<VolumePlanner, VolumePlanError> {
+    pub fn new(scene: &VolumeScene) -> Result<VolumePlanner, PlanError> {
         let t = Instant::now();
         let domain = scene.build()?;
         let max_volume = scene.max_volume(&domain)?;
@@ -172,7 +176,8 @@ impl VolumePlanner {
         // Stuffed meshes keep a few obtuse tetrahedra; where their positive off-diagonals let
         // the Galerkin field have an interior extremum (or ψ is too flat for Cholesky), the
         // planning solve redoes it on the M-matrix with those weights clamped.
-        let (potential, _, clamped) = solve_assembled_for_planning(&assembler, &bcs, &system)?;
+        let (potential, solve, clamped) = solve_assembled_for_planning(&assembler, &bcs, &system)?;
+        let solved_by = volume_solved_by(&solve, clamped.is_some());
         let clamped_edges = clamped.unwrap_or(0);
         let field = Arc::clone(P1VolumeField::ascending(&mesh, potential.psi())?.parts());
         let solve_ms = millis(t);
@@ -187,6 +192,7 @@ impl VolumePlanner {
             field,
             clamped_edges,
             positive_offdiagonals,
+            solved_by,
             timings: Timings {
                 mesh: mesh_ms,
                 assemble: assemble_ms,
@@ -444,9 +450,8 @@ impl VolumePlanner {
         let mut timings = self.timings;
         timings.trace = millis(t);
         let q = quality(&self.mesh);
-        let psi = self.potential.psi();
-        let phi = self.potential.phi_at_vertices();
         VolumePlanReport {
+            configuration: None,
             mesh: VolumeMeshSummary {
                 vertices: q.vertices,
                 tetrahedra: q.tetrahedra,
@@ -458,14 +463,11 @@ impl VolumePlanner {
                 spacing: self.report.spacing,
             },
             timings_ms: timings,
-            potential: VolumePotentialSummary {
-                min: phi.iter().copied().fold(f64::INFINITY, f64::min),
-                max: phi.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                min_psi: psi.iter().copied().fold(f64::INFINITY, f64::min),
-                interior_local_minima: self.potential.interior_local_minima(),
-                interior_local_extrema: self.potential.interior_local_extrema(),
-                positive_offdiagonals: self.positive_offdiagonals,
-            },
+            potential: volume_potential_summary(
+                &self.potential,
+                self.solved_by,
+                self.positive_offdiagonals,
+            ),
             paths,
         }
     }
@@ -506,44 +508,6 @@ impl VolumePlanner {
             .map(|p| p.iter().map(|q| Point::new(q[0], q[1], q[2])).collect())
             .collect();
         harmonic_volume::io::projections_svg(&self.mesh, &paths)
-    }
-}
-
-impl VolumePlanReport {
-    /// A human-readable summary.
-    pub fn summary(&self) -> String {
-        let report = self;
-        use std::fmt::Write as _;
-        let (m, t, p) = (&report.mesh, &report.timings_ms, &report.potential);
-        let mut s = String::new();
-        let _ = writeln!(
-            s,
-            "mesh: {} vertices, {} tetrahedra, dihedral angles {:.1}°–{:.1}°",
-            m.vertices, m.tetrahedra, m.min_dihedral_deg, m.max_dihedral_deg
-        );
-        let _ = writeln!(s, "{t}");
-        let _ = writeln!(
-            s,
-            "potential: φ in [{:.6}, {:.6}], smallest ψ {:.2e}, interior local extrema {}",
-            p.min, p.max, p.min_psi, p.interior_local_extrema
-        );
-        for path in &report.paths {
-            let [x, y, z] = path.start;
-            let blocked = path
-                .blocked_by
-                .as_ref()
-                .map(|b| format!(" ({b}, robot radius counted)"))
-                .unwrap_or_default();
-            let _ = writeln!(
-                s,
-                "({x}, {y}, {z}): {}{blocked}, length {:.3}, clearance {:.3}, smallest |∇φ| {:.2e}",
-                path.status.as_str(),
-                path.length + 0.0, // no "-0.000"
-                path.min_clearance,
-                path.min_gradient
-            );
-        }
-        s
     }
 }
 

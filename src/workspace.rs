@@ -34,12 +34,12 @@ use std::time::Instant;
 
 use harmonic_fem::{Assembler, AssemblyOptions, GoalReport, GoalSolver, SolveMethod};
 use harmonic_mesh::{Domain, DomainSpec, Mesh, NO_NEIGHBOR, Point};
-use harmonic_trajectory::{NOT_A_GOAL, SmoothOptions, SmoothP1Field};
+use harmonic_trajectory::NOT_A_GOAL;
 use serde::Serialize;
 
 use crate::planner::{
-    MeshSummary, Meshed, PathSummary, PlanError, PlannedPath, Planner, PlannerOptions,
-    PotentialSummary, Stage, Timings, VertexGoals,
+    Entry, MeshSummary, Meshed, PathSummary, PlanError, PlannedPath, Planner, PlannerOptions,
+    PotentialSummary, Solved, Stage, VertexGoals,
 };
 use crate::scene::Scene;
 
@@ -139,11 +139,9 @@ pub struct Workspace {
     meshed: Meshed,
     goals: GoalSolver,
     timings: WorkspaceTimings,
-    /// A way into the mesh for starts outside it, given to every planner (a map's clear
-    /// cells).
-    entry: Option<Arc<dyn crate::planner::StartEntry>>,
-    /// The smooth tracer's tolerance for its planners, when its source sets one (a map).
-    trace_tolerance: Option<f64>,
+    /// A way into the mesh for starts outside it and the tracer's tolerance, given to every
+    /// planner (a map's clear cells).
+    entry: Option<Entry>,
 }
 
 impl std::fmt::Debug for Workspace {
@@ -200,7 +198,7 @@ impl Workspace {
         meshed: Meshed,
         bcs: &harmonic_fem::BoundaryConditions,
         options: &PlannerOptions,
-        entry: Option<crate::planner::Entry>,
+        entry: Option<Entry>,
     ) -> Result<Workspace, PlanError> {
         if options.multigrid.unwrap_or(0) > 0 {
             // New goals reuse one factorisation; a multigrid solve keeps none.
@@ -228,8 +226,7 @@ impl Workspace {
             },
             meshed,
             goals,
-            trace_tolerance: entry.as_ref().map(|e| e.trace_tolerance),
-            entry: entry.map(|e| e.start),
+            entry,
         })
     }
 
@@ -359,10 +356,8 @@ impl Workspace {
             .into_iter()
             .zip(goals.iter().zip(&held))
             .map(|(solution, (goal, held))| {
-                let t = Instant::now();
-                let marks = self.marks(&[(goal, held)]);
-                let planner = self.assemble_planner(solution.psi, marks)?;
-                Ok(with_solve_time(planner, share + millis(t), solution.report))
+                let marks = self.marks(&[(goal, held)], solution.report);
+                self.goal_planner(solution.psi, marks, share, Instant::now())
             })
             .collect()
     }
@@ -381,8 +376,8 @@ impl Workspace {
         let all: Vec<u32> = held.iter().flatten().copied().collect();
         let solution = self.goals.solve(&[all])?.remove(0);
         let pairs: Vec<_> = goals.iter().zip(&held).collect();
-        let planner = self.assemble_planner(solution.psi, self.marks(&pairs))?;
-        Ok(with_solve_time(planner, millis(t), solution.report))
+        let marks = self.marks(&pairs, solution.report);
+        self.goal_planner(solution.psi, marks, 0.0, t)
     }
 
     /// The planner for `goal` from a fresh factorisation of the system with the same vertices
@@ -391,18 +386,19 @@ impl Workspace {
         let t = Instant::now();
         let held = self.goal_vertices(goal, 0)?;
         let psi = self.goals.solve_fresh(&held)?;
-        let planner = self.assemble_planner(psi, self.marks(&[(goal, &held)]))?;
         let report = GoalReport {
             held: held.len(),
             columns: 0,
             method: self.goals.method(),
             entrywise_accurate: self.goals.method() == SolveMethod::Accurate,
         };
-        Ok(with_solve_time(planner, millis(t), report))
+        let marks = self.marks(&[(goal, &held)], report);
+        self.goal_planner(psi, marks, 0.0, t)
     }
 
-    /// The per-vertex goal marks, end points and markers of some goals.
-    fn marks(&self, goals: &[(&Goal, &Vec<u32>)]) -> VertexGoals {
+    /// The per-vertex goal marks, end points and markers of some goals, with how their
+    /// field was solved.
+    fn marks(&self, goals: &[(&Goal, &Vec<u32>)], report: GoalReport) -> VertexGoals {
         let mut goal_of = vec![NOT_A_GOAL; self.meshed.mesh.vertices().len()];
         let mut ends = Vec::with_capacity(goals.len());
         let mut markers = Vec::with_capacity(goals.len());
@@ -428,34 +424,35 @@ impl Workspace {
             goal_of,
             ends,
             markers,
-            report: None,
+            report: Some(report),
         }
     }
 
-    /// A planner on this workspace's mesh with ψ given.
-    fn assemble_planner(&self, psi: Vec<f64>, marks: VertexGoals) -> Result<Planner, PlanError> {
+    /// A planner on this workspace's mesh with ψ given. Its timings are only its goal's
+    /// solve (`solve_ms_before`, then since `started`, the gradient recovery included):
+    /// meshing, assembly and the factorisation are the workspace's.
+    fn goal_planner(
+        &self,
+        psi: Vec<f64>,
+        marks: VertexGoals,
+        solve_ms_before: f64,
+        started: Instant,
+    ) -> Result<Planner, PlanError> {
         let potential = self.goals.potential_of(psi)?;
-        let nodal_gradients = potential.nodal_gradients_psi().to_vec();
-        SmoothP1Field::ascending(&self.meshed.mesh, potential.psi(), &nodal_gradients)?;
-        let scene = SmoothOptions::for_scale(self.meshed.scale);
-        Ok(Planner {
-            domain: Arc::clone(&self.meshed.domain),
-            mesh: Arc::clone(&self.meshed.mesh),
-            mesh_report: self.meshed.report.clone(),
-            quality: Arc::clone(&self.meshed.quality),
+        let solved = Solved {
+            by: "goal superposition",
+            mesh_ms: 0.0,
+            assemble_ms: 0.0,
+            solve_ms_before,
+            started,
+        };
+        Planner::assembled(
+            &self.meshed,
             potential,
-            nodal_gradients,
-            timings: Timings::default(),
-            scale: self.meshed.scale,
-            vertex_goals: Some(Arc::new(marks)),
-            entry: self.entry.clone(),
-            smooth: SmoothOptions {
-                tolerance: self.trace_tolerance.unwrap_or(scene.tolerance),
-                ..scene
-            },
-            solved_by: "goal superposition",
-            pool: None,
-        })
+            solved,
+            Some(marks),
+            self.entry.as_ref(),
+        )
     }
 }
 
@@ -468,19 +465,6 @@ fn triangle_near(mesh: &Mesh, t: u32, at: Point, radius: f64) -> bool {
     [(a, b), (b, c), (c, a)]
         .into_iter()
         .any(|(p, q)| harmonic_mesh::geom::point_segment_distance(at, p, q) <= radius)
-}
-
-/// A planner's timings when built from a workspace: only the goal's solve (and its gradient
-/// recovery) is its own; meshing, assembly and the factorisation are the workspace's.
-fn with_solve_time(mut planner: Planner, solve_ms: f64, report: GoalReport) -> Planner {
-    planner.timings = Timings {
-        solve: solve_ms,
-        ..Timings::default()
-    };
-    if let Some(goals) = planner.vertex_goals.as_mut() {
-        Arc::make_mut(goals).report = Some(report);
-    }
-    planner
 }
 
 /// What `hplan plan` prints for several goals on one workspace.
@@ -578,11 +562,7 @@ impl GoalsReport {
         use std::fmt::Write as _;
         let mut s = String::new();
         let t = &self.timings_ms;
-        let _ = writeln!(
-            s,
-            "mesh: {} vertices, {} triangles, min angle {:.1}°",
-            self.mesh.vertices, self.mesh.triangles, self.mesh.min_angle_deg
-        );
+        let _ = writeln!(s, "{}", self.mesh);
         let _ = writeln!(
             s,
             "workspace: mesh {:.1} ms, assemble {:.1} ms, factor {:.1} ms ({}), once for {} goals",
@@ -604,13 +584,7 @@ impl GoalsReport {
                 g.potential.interior_local_minima
             );
             for p in &g.paths {
-                let (start, status, length, clearance, grad) = p.line();
-                let start: Vec<String> = start.iter().map(|v| format!("{v}")).collect();
-                let _ = writeln!(
-                    s,
-                    "  ({}): {status}, length {length:.3}, clearance {clearance:.3}, smallest |∇φ| {grad:.2e}",
-                    start.join(", ")
-                );
+                let _ = writeln!(s, "  {}", p.line());
             }
         }
         s

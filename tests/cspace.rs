@@ -6,7 +6,8 @@
 
 use harmonic_cspace::ConfigClass;
 use harmonic_cspace::check::exact_clearance;
-use harmonic_planner::cspace::{ConfigPlanError, ConfigPlanner, ConfigScene, parse_config_scene};
+use harmonic_planner::PlanError;
+use harmonic_planner::cspace::{ConfigPlanner, ConfigScene, parse_config_scene};
 use harmonic_planner::{AnyScene, SceneError};
 
 fn load(path: &std::path::Path) -> ConfigScene {
@@ -261,7 +262,7 @@ fn an_oversized_lattice_is_refused_before_any_work() {
     let t = std::time::Instant::now();
     let e = ConfigPlanner::new(&scene).err().expect("refused");
     assert!(t.elapsed().as_secs_f64() < 1.0);
-    assert!(matches!(e, ConfigPlanError::Cspace(_)), "{e}");
+    assert!(matches!(e, PlanError::Cspace(_)), "{e}");
     let s = e.to_string();
     assert!(
         s.contains("tetrahedra") && s.contains("mesh.spacing") && !s.contains('\n'),

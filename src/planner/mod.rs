@@ -27,6 +27,7 @@ mod options;
 mod query;
 mod report;
 
+pub use crate::error::PlanError;
 pub(crate) use meshed::*;
 pub use options::*;
 pub use report::*;
@@ -189,6 +190,17 @@ pub(crate) struct Entry {
     pub(crate) start: Arc<dyn StartEntry>,
     pub(crate) trace_tolerance: f64,
     pub(crate) mesh_ms: f64,
+}
+
+/// How a planner's potential was had, for its report: by what, and the time of each stage
+/// (`started`: when its solve began; `solve_ms_before`: solve time spent before that, a
+/// workspace goal's share of a blocked solve).
+pub(crate) struct Solved {
+    pub(crate) by: &'static str,
+    pub(crate) mesh_ms: f64,
+    pub(crate) assemble_ms: f64,
+    pub(crate) solve_ms_before: f64,
+    pub(crate) started: Instant,
 }
 
 impl Planner {
@@ -362,36 +374,53 @@ impl Planner {
             let (potential, report) = solver.potential_with_report(Arc::clone(&mesh), &system)?;
             (potential, assemble_ms, t, solved_by(&report))
         };
-        let nodal_gradients = potential.nodal_gradients_psi().to_vec();
-        // Checked once here, so queries need not.
-        smooth_field_of(&mesh, &potential, &nodal_gradients)?;
-        let solve_ms = millis(t);
+        let solved = Solved {
+            by: solved_by,
+            mesh_ms: meshed.ms + entry.as_ref().map_or(0.0, |e| e.mesh_ms),
+            assemble_ms,
+            solve_ms_before: 0.0,
+            started: t,
+        };
+        let planner = Planner::assembled(&meshed, potential, solved, None, entry.as_ref())?;
         stage(Stage::Done)?;
+        Ok(planner)
+    }
+
+    /// The one constructor every way of building a planner ends in (a scene, a domain, a
+    /// mesh made elsewhere, a map, a workspace's goals), given everything up front: recovers
+    /// ∇ψ at the vertices and checks the smooth field once, so queries need not.
+    pub(crate) fn assembled(
+        meshed: &Meshed,
+        potential: Potential,
+        solved: Solved,
+        vertex_goals: Option<VertexGoals>,
+        entry: Option<&Entry>,
+    ) -> Result<Planner, PlanError> {
+        let mesh = Arc::clone(&meshed.mesh);
+        let nodal_gradients = potential.nodal_gradients_psi().to_vec();
+        smooth_field_of(&mesh, &potential, &nodal_gradients)?;
+        let smooth = SmoothOptions::for_scale(meshed.scale);
         Ok(Planner {
-            domain: meshed.domain,
+            domain: Arc::clone(&meshed.domain),
             mesh,
-            mesh_report: meshed.report,
-            quality: meshed.quality,
+            mesh_report: meshed.report.clone(),
+            quality: Arc::clone(&meshed.quality),
             potential,
             nodal_gradients,
             timings: Timings {
-                mesh: meshed.ms + entry.as_ref().map_or(0.0, |e| e.mesh_ms),
-                assemble: assemble_ms,
-                solve: solve_ms,
+                mesh: solved.mesh_ms,
+                assemble: solved.assemble_ms,
+                solve: solved.solve_ms_before + millis(solved.started),
                 trace: 0.0,
             },
             scale: meshed.scale,
-            vertex_goals: None,
+            vertex_goals: vertex_goals.map(Arc::new),
             smooth: SmoothOptions {
-                tolerance: entry
-                    .as_ref()
-                    .map_or(SmoothOptions::for_scale(meshed.scale).tolerance, |e| {
-                        e.trace_tolerance
-                    }),
-                ..SmoothOptions::for_scale(meshed.scale)
+                tolerance: entry.map_or(smooth.tolerance, |e| e.trace_tolerance),
+                ..smooth
             },
-            entry: entry.map(|e| e.start),
-            solved_by,
+            entry: entry.map(|e| Arc::clone(&e.start)),
+            solved_by: solved.by,
             pool: None,
         })
     }

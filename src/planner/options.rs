@@ -1,47 +1,7 @@
 //! What a build is given and how it fails: `PlannerOptions` (stage observer, solve method,
-//! multigrid, cancellation, conductivity, threads), the stages, `PlanError`, `CarParams`.
+//! multigrid, cancellation, conductivity, threads), the stages, `CarParams`.
 
 use super::*;
-
-/// Why a planner could not be built.
-#[derive(Debug, thiserror::Error)]
-pub enum PlanError {
-    /// [`PlannerOptions::threads`] could not be had.
-    #[error("cannot plan on {threads} threads: {message}")]
-    Threads {
-        /// The threads asked for.
-        threads: usize,
-        /// Why not.
-        message: String,
-    },
-    /// The scene's geometry is invalid or cannot be meshed.
-    #[error(transparent)]
-    Mesh(#[from] harmonic_mesh::MeshError),
-    /// The boundary conditions make no solvable problem, or the solve failed.
-    #[error(transparent)]
-    Fem(#[from] harmonic_fem::FemError),
-    /// A tracer or car option is out of range.
-    #[error(transparent)]
-    Trace(#[from] harmonic_trajectory::TraceError),
-    /// A goal given to a [`crate::Workspace`] is not usable.
-    #[error(transparent)]
-    Goal(#[from] crate::workspace::GoalError),
-    /// [`PlannerOptions::cancel`] asked to stop, at the start of `stage`.
-    #[error("cancelled before {stage:?}")]
-    Cancelled {
-        /// The stage that was about to start.
-        stage: Stage,
-    },
-    /// [`PlannerOptions::multigrid`] asked of a planner whose mesh is not a scene's own, or
-    /// with the blended conditions.
-    #[error(
-        "multigrid (PlannerOptions::multigrid) needs a scene's own mesh and plain boundary conditions, not {what}"
-    )]
-    MultigridUnsupported {
-        /// What the planner was built from instead.
-        what: &'static str,
-    },
-}
 
 /// A stage of [`Planner::with_options`], reported to [`PlannerOptions::on_stage`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -148,7 +148,8 @@ pub struct MeshSummary {
     pub refinement_complete: bool,
 }
 
-/// Potential figures of a report.
+/// Potential figures of a report: the same figures for the plane, volumes and configuration
+/// spaces (`interior_local_extrema` and `positive_offdiagonals` where the mesh is stuffed).
 #[derive(Clone, Debug, Serialize)]
 pub struct PotentialSummary {
     /// Smallest φ at a vertex (the goal's value for the default conditions).
@@ -156,8 +157,12 @@ pub struct PotentialSummary {
     /// Largest φ at a vertex (the walls' value for the default conditions).
     pub max: f64,
     /// Interior vertices that are strict local minima of φ (0 for a harmonic potential on a
-    /// Delaunay mesh).
+    /// Delaunay mesh; a path would stop there).
     pub interior_local_minima: usize,
+    /// Volumes and configuration spaces: interior vertices where φ is a strict local minimum
+    /// or maximum.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interior_local_extrema: Option<usize>,
     /// The smallest positive ψ = φ_wall − φ at a vertex: how flat the field gets (the
     /// smallest positive float: past the double range see `min_log10_psi`).
     pub min_psi: f64,
@@ -165,18 +170,56 @@ pub struct PotentialSummary {
     /// potential is kept with exponents, a corridor of hundreds of widths).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_log10_psi: Option<f64>,
-    /// What produced ψ: `cholesky`, `cholesky (flat, checked: no interior extremum)`,
-    /// `accurate`, `accurate (extended exponent)`, `multigrid`, `blend` or `goal
-    /// superposition` (a workspace's goals).
+    /// Volumes and configuration spaces: positive off-diagonals of the assembled (unclamped)
+    /// matrix, the obtuse dihedral angles' mark.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub positive_offdiagonals: Option<usize>,
+    /// What produced ψ. The plane: `cholesky`, `cholesky (flat, checked: no interior
+    /// extremum)`, `accurate`, `accurate (extended exponent)`, `multigrid`, `blend` or `goal
+    /// superposition` (a workspace's goals); volumes and configuration spaces: `accurate`,
+    /// `cholesky` or `pcg`, followed by ` (clamped M-matrix)` where the obtuse tetrahedra's
+    /// weights were clamped.
     pub solved_by: &'static str,
 }
 
-/// What `hplan plan --json` and `hplan car --json` print: the mesh, the stage timings, the
-/// potential's figures and one entry per path.
+impl PotentialSummary {
+    /// The smallest positive entry of `psi` (0 if none).
+    pub(crate) fn smallest_positive(psi: &[f64]) -> f64 {
+        finite_or_zero(
+            psi.iter()
+                .copied()
+                .filter(|&v| v > 0.0)
+                .fold(f64::INFINITY, f64::min),
+        )
+    }
+}
+
+impl std::fmt::Display for PotentialSummary {
+    /// `potential: φ in [min, max], smallest ψ …, interior local minima …` (and extrema).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "potential: φ in [{:.6}, {:.6}], smallest ψ = φ_wall − φ {:.2e}, interior local minima {}",
+            self.min, self.max, self.min_psi, self.interior_local_minima
+        )?;
+        if let Some(e) = self.interior_local_extrema {
+            write!(f, ", interior local extrema {e}")?;
+        }
+        Ok(())
+    }
+}
+
+/// What `hplan plan --json` and `hplan car --json` print, for the plane, a volume or a
+/// configuration space: the mesh (`M`: [`MeshSummary`], [`crate::volume::VolumeMeshSummary`],
+/// [`crate::cspace::ConfigMeshSummary`]), the stage timings, the potential's figures and one
+/// entry per path (`P`).
 #[derive(Clone, Debug, Serialize)]
-pub struct Report<P> {
+pub struct Report<P, M = MeshSummary> {
+    /// Configuration spaces only: `"pose"` (a rigid robot) or `"joints"` (an arm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub configuration: Option<&'static str>,
     /// The mesh's figures.
-    pub mesh: MeshSummary,
+    pub mesh: M,
     /// Wall-clock time of each stage, in milliseconds (`trace`: all the report's queries).
     pub timings_ms: Timings,
     /// The potential's figures.
@@ -190,32 +233,59 @@ pub type PlanReport = Report<PlannedPath>;
 /// The report of `hplan car`.
 pub type CarReport = Report<CarRun>;
 
-/// What a summary line says of a path or a car run.
+/// The line a text summary gives a path, a car run or a motion.
 pub trait PathSummary {
-    /// Start, status, length, clearance, smallest |∇φ|.
-    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64);
+    /// Start, status (and what blocks it), length, clearance, and the figure that matters.
+    fn line(&self) -> String;
 }
 
-impl PathSummary for PlannedPath {
-    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
-        (
-            self.start.to_vec(),
+/// `(x, y): status, length …, clearance …, smallest |∇φ| …`, the common line.
+fn path_line(
+    start: &[f64],
+    status: &str,
+    blocked_by: Option<&str>,
+    (length, clearance, gradient): (f64, f64, f64),
+) -> String {
+    let start: Vec<String> = start.iter().map(|v| format!("{v}")).collect();
+    let blocked = blocked_by
+        .map(|b| format!(" ({b}, robot radius counted)"))
+        .unwrap_or_default();
+    format!(
+        "({}): {status}{blocked}, length {length:.3}, clearance {clearance:.3}, smallest |∇φ| {gradient:.2e}",
+        start.join(", "),
+        length = length + 0.0, // no "-0.000"
+    )
+}
+
+impl<P: PathPoint> PathSummary for PlannedPath<P> {
+    fn line(&self) -> String {
+        path_line(
+            self.start.as_ref(),
             self.status.as_str(),
-            self.length,
-            self.min_clearance,
-            self.min_gradient,
+            self.blocked_by.as_deref(),
+            (self.length, self.min_clearance, self.min_gradient),
         )
     }
 }
 
 impl PathSummary for CarRun {
-    fn line(&self) -> (Vec<f64>, &'static str, f64, f64, f64) {
-        (
-            self.start.to_vec(),
+    fn line(&self) -> String {
+        path_line(
+            &self.start,
             self.status.as_str(),
-            self.length,
-            self.min_clearance,
-            self.min_gradient,
+            None,
+            (self.length, self.min_clearance, self.min_gradient),
+        )
+    }
+}
+
+impl std::fmt::Display for MeshSummary {
+    /// `mesh: … vertices, … triangles, min angle …°`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "mesh: {} vertices, {} triangles, min angle {:.1}°",
+            self.vertices, self.triangles, self.min_angle_deg
         )
     }
 }
@@ -278,8 +348,10 @@ impl Planner {
                         .minima
                     }
                 },
+                interior_local_extrema: None,
                 min_psi: finite_or_zero(min_psi),
                 min_log10_psi: min_log10_psi.filter(|v| v.is_finite()),
+                positive_offdiagonals: None,
                 solved_by: self.solved_by,
             },
         )
@@ -293,6 +365,7 @@ impl Planner {
         timings_ms.trace = millis(t);
         let (mesh, potential) = self.summaries();
         PlanReport {
+            configuration: None,
             mesh,
             timings_ms,
             potential,
@@ -316,6 +389,7 @@ impl Planner {
         timings_ms.trace = millis(t);
         let (mesh, potential) = self.summaries();
         Ok(CarReport {
+            configuration: None,
             mesh,
             timings_ms,
             potential,
@@ -457,46 +531,14 @@ fn marker(c: Point, r: f64) -> Vec<Point> {
         .collect()
 }
 
-/// The smooth field of a potential: on the extended ψ (mantissas and exponents) when the
-/// potential keeps them, else on the floats.
-impl<P: PathSummary> Report<P> {
-    /// A human-readable summary.
+impl<P: PathSummary, M: std::fmt::Display> Report<P, M> {
+    /// A human-readable summary: the mesh, the timings, the potential, one line per path.
     pub fn summary(&self) -> String {
-        summary(
-            &self.mesh,
-            &self.timings_ms,
-            &self.potential,
-            self.paths.iter().map(P::line),
-        )
+        use std::fmt::Write as _;
+        let mut s = format!("{}\n{}\n{}\n", self.mesh, self.timings_ms, self.potential);
+        for path in &self.paths {
+            let _ = writeln!(s, "{}", path.line());
+        }
+        s
     }
-}
-
-fn summary(
-    mesh: &MeshSummary,
-    t: &Timings,
-    pot: &PotentialSummary,
-    paths: impl Iterator<Item = (Vec<f64>, &'static str, f64, f64, f64)>,
-) -> String {
-    use std::fmt::Write as _;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "mesh: {} vertices, {} triangles, min angle {:.1}°",
-        mesh.vertices, mesh.triangles, mesh.min_angle_deg
-    );
-    let _ = writeln!(s, "{t}");
-    let _ = writeln!(
-        s,
-        "potential: φ in [{:.6}, {:.6}], smallest ψ = φ_wall − φ {:.2e}, interior local minima {}",
-        pot.min, pot.max, pot.min_psi, pot.interior_local_minima
-    );
-    for (start, status, length, clearance, grad) in paths {
-        let start: Vec<String> = start.iter().map(|v| format!("{v}")).collect();
-        let _ = writeln!(
-            s,
-            "({}): {status}, length {length:.3}, clearance {clearance:.3}, smallest |∇φ| {grad:.2e}",
-            start.join(", ")
-        );
-    }
-    s
 }

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 
 use harmonic_planner::map::MapError;
 use harmonic_planner::map::movingai::MovingAiError;
-use harmonic_planner::volume::VolumePlanError;
 use harmonic_planner::{PlanError, SceneError};
 
 /// An error of `hplan`, printed as one line after `hplan: `.
@@ -100,18 +99,12 @@ pub enum CliError {
     /// A scene file that does not read.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// A plane scene's planner could not be built or run.
+    /// A planner (plane, volume or configuration space) could not be built or run.
     #[error(transparent)]
     Plan(#[from] PlanError),
-    /// A volume scene's planner could not be built.
-    #[error(transparent)]
-    Volume(#[from] VolumePlanError),
     /// A volume mesh could not be written.
     #[error(transparent)]
     VolumeMesh(#[from] harmonic_planner::volume::VolumeError),
-    /// A scene file's planner could not be built.
-    #[error(transparent)]
-    Planner(#[from] harmonic_planner::AnyPlanError),
     /// An occupancy map that does not load.
     #[error(transparent)]
     Map(#[from] MapError),

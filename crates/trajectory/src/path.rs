@@ -8,7 +8,7 @@ use serde::{Serialize, Serializer};
 /// A point a path is made of: a point of the plane or of space.
 pub trait PathPoint: Copy + std::fmt::Debug + PartialEq + Send + Sync {
     /// Its coordinates as an array (`[f64; 2]`, `[f64; 3]`), as reports keep them.
-    type Array: Copy + std::fmt::Debug + PartialEq + Serialize + Send + Sync;
+    type Array: Copy + std::fmt::Debug + PartialEq + Serialize + Send + Sync + AsRef<[f64]>;
     /// Its coordinates, as the JSON writes them (`[x, y]`, `[x, y, z]`).
     fn coords(&self) -> &[f64];
     /// Its coordinates as an array.
