@@ -16,10 +16,8 @@ use harmonic_fem::volume::{
     solve_volume_potential_with_report,
 };
 use harmonic_planner::scene::VolumeScene;
-use harmonic_trajectory::Locate;
-use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
-};
+use harmonic_trajectory::volume::{ExactVolumeOptions, P1VolumeField, trace_exact_volume};
+use harmonic_trajectory::{Locate, SmoothOptions, trace_smooth};
 use harmonic_volume::io::{PointData, write_projections_svg, write_vtu};
 use harmonic_volume::{MeshOptions, Point, PointClass, quality};
 
@@ -133,14 +131,14 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     };
     let field = P1VolumeField::ascending(&mesh, potential.psi())?.with_outside(&classify);
     let (lo, hi) = mesh.bounds();
-    let smooth_opts = SmoothVolumeOptions::for_scale((hi - lo).max());
+    let smooth_opts = SmoothOptions::for_scale((hi - lo).max());
     let mut paths = Vec::new();
     for s in spec.start_points() {
         let t = Instant::now();
         let exact = trace_exact_volume(&field, s, &ExactVolumeOptions::default());
         let exact_s = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let smooth = trace_smooth_volume(&field, s, &smooth_opts)?;
+        let smooth = trace_smooth(&field, s, &smooth_opts)?;
         let smooth_s = t.elapsed().as_secs_f64();
         println!(
             "  start ({}, {}, {}): exact {} length {:.4} ({} moves, {:.1} ms), smooth {} length {:.4} ({} steps, {:.1} ms), min |∇φ| {:.3e}",

@@ -4,7 +4,8 @@
 #   scripts/path-snapshot.sh OUT_DIR            # write one paths file per scene/map
 #   scripts/path-snapshot.sh --compare A B      # compare two snapshots (points to 1e-9)
 #
-# Each file holds, per path, its status and points as `plan --json` reports them. Run it
+# Each file holds, per path, its status and points (a configuration space's poses or joints)
+# as `plan --json` reports them. Run it
 # before and after a change, on the same machine, and compare. Needs jq and a release build
 # of hplan (HPLAN, default target/release/hplan). me766_3d.json (5.6 M tetrahedra) is left
 # out unless SNAPSHOT_LARGE=1.
@@ -34,7 +35,7 @@ fi
 out=${1:?usage: scripts/path-snapshot.sh OUT_DIR | --compare A B}
 hplan=${HPLAN:-target/release/hplan}
 mkdir -p "$out"
-keep='[.paths[] | {status, points}]'
+keep='[.paths[] | {status, points: (.points // .poses // .joints)}]'
 for scene in meshes/*.json meshes/contract/*.json; do
     name=$(basename "$scene" .json)
     [[ "$name" == me766_3d && "${SNAPSHOT_LARGE:-0}" != 1 ]] && continue

@@ -1,5 +1,5 @@
 //! One vocabulary for the three planners: [`PlannerApi`] (plan, plan_many, report, svg,
-//! vtu), which the plane's [`Planner`], [`VolumePlanner`] and [`ConfigPlanner`] implement, a
+//! vtu, export), which the plane's [`Planner`], [`VolumePlanner`] and [`ConfigPlanner`] implement, a
 //! report that says itself in words ([`Summary`]), and [`AnyPlanner`], the planner of any scene file
 //! ([`AnyScene`]) with one output path.
 //!
@@ -24,10 +24,10 @@ use serde::Serialize;
 use crate::PlanError;
 use crate::cspace::{ConfigPlanReport, ConfigPlannedPath, ConfigPlanner};
 use crate::planner::{
-    PathSummary, PlanReport, PlannedPath, Planner, PlannerOptions, Report, SvgOptions,
+    Export, PathSummary, PlanReport, PlannedPath, Planner, PlannerOptions, Report, SvgOptions,
 };
 use crate::scene::AnyScene;
-use crate::volume::{VolumeError, VolumePlanReport, VolumePlanner};
+use crate::volume::{VolumeError, VolumeExport, VolumePlanReport, VolumePlanner};
 
 /// A report of several starts, as `hplan plan --json` prints it, that can also say itself as
 /// text (`hplan plan` without `--json`).
@@ -70,6 +70,10 @@ pub trait PlannerApi {
     fn svg(&self, report: &Self::Report, options: &SvgOptions) -> String;
     /// The mesh with φ, ψ and ∇φ as a VTK unstructured grid, for ParaView.
     fn vtu(&self) -> Result<String, VtuError>;
+    /// The mesh and the potential for outside tools (`hplan export --potential`).
+    type Export: Serialize;
+    /// The mesh and the potential, as [`PlannerApi::Export`].
+    fn export(&self) -> Self::Export;
 }
 
 impl PlannerApi for Planner {
@@ -91,6 +95,10 @@ impl PlannerApi for Planner {
     }
     fn vtu(&self) -> Result<String, VtuError> {
         Ok(Planner::vtu(self))
+    }
+    type Export = Export;
+    fn export(&self) -> Export {
+        Planner::export(self)
     }
 }
 
@@ -115,6 +123,10 @@ impl PlannerApi for VolumePlanner {
     fn vtu(&self) -> Result<String, VtuError> {
         Ok(VolumePlanner::vtu(self)?)
     }
+    type Export = VolumeExport;
+    fn export(&self) -> VolumeExport {
+        VolumePlanner::export(self)
+    }
 }
 
 impl PlannerApi for ConfigPlanner {
@@ -137,6 +149,11 @@ impl PlannerApi for ConfigPlanner {
     }
     fn vtu(&self) -> Result<String, VtuError> {
         Ok(ConfigPlanner::vtu(self)?)
+    }
+    /// The slab of one period, in the space's scaled coordinates.
+    type Export = VolumeExport;
+    fn export(&self) -> VolumeExport {
+        ConfigPlanner::export(self)
     }
 }
 
@@ -183,6 +200,16 @@ pub enum AnyReport {
     Volume(VolumePlanReport),
     /// A configuration-space scene's.
     Config(ConfigPlanReport),
+}
+
+/// The mesh and potential of any planner, serialised as that planner's export.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum AnyExport {
+    /// A plane scene's.
+    Plane(Export),
+    /// A volume's or a configuration space's slab.
+    Tetrahedra(VolumeExport),
 }
 
 impl Summary for AnyReport {
@@ -262,6 +289,15 @@ impl AnyPlanner {
             }
             (AnyPlanner::Volume(p), _) => PlannerApi::svg(&**p, &p.plan_report(&[]), options),
             (AnyPlanner::Config(p), _) => PlannerApi::svg(&**p, &p.plan_report(&[]), options),
+        }
+    }
+
+    /// The mesh and the potential for outside tools (see [`PlannerApi::export`]).
+    pub fn export(&self) -> AnyExport {
+        match self {
+            AnyPlanner::Plane(p) => AnyExport::Plane(PlannerApi::export(&**p)),
+            AnyPlanner::Volume(p) => AnyExport::Tetrahedra(PlannerApi::export(&**p)),
+            AnyPlanner::Config(p) => AnyExport::Tetrahedra(PlannerApi::export(&**p)),
         }
     }
 

@@ -38,10 +38,9 @@ use harmonic_cspace::{
 };
 use harmonic_fem::volume::{VolumePotential, solve_periodic_for_planning};
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
-    trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, trace_exact_volume,
 };
-use harmonic_trajectory::{Locate, Path, TraceStatus, Tracer};
+use harmonic_trajectory::{Locate, Path, SmoothOptions, TraceStatus, Tracer, trace_smooth};
 use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, quality};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -457,7 +456,7 @@ impl ConfigPlanner {
         };
         // The smooth tracer first; the exact one where it stalls or where its motion meets an
         // obstacle between entries (a C-obstacle thinner than the mesh can lie under a chord).
-        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale))
+        let smooth = trace_smooth(&field, p, &SmoothOptions::for_scale(self.scale))
             .ok()
             .filter(|path| {
                 !matches!(
@@ -616,6 +615,12 @@ impl ConfigPlanner {
             ),
             paths,
         }
+    }
+
+    /// The slab of one period (in the space's scaled coordinates) and its potential, for
+    /// outside tools.
+    pub fn export(&self) -> crate::volume::VolumeExport {
+        crate::volume::VolumeExport::of(&self.slab, &self.potential)
     }
 
     /// The slab of one period (in the space's scaled coordinates) with φ, ψ and ∇φ as a VTK

@@ -45,7 +45,7 @@ mod threads;
 pub mod volume;
 pub mod workspace;
 
-pub use api::{AnyPlanner, AnyReport, PlannerApi, StartError, Summary, VtuError};
+pub use api::{AnyExport, AnyPlanner, AnyReport, PlannerApi, StartError, Summary, VtuError};
 pub use cspace::{ConfigPlanner, ConfigScene};
 pub use error::PlanError;
 pub use harmonic_fem as fem;

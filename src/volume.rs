@@ -27,10 +27,9 @@ use harmonic_fem::volume::{
     solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, VolumeFieldParts, trace_exact_volume,
-    trace_smooth_volume,
+    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, trace_exact_volume,
 };
-use harmonic_trajectory::{Locate, Path, TraceStatus, Tracer};
+use harmonic_trajectory::{Locate, Path, SmoothOptions, TraceStatus, Tracer, trace_smooth};
 use harmonic_volume::io::PointData;
 use harmonic_volume::{
     GoalRegion, MeshOptions, MeshReport, Point, PointClass, TetMesh, VolumeDomain, quality,
@@ -136,7 +135,28 @@ pub(crate) fn volume_potential_summary(
     }
 }
 
-/// The mesh and the potential for outside tools (`hplan export --potential` on a volume).
+impl VolumeExport {
+    /// `mesh` and `potential` as outside tools read them.
+    pub(crate) fn of(mesh: &TetMesh, potential: &VolumePotential) -> VolumeExport {
+        VolumeExport {
+            vertices: mesh.vertices().iter().map(|p| [p.x, p.y, p.z]).collect(),
+            tetrahedra: mesh.tetrahedra().to_vec(),
+            values: potential.phi_at_vertices(),
+            psi: potential.psi().to_vec(),
+            boundary_faces: mesh
+                .boundary_faces()
+                .iter()
+                .map(|f| {
+                    let [i, j, k] = f.vertices;
+                    (i, j, k, tag_name(f.tag))
+                })
+                .collect(),
+        }
+    }
+}
+
+/// The mesh and the potential for outside tools (`hplan export --potential` on a volume or,
+/// in scaled coordinates, a configuration space's slab).
 #[derive(Clone, Debug, Serialize)]
 pub struct VolumeExport {
     /// Vertex positions.
@@ -284,7 +304,7 @@ impl VolumePlanner {
         let field = P1VolumeField::from_parts(&self.mesh, Arc::clone(&self.field))
             .expect("the parts were built on this mesh")
             .with_outside(&classify);
-        let smooth = trace_smooth_volume(&field, p, &SmoothVolumeOptions::for_scale(self.scale));
+        let smooth = trace_smooth(&field, p, &SmoothOptions::for_scale(self.scale));
         let (path, tracer) = match smooth {
             Ok(path)
                 if !matches!(
@@ -474,26 +494,7 @@ impl VolumePlanner {
 
     /// The mesh and the potential for outside tools.
     pub fn export(&self) -> VolumeExport {
-        VolumeExport {
-            vertices: self
-                .mesh
-                .vertices()
-                .iter()
-                .map(|p| [p.x, p.y, p.z])
-                .collect(),
-            tetrahedra: self.mesh.tetrahedra().to_vec(),
-            values: self.potential.phi_at_vertices(),
-            psi: self.potential.psi().to_vec(),
-            boundary_faces: self
-                .mesh
-                .boundary_faces()
-                .iter()
-                .map(|f| {
-                    let [i, j, k] = f.vertices;
-                    (i, j, k, tag_name(f.tag))
-                })
-                .collect(),
-        }
+        VolumeExport::of(&self.mesh, &self.potential)
     }
 
     /// The mesh with φ, ψ and ∇φ (recovered) as a VTK unstructured grid, for ParaView.

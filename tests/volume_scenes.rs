@@ -6,10 +6,8 @@ use std::sync::Arc;
 
 use harmonic_fem::volume::solve_volume_potential_with_report;
 use harmonic_planner::scene::VolumeScene;
-use harmonic_trajectory::Locate;
-use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
-};
+use harmonic_trajectory::volume::{ExactVolumeOptions, P1VolumeField, trace_exact_volume};
+use harmonic_trajectory::{Locate, SmoothOptions, trace_smooth};
 use harmonic_volume::{MeshOptions, Point, PointClass};
 
 fn scene(name: &str) -> VolumeScene {
@@ -68,8 +66,7 @@ fn torus_and_maze_are_planned() {
                 "{name} from {s}: {:?}",
                 exact.status
             );
-            let smooth =
-                trace_smooth_volume(&field, s, &SmoothVolumeOptions::for_scale(10.0)).unwrap();
+            let smooth = trace_smooth(&field, s, &SmoothOptions::for_scale(10.0)).unwrap();
             assert!(
                 smooth.status.reached_goal(),
                 "{name} from {s}: {:?}",

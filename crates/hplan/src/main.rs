@@ -26,7 +26,7 @@ use harmonic_planner::inputs::{MeshGoal, PolyScene, mesh_planner, read_mesh};
 use harmonic_planner::map::{MapMesher, MapOptions, OccupancyMap, movingai};
 use harmonic_planner::{
     AnyPlanner, AnyScene, CarParams, PlanReport, Planner, PlannerOptions, Point, Scene, Summary,
-    SvgOptions, VolumePlanner, Workspace,
+    SvgOptions, Workspace,
 };
 
 #[derive(Parser)]
@@ -1281,26 +1281,14 @@ fn run(cli: Cli, order: &ArgOrder) -> Result<(), CliError> {
                 max_volume: None,
                 blend: None,
             };
-            if let AnyScene::Volume(scene) = load(&path, &no_overrides)? {
-                let planner =
-                    VolumePlanner::new(&scene).map_err(|e| CliError::in_file(&path, e))?;
-                if let Some(out) = &potential {
-                    let text = serde_json::to_string(&planner.export())?;
-                    write_file(out, &text)?;
-                }
-                if let Some(vtk) = &vtk {
-                    write_file(vtk, &planner.vtu()?)?;
-                }
-                return Ok(());
-            }
-            let scene = plane(load(&path, &no_overrides)?, "export")?;
-            let planner = build(&scene, &path, true, None)?;
+            let scene = load(&path, &no_overrides)?;
+            let planner = AnyPlanner::new(&scene, &PlannerOptions::default())
+                .map_err(|e| CliError::in_file(&path, e))?;
             if let Some(out) = &potential {
-                let text = serde_json::to_string(&planner.export())?;
-                write_file(out, &text)?;
+                write_file(out, &serde_json::to_string(&planner.export())?)?;
             }
             if let Some(vtk) = &vtk {
-                write_file(vtk, &planner.vtu())?;
+                write_file(vtk, &planner.vtu()?)?;
             }
         }
     }

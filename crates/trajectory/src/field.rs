@@ -760,13 +760,17 @@ impl SmoothP1Field<'_> {
 }
 
 /// The last free point before the goal on the segment `a → b` (which enters it), found by
-/// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary.
-pub(crate) fn goal_crossing<F: Field<Point = Point, Vector = Vector>>(
+/// bisection to 2⁻⁴⁰ of the segment: the path ends on the goal's boundary, still in the mesh
+/// (a goal is a hole in the plane's mesh and in a volume's). Any dimension.
+pub(crate) fn goal_crossing<
+    const D: usize,
+    F: Field<Point = nalgebra::Point<f64, D>, Vector = nalgebra::SVector<f64, D>>,
+>(
     field: &F,
     cell: F::Cell,
-    a: Point,
-    b: Point,
-) -> Point {
+    a: nalgebra::Point<f64, D>,
+    b: nalgebra::Point<f64, D>,
+) -> nalgebra::Point<f64, D> {
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..40 {
         let mid = 0.5 * (lo + hi);

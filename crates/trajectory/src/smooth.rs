@@ -1,16 +1,32 @@
 //! The smooth tracer: adaptive Dormand–Prince 5(4) integration of the normalised descent
 //! direction `−∇value / |∇value|` (constant speed: |∇value| varies by orders of magnitude
-//! across a scene), with point location by walking from the previous cell.
+//! across a scene), with point location by walking from the previous cell. One tracer for
+//! every dimension: the plane (`D = 2`), volumes and configuration spaces (`D = 3`).
 //!
 //! Every accepted step is checked with [`Field::segment`] so it never crosses a wall or an
 //! obstacle; a step that would is shortened, and when steps get too short (against a wall,
 //! at a stagnation point) the tracer takes one [`Field::fallback_step`] (for P1 fields, one
 //! move of the exact tracer) and resumes.
 
-use harmonic_types::{Point, Vector};
+use nalgebra::{Point, SVector};
 
-use crate::field::magnitude;
-use crate::{Fallback, Field, Locate, Path, Segment, TraceError, TraceStatus};
+use crate::{Fallback, Field, Locate, Path, PathPoint, Segment, TraceError, TraceStatus};
+
+/// `|v|` without underflow or overflow: ψ's gradients go far below 1e-154 (where the squared
+/// norm underflows to zero) in the far rooms of large scenes.
+#[inline]
+fn magnitude<const D: usize>(v: &SVector<f64, D>) -> f64 {
+    let n2 = v.norm_squared();
+    if (1e-280..1e280).contains(&n2) {
+        return n2.sqrt();
+    }
+    let m = v.amax();
+    if m > 0.0 && m.is_finite() {
+        m * (v / m).norm()
+    } else {
+        m
+    }
+}
 
 /// Options of the smooth tracer. Lengths are in scene units: build them with
 /// [`SmoothOptions::for_scale`] from the scene's size.
@@ -121,23 +137,23 @@ const E: [f64; 7] = [
 ];
 
 /// The unit descent direction at `q` reached in a straight line from `from` in `cell`.
-enum Eval<C> {
-    Dir(Vector, C, f64),
+enum Eval<C, const D: usize> {
+    Dir(SVector<f64, D>, C, f64),
     Goal(u32),
     Blocked,
     Flat,
 }
 
-fn eval<F: Field<Point = Point, Vector = Vector>>(
+fn eval<const D: usize, F: Field<Point = Point<f64, D>, Vector = SVector<f64, D>>>(
     field: &F,
     cell: F::Cell,
-    from: Point,
-    q: Point,
-) -> Eval<F::Cell> {
+    from: Point<f64, D>,
+    q: Point<f64, D>,
+) -> Eval<F::Cell, D> {
     match field.segment(cell, from, q) {
         Segment::Inside(c) => {
             let g = field.gradient(c, q);
-            let n = magnitude(g);
+            let n = magnitude(&g);
             if n > 0.0 && n.is_finite() {
                 Eval::Dir(-g / n, c, n)
             } else {
@@ -149,7 +165,9 @@ fn eval<F: Field<Point = Point, Vector = Vector>>(
     }
 }
 
-/// Follows `field` downhill from `start` with an adaptive Dormand–Prince 5(4) integrator.
+/// Follows `field` downhill from `start` with an adaptive Dormand–Prince 5(4) integrator, in
+/// the plane or in space (a field of [`harmonic_types::Point`]s or of
+/// [`harmonic_types::Point3`]s).
 ///
 /// The path's points are the accepted steps (and fallback moves); `cells_crossed` counts
 /// the steps that ended in a different cell than they started (a step may pass several
@@ -174,23 +192,32 @@ fn eval<F: Field<Point = Point, Vector = Vector>>(
 /// assert!((path.length - 0.8).abs() < 1e-6);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn trace_smooth<F: Field<Point = Point, Vector = Vector>>(
+pub fn trace_smooth<const D: usize, F: Field<Point = Point<f64, D>, Vector = SVector<f64, D>>>(
     field: &F,
-    start: Point,
+    start: Point<f64, D>,
     opts: &SmoothOptions,
-) -> Result<Path, TraceError> {
+) -> Result<Path<Point<f64, D>>, TraceError>
+where
+    Point<f64, D>: PathPoint,
+{
     trace_smooth_with_hint(field, start, None, opts)
 }
 
 /// [`trace_smooth`] with a cell that probably holds `start` (for instance the triangle the
 /// caller already knows the robot is in): the start is located by walking from it, so no
 /// point-location structure is built. A wrong hint costs a longer walk, never a wrong answer.
-pub fn trace_smooth_with_hint<F: Field<Point = Point, Vector = Vector>>(
+pub fn trace_smooth_with_hint<
+    const D: usize,
+    F: Field<Point = Point<f64, D>, Vector = SVector<f64, D>>,
+>(
     field: &F,
-    start: Point,
+    start: Point<f64, D>,
     hint: Option<F::Cell>,
     opts: &SmoothOptions,
-) -> Result<Path, TraceError> {
+) -> Result<Path<Point<f64, D>>, TraceError>
+where
+    Point<f64, D>: PathPoint,
+{
     opts.validate()?;
     let single = |s| Ok(Path::new(vec![start], s, f64::INFINITY, 0));
     let mut cell = match field.locate(start, hint) {
@@ -209,7 +236,7 @@ pub fn trace_smooth_with_hint<F: Field<Point = Point, Vector = Vector>>(
     let mut h = opts.initial_step.min(opts.max_step);
     let mut best = field.value(cell, x);
     let mut since_best = 0;
-    let mut k1: Option<Vector> = None;
+    let mut k1: Option<SVector<f64, D>> = None;
     let mut steps = 0;
     let status = 'outer: loop {
         if steps >= opts.max_steps {
@@ -254,7 +281,7 @@ pub fn trace_smooth_with_hint<F: Field<Point = Point, Vector = Vector>>(
         };
         k1 = Some(first);
         // Stages.
-        let mut k = [Vector::zeros(); 7];
+        let mut k = [SVector::<f64, D>::zeros(); 7];
         k[0] = first;
         let mut last = None;
         for s in 1..7 {
@@ -294,7 +321,7 @@ pub fn trace_smooth_with_hint<F: Field<Point = Point, Vector = Vector>>(
         let err = k
             .iter()
             .zip(E)
-            .fold(Vector::zeros(), |acc, (kk, e)| acc + kk * e)
+            .fold(SVector::<f64, D>::zeros(), |acc, (kk, e)| acc + kk * e)
             .norm()
             * h;
         if err.is_nan() || err > opts.tolerance {

@@ -1,5 +1,6 @@
-//! Following a 3D field: the exact tetrahedron-to-tetrahedron tracer of a P1 potential on a
-//! [`TetMesh`], and a smooth Runge–Kutta tracer of any volume [`Field`].
+//! Following a 3D field: the P1 field of a potential on a [`TetMesh`] and its exact
+//! tetrahedron-to-tetrahedron tracer. (The smooth tracer, [`crate::trace_smooth`], is the
+//! plane's, in three dimensions.)
 //!
 //! **Exact.** Inside a tetrahedron the gradient is constant, so steepest descent is a straight
 //! segment to an exit face. The tracer keeps the point together with its *carrier*: the
@@ -13,9 +14,6 @@
 //! by a jump to a lower point in free space nearby (reached along a straight segment inside
 //! the mesh), as in the 2D tracer; failing that the path is `stalled`.
 //!
-//! **Smooth.** Classical RK4 on the unit direction −∇v/|∇v| with a fixed step, each step checked
-//! by [`Field::segment`] (steps leaving free space are halved); when the step becomes too
-//! small the field's [`Field::fallback_step`] (for P1 fields: exact moves) takes over.
 
 use std::sync::Arc;
 
@@ -759,170 +757,4 @@ pub fn trace_exact_volume(
         }
     };
     Path::new(points, status, tracer.min_gradient, moves)
-}
-
-/// Options of [`trace_smooth_volume`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SmoothVolumeOptions {
-    /// The RK4 step length.
-    pub step: f64,
-    /// Steps shorter than this hand over to the field's fallback move.
-    pub min_step: f64,
-    /// Largest number of steps.
-    pub max_steps: usize,
-}
-
-impl SmoothVolumeOptions {
-    /// Options for a scene of size `scale` (step `scale/200`).
-    pub fn for_scale(scale: f64) -> Self {
-        SmoothVolumeOptions {
-            step: scale / 200.0,
-            min_step: scale * 1e-7,
-            max_steps: 200_000,
-        }
-    }
-}
-
-/// Follows `−∇value` of `field` from `start` by RK4 steps (see the module docs).
-pub fn trace_smooth_volume<F: Field<Point = Point, Vector = Vector>>(
-    field: &F,
-    start: Point,
-    opts: &SmoothVolumeOptions,
-) -> Result<Path<Point>, TraceError> {
-    for (name, value) in [("step", opts.step), ("min_step", opts.min_step)] {
-        if !(value.is_finite() && value > 0.0) {
-            return Err(TraceError::InvalidOption {
-                name,
-                value,
-                reason: "must be a positive finite number",
-            });
-        }
-    }
-    let mut cell = match field.locate(start, None) {
-        Locate::Inside(c) => c,
-        Locate::Goal(j) => {
-            return Ok(Path::new(
-                vec![start],
-                TraceStatus::ReachedGoal(j),
-                f64::INFINITY,
-                0,
-            ));
-        }
-        Locate::InObstacle => {
-            return Ok(Path::new(
-                vec![start],
-                TraceStatus::StartInObstacle,
-                f64::INFINITY,
-                0,
-            ));
-        }
-        Locate::OutsideWorkspace => {
-            return Ok(Path::new(
-                vec![start],
-                TraceStatus::OutsideWorkspace,
-                f64::INFINITY,
-                0,
-            ));
-        }
-    };
-    let mut p = start;
-    let mut points = vec![p];
-    let mut min_gradient = f64::INFINITY;
-    let mut h = opts.step;
-    let mut fallbacks = 0usize;
-    let dir = |c: F::Cell, q: &Point| -> Option<(Vector, f64)> {
-        let g = field.gradient(c, *q);
-        let n = g.norm();
-        (n > 0.0 && n.is_finite()).then(|| (-g / n, n))
-    };
-    for step in 0..opts.max_steps {
-        let _ = step;
-        let v0 = field.value(cell, p);
-        // RK4 on the unit direction; intermediate points located from the current cell.
-        let rk = |h: f64| -> Option<Point> {
-            let (k1, _) = dir(cell, &p)?;
-            let at = |q: Point| match field.locate(q, Some(cell)) {
-                Locate::Inside(c) => dir(c, &q).map(|d| d.0),
-                _ => None,
-            };
-            let k2 = at(p + k1 * (h / 2.0))?;
-            let k3 = at(p + k2 * (h / 2.0))?;
-            let k4 = at(p + k3 * h)?;
-            Some(p + (k1 + 2.0 * k2 + 2.0 * k3 + k4) * (h / 6.0))
-        };
-        if let Some((_, g)) = dir(cell, &p) {
-            min_gradient = min_gradient.min(g);
-        }
-        let mut moved = false;
-        while h >= opts.min_step {
-            if let Some(q) = rk(h) {
-                match field.segment(cell, p, q) {
-                    Segment::Goal(j) => {
-                        // End on the goal face, not beyond it: the step's end may lie
-                        // past a goal region thinner than the step.
-                        let (mut lo, mut hi) = (0.0f64, 1.0f64);
-                        for _ in 0..48 {
-                            let mid = 0.5 * (lo + hi);
-                            match field.segment(cell, p, p + (q - p) * mid) {
-                                Segment::Goal(_) => hi = mid,
-                                _ => lo = mid,
-                            }
-                        }
-                        points.push(p + (q - p) * hi);
-                        return Ok(Path::new(
-                            points,
-                            TraceStatus::ReachedGoal(j),
-                            min_gradient,
-                            step + 1,
-                        ));
-                    }
-                    Segment::Inside(c) if field.value(c, q) < v0 => {
-                        p = q;
-                        cell = c;
-                        points.push(p);
-                        moved = true;
-                        break;
-                    }
-                    _ => {}
-                }
-            }
-            h *= 0.5;
-        }
-        if moved {
-            h = (h * 2.0).min(opts.step);
-            continue;
-        }
-        // Steps keep failing: one guaranteed move.
-        fallbacks += 1;
-        match field.fallback_step(cell, p) {
-            Fallback::Moved(q, c) if fallbacks < opts.max_steps => {
-                p = q;
-                cell = c;
-                points.push(p);
-                h = opts.step;
-            }
-            Fallback::Goal(j) => {
-                return Ok(Path::new(
-                    points,
-                    TraceStatus::ReachedGoal(j),
-                    min_gradient,
-                    step + 1,
-                ));
-            }
-            _ => {
-                return Ok(Path::new(
-                    points,
-                    TraceStatus::Stalled { at: p },
-                    min_gradient,
-                    step + 1,
-                ));
-            }
-        }
-    }
-    Ok(Path::new(
-        points,
-        TraceStatus::MaxSteps,
-        min_gradient,
-        opts.max_steps,
-    ))
 }

@@ -7,10 +7,8 @@ use std::sync::Arc;
 
 use harmonic_fem::BoundaryConditions;
 use harmonic_fem::volume::solve_volume_potential_with_report;
-use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, SmoothVolumeOptions, trace_exact_volume, trace_smooth_volume,
-};
-use harmonic_trajectory::{Locate, Path};
+use harmonic_trajectory::volume::{ExactVolumeOptions, P1VolumeField, trace_exact_volume};
+use harmonic_trajectory::{Locate, Path, SmoothOptions, trace_smooth};
 use harmonic_volume::{GoalRegion, MeshOptions, Point, PointClass, SphereSolid, VolumeDomain};
 
 const R: f64 = 0.25;
@@ -113,7 +111,7 @@ fn torus_paths_reach_the_goal_and_keep_clear_of_the_exact_solids() {
         .unwrap()
         .with_outside(&classify);
     let exact = ExactVolumeOptions::default();
-    let smooth = SmoothVolumeOptions::for_scale(10.0);
+    let smooth = SmoothOptions::for_scale(10.0);
     // The named starts: one across the hole from the goal, one in a corner.
     let mut starts = vec![Point::new(5.0, 8.5, 5.0), Point::new(1.0, 9.0, 1.0)];
     let mut rng = Lcg(42);
@@ -137,7 +135,7 @@ fn torus_paths_reach_the_goal_and_keep_clear_of_the_exact_solids() {
             path.status
         );
         check_clearance(&path, &format!("exact from start {i}"));
-        let path2 = trace_smooth_volume(&field, s, &smooth).unwrap();
+        let path2 = trace_smooth(&field, s, &smooth).unwrap();
         assert!(
             path2.status.reached_goal(),
             "smooth from {s} (start {i}): {:?}",
