@@ -4,8 +4,9 @@
 use numpy::ndarray::Array2;
 use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use rayon::prelude::*;
 
-use crate::errors::scene_error;
+use crate::errors::{guarded, scene_error};
 
 /// `obj` as a float64 array (`numpy.asarray(obj, dtype=float64)`), or a [`SceneError`]
 /// saying what `what` should have been.
@@ -105,4 +106,36 @@ pub fn rows_i64<'py, const D: usize>(
 /// A float64 array of shape `(n,)`.
 pub fn values<'py>(py: Python<'py>, values: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
     PyArray1::from_vec(py, values)
+}
+
+/// `p` if every coordinate is a finite number, else a [`SceneError`] naming `what`.
+///
+/// [`SceneError`]: crate::errors::SceneError
+pub(crate) fn finite<const D: usize>(p: [f64; D], what: &str) -> PyResult<[f64; D]> {
+    if p.iter().all(|v| v.is_finite()) {
+        Ok(p)
+    } else {
+        Err(scene_error(format!(
+            "{what}: coordinates must be finite numbers, got {p:?}"
+        )))
+    }
+}
+
+/// Arrays of at least this many points are evaluated in parallel.
+pub(crate) const PARALLEL_FROM: usize = 4096;
+
+/// `f(of, row)` at every row of `points` (shape (m, D)), a row of NaN where `f` has no value
+/// (outside free space); in parallel with the GIL released from [`PARALLEL_FROM`] rows.
+pub(crate) fn map_points<T: Sync, const D: usize, const K: usize>(
+    py: Python<'_>,
+    points: &Bound<'_, PyAny>,
+    of: &T,
+    f: impl Fn(&T, [f64; D]) -> Option<[f64; K]> + Sync + Send,
+) -> PyResult<Vec<[f64; K]>> {
+    let points = self::points::<D>(points, "points")?;
+    let one = |p: &[f64; D]| f(of, *p).unwrap_or([f64::NAN; K]);
+    if points.len() < PARALLEL_FROM {
+        return guarded(|| Ok(points.iter().map(one).collect()));
+    }
+    py.detach(|| guarded(|| Ok(points.par_iter().map(one).collect())))
 }

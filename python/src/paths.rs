@@ -1,12 +1,15 @@
 //! `hp.Path` (a planned path, plane or volume) and `hp.CarRun` (a car's drive).
 
-use harmonic_planner::Point3;
-use harmonic_planner::{CarRun, PlannedPath};
+use std::sync::Arc;
+
+use harmonic_planner::trajectory::PathPoint;
+use harmonic_planner::{CarRun, PlannedPath, PlannerApi};
 use numpy::PyArray2;
 use numpy::ndarray::Array2;
 use pyo3::prelude::*;
 
 use crate::arrays;
+use crate::errors::guarded;
 
 /// A planned path from `start` down the potential.
 ///
@@ -34,36 +37,41 @@ fn tracer_name(t: &impl serde::Serialize) -> String {
     }
 }
 
-impl From<PlannedPath> for PyPath {
-    fn from(p: PlannedPath) -> PyPath {
+impl<P: PathPoint> From<PlannedPath<P>> for PyPath {
+    /// A path of the plane or of a volume: its points flattened, `dimension` per row.
+    fn from(p: PlannedPath<P>) -> PyPath {
         PyPath {
-            start: p.start.to_vec(),
+            start: p.start.as_ref().to_vec(),
             status: p.status.as_str(),
             goal: p.goal,
             tracer: tracer_name(&p.tracer),
             length: p.length,
             min_clearance: p.min_clearance,
             min_gradient: p.min_gradient,
-            dimension: 2,
-            points: p.points.iter().flatten().copied().collect(),
+            dimension: p.start.as_ref().len(),
+            points: p.points.iter().flat_map(|q| q.as_ref().to_vec()).collect(),
         }
     }
 }
 
-impl From<PlannedPath<Point3>> for PyPath {
-    fn from(p: PlannedPath<Point3>) -> PyPath {
-        PyPath {
-            start: p.start.to_vec(),
-            status: p.status.as_str(),
-            goal: p.goal,
-            tracer: tracer_name(&p.tracer),
-            length: p.length,
-            min_clearance: p.min_clearance,
-            min_gradient: p.min_gradient,
-            dimension: 3,
-            points: p.points.iter().flatten().copied().collect(),
-        }
+/// Plans from every row of `starts` (shape (n, D), finite) in parallel with the GIL released:
+/// `plan_many` of any planner whose starts are points.
+pub(crate) fn plan_many<A, const D: usize>(
+    py: Python<'_>,
+    planner: &Arc<A>,
+    starts: &Bound<'_, PyAny>,
+) -> PyResult<Vec<PyPath>>
+where
+    A: PlannerApi<Start = [f64; D]> + Send + Sync,
+    A::Path: Into<PyPath> + Send,
+{
+    let starts = arrays::points::<D>(starts, "starts")?;
+    for &s in &starts {
+        arrays::finite(s, "starts")?;
     }
+    let planner = Arc::clone(planner);
+    let paths = py.detach(move || guarded(|| Ok(PlannerApi::plan_many(&*planner, &starts))))?;
+    Ok(paths.into_iter().map(Into::into).collect())
 }
 
 fn rows<'py>(py: Python<'py>, flat: &[f64], d: usize) -> Bound<'py, PyArray2<f64>> {

@@ -8,7 +8,6 @@ use harmonic_planner::{CarParams, Planner, PlannerOptions, Point, Scene, Timings
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rayon::prelude::*;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
@@ -49,16 +48,6 @@ pub(crate) fn timings_dict<'py>(py: Python<'py>, t: Timings) -> PyResult<Bound<'
     d.set_item("assemble", t.assemble)?;
     d.set_item("solve", t.solve)?;
     Ok(d)
-}
-
-fn finite<const D: usize>(p: [f64; D], what: &str) -> PyResult<[f64; D]> {
-    if p.iter().all(|v| v.is_finite()) {
-        Ok(p)
-    } else {
-        Err(scene_error(format!(
-            "{what}: coordinates must be finite numbers, got {p:?}"
-        )))
-    }
 }
 
 impl PyPlanner {
@@ -108,18 +97,11 @@ impl PyPlanner {
         points: &Bound<'_, PyAny>,
         f: impl Fn(&Planner, Point) -> Option<[f64; K]> + Sync + Send,
     ) -> PyResult<Vec<[f64; K]>> {
-        let points = arrays::points::<2>(points, "points")?;
-        let planner = &*self.planner;
-        let one = |p: &[f64; 2]| f(planner, Point::new(p[0], p[1])).unwrap_or([f64::NAN; K]);
-        if points.len() < PARALLEL_FROM {
-            return guarded(|| Ok(points.iter().map(one).collect()));
-        }
-        py.detach(|| guarded(|| Ok(points.par_iter().map(one).collect())))
+        arrays::map_points(py, points, &*self.planner, |pl, [x, y]| {
+            f(pl, Point::new(x, y))
+        })
     }
 }
-
-/// Arrays of at least this many points are evaluated in parallel.
-pub(crate) const PARALLEL_FROM: usize = 4096;
 
 #[pymethods]
 impl PyPlanner {
@@ -163,7 +145,7 @@ impl PyPlanner {
         cost_weight: f64,
         threads: Option<usize>,
     ) -> PyResult<PyPlanner> {
-        let goal = finite(arrays::point::<2>(goal, "goal")?, "goal")?;
+        let goal = arrays::finite(arrays::point::<2>(goal, "goal")?, "goal")?;
         let opts = MapOptions {
             max_area: positive("max_area", max_area)?,
             cost_weight,
@@ -192,27 +174,21 @@ impl PyPlanner {
     /// and where it stalls the exact one. Returns a `Path`; an unreachable or blocked start
     /// is a status, not an error.
     fn plan(&self, start: &Bound<'_, PyAny>) -> PyResult<PyPath> {
-        let start = finite(arrays::point::<2>(start, "start")?, "start")?;
+        let start = arrays::finite(arrays::point::<2>(start, "start")?, "start")?;
         guarded(|| Ok(self.planner.plan(start).into()))
     }
 
     /// The exact tracer's path from `start` (straight within each triangle, φ strictly
     /// decreasing along it).
     fn plan_exact(&self, start: &Bound<'_, PyAny>) -> PyResult<PyPath> {
-        let start = finite(arrays::point::<2>(start, "start")?, "start")?;
+        let start = arrays::finite(arrays::point::<2>(start, "start")?, "start")?;
         guarded(|| Ok(self.planner.plan_exact(start).into()))
     }
 
     /// Plans from every row of `starts` (shape (n, 2)) in parallel (rayon, GIL released);
     /// returns a list of `Path` in the same order.
     fn plan_many(&self, py: Python<'_>, starts: &Bound<'_, PyAny>) -> PyResult<Vec<PyPath>> {
-        let starts = arrays::points::<2>(starts, "starts")?;
-        for &s in &starts {
-            finite(s, "starts")?;
-        }
-        let planner = Arc::clone(&self.planner);
-        let paths = py.detach(move || guarded(|| Ok(planner.plan_many(&starts))))?;
-        Ok(paths.into_iter().map(PyPath::from).collect())
+        crate::paths::plan_many(py, &self.planner, starts)
     }
 
     /// φ at every row of `points` (shape (m, 2)), interpolated linearly on the mesh; an
@@ -319,7 +295,7 @@ impl PyPlanner {
         step: Option<f64>,
         check_footprint: bool,
     ) -> PyResult<PyCarRun> {
-        let pose = finite(arrays::point::<3>(pose, "pose")?, "pose")?;
+        let pose = arrays::finite(arrays::point::<3>(pose, "pose")?, "pose")?;
         guarded(|| {
             let mut params = CarParams::for_scene(&self.planner);
             if let Some(l) = wheelbase {

@@ -8,12 +8,11 @@ use harmonic_volume::Point;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rayon::prelude::*;
 
 use crate::arrays;
 use crate::errors::{guarded, scene_error};
 use crate::paths::PyPath;
-use crate::planner::{PARALLEL_FROM, positive, timings_dict};
+use crate::planner::{positive, timings_dict};
 use crate::scene::PyScene;
 
 /// A harmonic-potential planner for one volume scene (`"dimension": 3`).
@@ -35,23 +34,9 @@ impl PyVolumePlanner {
         points: &Bound<'_, PyAny>,
         f: impl Fn(&VolumePlanner, &Point) -> Option<[f64; K]> + Sync + Send,
     ) -> PyResult<Vec<[f64; K]>> {
-        let points = arrays::points::<3>(points, "points")?;
-        let planner = &*self.planner;
-        let one = |p: &[f64; 3]| f(planner, &Point::new(p[0], p[1], p[2])).unwrap_or([f64::NAN; K]);
-        if points.len() < PARALLEL_FROM {
-            return guarded(|| Ok(points.iter().map(one).collect()));
-        }
-        py.detach(|| guarded(|| Ok(points.par_iter().map(one).collect())))
-    }
-}
-
-fn finite3(p: [f64; 3], what: &str) -> PyResult<[f64; 3]> {
-    if p.iter().all(|v| v.is_finite()) {
-        Ok(p)
-    } else {
-        Err(scene_error(format!(
-            "{what}: coordinates must be finite numbers, got {p:?}"
-        )))
+        arrays::map_points(py, points, &*self.planner, |pl, [x, y, z]| {
+            f(pl, &Point::new(x, y, z))
+        })
     }
 }
 
@@ -91,20 +76,14 @@ impl PyVolumePlanner {
 
     /// Plans a path from `start` (x, y, z); returns a `Path` whose points have shape (n, 3).
     fn plan(&self, start: &Bound<'_, PyAny>) -> PyResult<PyPath> {
-        let start = finite3(arrays::point::<3>(start, "start")?, "start")?;
+        let start = arrays::finite(arrays::point::<3>(start, "start")?, "start")?;
         guarded(|| Ok(self.planner.plan(start).into()))
     }
 
     /// Plans from every row of `starts` (shape (n, 3)) in parallel, GIL released; a list of
     /// `Path` in the same order.
     fn plan_many(&self, py: Python<'_>, starts: &Bound<'_, PyAny>) -> PyResult<Vec<PyPath>> {
-        let starts = arrays::points::<3>(starts, "starts")?;
-        for &s in &starts {
-            finite3(s, "starts")?;
-        }
-        let planner = Arc::clone(&self.planner);
-        let paths = py.detach(move || guarded(|| Ok(planner.plan_many(&starts))))?;
-        Ok(paths.into_iter().map(PyPath::from).collect())
+        crate::paths::plan_many(py, &self.planner, starts)
     }
 
     /// φ at every row of `points` (shape (m, 3)); shape (m,), NaN outside the mesh.

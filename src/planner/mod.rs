@@ -192,6 +192,9 @@ pub(crate) struct Entry {
     pub(crate) mesh_ms: f64,
 }
 
+/// The blended conditions of a scene: the weight and the Dirichlet and Neumann conditions.
+pub(crate) type Blend = (f64, BoundaryConditions, BoundaryConditions);
+
 /// How a planner's potential was had, for its report: by what, and the time of each stage
 /// (`started`: when its solve began; `solve_ms_before`: solve time spent before that, a
 /// workspace goal's share of a blocked solve).
@@ -224,28 +227,16 @@ impl Planner {
         points: &[Point],
         options: &PlannerOptions,
     ) -> Result<Planner, PlanError> {
-        crate::threads::build_in(
-            options,
-            |e| e,
-            |options| {
-                options.stage(Stage::Meshing)?;
-                let refinements = options.multigrid.unwrap_or(0);
-                let meshed = Meshed::constrained(
-                    scene,
-                    &scene.domain_spec(),
-                    segments,
-                    points,
-                    refinements,
-                )?;
-                Planner::solved(
-                    meshed,
-                    &scene.boundary_conditions(),
-                    scene.blend_conditions(),
-                    options,
-                    None,
-                )
-            },
-        )
+        Planner::built(options, None, |options| {
+            let refinements = options.multigrid.unwrap_or(0);
+            let meshed =
+                Meshed::constrained(scene, &scene.domain_spec(), segments, points, refinements)?;
+            Ok((
+                meshed,
+                scene.boundary_conditions(),
+                scene.blend_conditions(),
+            ))
+        })
     }
 
     /// A planner on a validated free space ([`Domain::of_rings`], say: a map's configuration
@@ -266,16 +257,10 @@ impl Planner {
         options: &PlannerOptions,
         entry: Option<Entry>,
     ) -> Result<Planner, PlanError> {
-        crate::threads::build_in(
-            options,
-            |e| e,
-            |options| {
-                options.stage(Stage::Meshing)?;
-                let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
-                let bcs = BoundaryConditions::default();
-                Planner::solved(meshed, &bcs, None, options, entry)
-            },
-        )
+        Planner::built(options, entry, |_| {
+            let meshed = Meshed::of_domain(domain, mesh_options, Instant::now())?;
+            Ok((meshed, BoundaryConditions::default(), None))
+        })
     }
 
     /// A planner on a mesh made elsewhere (Triangle, gmsh; see [`crate::inputs`]), solved as
@@ -291,14 +276,29 @@ impl Planner {
         options: &PlannerOptions,
         entry: Option<Entry>,
     ) -> Result<Planner, PlanError> {
+        Planner::built(options, entry, |_| {
+            Ok((Meshed::of_mesh(mesh)?, BoundaryConditions::default(), None))
+        })
+    }
+
+    /// The frame of every constructor above: in the pool of [`PlannerOptions::threads`]
+    /// (which the planner keeps), the meshing stage announced, `mesh` makes the mesh and
+    /// says its conditions (and the blend, if any); then [`Planner::solved`].
+    fn built(
+        options: &PlannerOptions,
+        entry: Option<Entry>,
+        mesh: impl FnOnce(
+            &PlannerOptions,
+        ) -> Result<(Meshed, BoundaryConditions, Option<Blend>), PlanError>
+        + Send,
+    ) -> Result<Planner, PlanError> {
         crate::threads::build_in(
             options,
             |e| e,
             |options| {
                 options.stage(Stage::Meshing)?;
-                let meshed = Meshed::of_mesh(mesh)?;
-                let bcs = BoundaryConditions::default();
-                Planner::solved(meshed, &bcs, None, options, entry)
+                let (meshed, bcs, blend) = mesh(options)?;
+                Planner::solved(meshed, &bcs, blend, options, entry)
             },
         )
     }
@@ -309,7 +309,7 @@ impl Planner {
     fn solved(
         meshed: Meshed,
         bcs: &BoundaryConditions,
-        blend: Option<(f64, BoundaryConditions, BoundaryConditions)>,
+        blend: Option<Blend>,
         options: &PlannerOptions,
         entry: Option<Entry>,
     ) -> Result<Planner, PlanError> {

@@ -20,7 +20,7 @@
 
 use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_volume::{
-    BoxSolid, GoalRegion, Point, Solid, SolidRole, SphereSolid, VolumeDomain, VolumeError,
+    BoxSolid, GoalRegion, Part, Point, Solid, SphereSolid, VolumeDomain, VolumeError,
 };
 use serde::{Deserialize, Serialize};
 
@@ -169,7 +169,7 @@ fn point(p: [f64; 3]) -> Point {
     Point::new(p[0], p[1], p[2])
 }
 
-fn surface(role: SolidRole, s: &SurfaceSpec) -> Result<Solid, VolumeError> {
+fn surface(role: Part, s: &SurfaceSpec) -> Result<Solid, VolumeError> {
     Solid::new_surface(
         role,
         s.vertices.iter().map(|&p| point(p)).collect(),
@@ -198,8 +198,8 @@ impl VolumeScene {
         }
         let ws = &self.workspace;
         let workspace = match (&ws.box_, &ws.mesh) {
-            (Some(b), None) => Solid::new_box(SolidRole::Workspace, point(b.min), point(b.max))?,
-            (None, Some(m)) => surface(SolidRole::Workspace, m)?,
+            (Some(b), None) => Solid::new_box(Part::Workspace, point(b.min), point(b.max))?,
+            (None, Some(m)) => surface(Part::Workspace, m)?,
             _ => {
                 return Err(invalid(
                     "workspace".into(),
@@ -209,7 +209,7 @@ impl VolumeScene {
         };
         let mut obstacles = Vec::with_capacity(self.obstacles.len());
         for (i, o) in self.obstacles.iter().enumerate() {
-            let role = SolidRole::Obstacle(i);
+            let role = Part::Obstacle(i);
             obstacles.push(match (&o.box_, &o.sphere, &o.mesh) {
                 (Some(b), None, None) => Solid::new_box(role, point(b.min), point(b.max))?,
                 (None, Some(s), None) => Solid::new_sphere(role, point(s.center), s.radius)?,

@@ -24,10 +24,10 @@
 //! use std::sync::Arc;
 //! use harmonic_fem::BoundaryConditions;
 //! use harmonic_fem::volume::solve_volume_potential;
-//! use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid, VolumeDomain};
+//! use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, Part, SphereSolid, VolumeDomain};
 //!
 //! let domain = VolumeDomain::new(
-//!     Solid::new_box(SolidRole::Workspace, Point::new(0.0, 0.0, 0.0), Point::new(2.0, 2.0, 2.0))?,
+//!     Solid::new_box(Part::Workspace, Point::new(0.0, 0.0, 0.0), Point::new(2.0, 2.0, 2.0))?,
 //!     vec![],
 //!     vec![GoalRegion::Sphere(SphereSolid { center: Point::new(1.0, 1.0, 1.0), radius: 0.4 })],
 //!     0.0,

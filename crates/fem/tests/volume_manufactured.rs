@@ -7,8 +7,8 @@ use std::sync::Arc;
 use harmonic_fem::volume::{VolumeAssembler, VolumePotential, VolumeSolveMethod, solve_volume};
 use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_volume::{
-    BoundaryFace, BoundaryTag, GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid,
-    TetMesh, Vector, VolumeDomain,
+    BoundaryFace, BoundaryTag, GoalRegion, MeshOptions, Part, Point, Solid, SphereSolid, TetMesh,
+    Vector, VolumeDomain,
 };
 
 /// The unit cube cut into n³ cubes of 6 Kuhn tetrahedra each; x = 0 is goal 0, x = 1 is
@@ -144,7 +144,7 @@ fn stuffed_cube_around_a_ball_with_dirichlet_ball_and_robin_walls() {
     };
     let domain = VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(1.0, 1.0, 1.0),
         )

@@ -11,7 +11,7 @@ use harmonic_fem::volume::{
 };
 use harmonic_fem::{BoundaryCondition, BoundaryConditions};
 use harmonic_volume::{
-    GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid, VolumeDomain, quality,
+    GoalRegion, MeshOptions, Part, Point, Solid, SphereSolid, VolumeDomain, quality,
 };
 
 /// A small deterministic generator (64-bit LCG, top bits).
@@ -33,7 +33,7 @@ fn random_scene(rng: &mut Lcg) -> VolumeDomain {
     let mut obstacles = Vec::new();
     let count = 2 + (rng.next() * 4.0) as usize;
     for i in 0..count {
-        let role = SolidRole::Obstacle(i);
+        let role = Part::Obstacle(i);
         let c = Point::new(
             rng.range(0.5, 3.5),
             rng.range(0.5, 3.5),
@@ -52,7 +52,7 @@ fn random_scene(rng: &mut Lcg) -> VolumeDomain {
     }
     VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(4.0, 4.0, 4.0),
         )

@@ -7,18 +7,18 @@ use harmonic_fem::BoundaryConditions;
 use harmonic_fem::volume::{
     NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSolveMethod, solve_volume,
 };
-use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, SolidRole, VolumeDomain};
+use harmonic_volume::{GoalRegion, MeshOptions, Part, Point, Solid, VolumeDomain};
 
 #[test]
 fn accurate_cholesky_and_pcg_agree() {
     let domain = VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(3.0, 2.0, 2.0),
         )
         .unwrap(),
-        vec![Solid::new_sphere(SolidRole::Obstacle(0), Point::new(1.5, 1.0, 1.0), 0.5).unwrap()],
+        vec![Solid::new_sphere(Part::Obstacle(0), Point::new(1.5, 1.0, 1.0), 0.5).unwrap()],
         vec![GoalRegion::Point(Point::new(0.4, 0.4, 0.4))],
         0.0,
     )
@@ -77,7 +77,7 @@ fn solver_costs() {
         workspace,
         vec![
             hole,
-            Solid::new_sphere(SolidRole::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0).unwrap(),
+            Solid::new_sphere(Part::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0).unwrap(),
         ],
         vec![GoalRegion::Point(Point::new(9.0, 9.0, 9.0))],
         0.1,

@@ -53,33 +53,12 @@ mod triangulate;
 pub use domain::{Domain, DomainSpec, GoalShape, Region, Shape, TaggedRing};
 pub use frame::Frame;
 pub use harmonic_types::{
-    BoundaryEdge, BoundaryTag, Mesh, MeshDataError, MeshHierarchy, NO_NEIGHBOR, Point,
+    BoundaryEdge, BoundaryTag, Mesh, MeshDataError, MeshHierarchy, NO_NEIGHBOR, Part, Point,
     QualityReport, Vector,
 };
 pub use options::{Bridges, Grading, MAX_MIN_ANGLE_DEG, MIN_VERTEX_BUDGET, MeshOptions};
 pub use refine_uniform::{RefineUniformly, Refinement, uniform_hierarchy};
 pub use triangulate::{HILBERT_FROM, MeshReport, SeamRefinements};
-
-/// A part of the input scene, used to say where an input error is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Part {
-    /// The workspace polygon.
-    Workspace,
-    /// Input obstacle `i` (position in [`DomainSpec::obstacles`]).
-    Obstacle(usize),
-    /// Input goal `j` (position in [`DomainSpec::goals`]).
-    Goal(usize),
-}
-
-impl std::fmt::Display for Part {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Part::Workspace => write!(f, "workspace"),
-            Part::Obstacle(i) => write!(f, "obstacle {i}"),
-            Part::Goal(j) => write!(f, "goal {j}"),
-        }
-    }
-}
 
 /// Everything that can go wrong while building a domain or a mesh.
 #[derive(Debug, thiserror::Error, PartialEq)]

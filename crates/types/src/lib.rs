@@ -39,7 +39,7 @@ mod tet_mesh;
 pub use error::{Element, MeshDataError};
 pub use hierarchy::MeshHierarchy;
 pub use mesh::{BoundaryEdge, Mesh, NO_NEIGHBOR, QualityReport, map_in_two};
-pub use tag::{BoundaryTag, SEAM_PART};
+pub use tag::{BoundaryTag, Part, SEAM_PART};
 pub use tet_mesh::{
     BoundaryFace, EDGES, FACES, TetMesh, check_tetrahedra, face_neighbors, signed_volume,
 };

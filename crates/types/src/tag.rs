@@ -31,3 +31,26 @@ impl std::fmt::Display for BoundaryTag {
 /// configuration space's slab, `BoundaryTag::Obstacle(SEAM_PART)`): the finite elements give
 /// that part the natural condition (no term) before folding the two ends into one.
 pub const SEAM_PART: u32 = u32::MAX;
+
+/// A part of a scene as its input lists it, used to say where an input error is: the
+/// workspace, obstacle `i` or goal `j` (their positions in the input), in the plane and in
+/// volumes alike.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    /// The workspace.
+    Workspace,
+    /// Input obstacle `i`.
+    Obstacle(usize),
+    /// Input goal `j`.
+    Goal(usize),
+}
+
+impl std::fmt::Display for Part {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Part::Workspace => write!(f, "workspace"),
+            Part::Obstacle(i) => write!(f, "obstacle {i}"),
+            Part::Goal(j) => write!(f, "goal {j}"),
+        }
+    }
+}

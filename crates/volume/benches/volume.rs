@@ -13,26 +13,24 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use harmonic_fem::BoundaryConditions;
 use harmonic_fem::volume::{VolumeAssembler, VolumeSolveMethod, solve_volume};
-use harmonic_volume::{
-    GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid, VolumeDomain,
-};
+use harmonic_volume::{GoalRegion, MeshOptions, Part, Point, Solid, SphereSolid, VolumeDomain};
 
 fn scene() -> VolumeDomain {
     VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(10.0, 10.0, 10.0),
         )
         .expect("valid box"),
         vec![
             Solid::new_box(
-                SolidRole::Obstacle(0),
+                Part::Obstacle(0),
                 Point::new(3.0, 3.0, -1.0),
                 Point::new(7.0, 7.0, 11.0),
             )
             .expect("valid box"),
-            Solid::new_sphere(SolidRole::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0)
+            Solid::new_sphere(Part::Obstacle(1), Point::new(2.0, 8.0, 5.0), 1.0)
                 .expect("valid ball"),
         ],
         vec![GoalRegion::Sphere(SphereSolid {

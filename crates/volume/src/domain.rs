@@ -4,7 +4,7 @@
 
 use harmonic_types::BoundaryTag;
 
-use crate::error::{SolidRole, VolumeError};
+use crate::error::{Part, VolumeError};
 use crate::implicit::{Grading, ImplicitDomain};
 use crate::solid::{BoxSolid, Point, Solid, SphereSolid, Vector};
 
@@ -62,7 +62,7 @@ impl VolumeDomain {
             return Err(VolumeError::NoGoal);
         }
         for (j, g) in goals.iter().enumerate() {
-            let role = SolidRole::Goal(j);
+            let role = Part::Goal(j);
             match g {
                 GoalRegion::Sphere(s) => {
                     Solid::new_sphere(role, s.center, s.radius)?;
@@ -306,7 +306,7 @@ impl DomainImplicit<'_> {
 
 /// A boundary part of a volume domain, for grading.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Part {
+enum Surface {
     Wall,
     Obstacle(usize),
 }
@@ -316,15 +316,15 @@ const GRADING_LEVELS: f64 = 16.0;
 
 impl DomainImplicit<'_> {
     /// The distance from `p` to part `part` grown by its offset, positive on the free side.
-    fn part_distance(&self, part: Part, p: &Point) -> f64 {
+    fn part_distance(&self, part: Surface, p: &Point) -> f64 {
         match part {
-            Part::Wall => -self.domain.workspace.signed_distance(p) - self.wall_offset,
-            Part::Obstacle(i) => self.domain.obstacles[i].signed_distance(p) - self.offsets[i],
+            Surface::Wall => -self.domain.workspace.signed_distance(p) - self.wall_offset,
+            Surface::Obstacle(i) => self.domain.obstacles[i].signed_distance(p) - self.offsets[i],
         }
     }
 
     /// The part's distance gradient by central differences.
-    fn part_gradient(&self, part: Part, p: &Point, step: f64) -> Vector {
+    fn part_gradient(&self, part: Surface, p: &Point, step: f64) -> Vector {
         let mut g = Vector::zeros();
         for a in 0..3 {
             let mut e = Vector::zeros();
@@ -336,10 +336,10 @@ impl DomainImplicit<'_> {
     }
 
     /// The box a part (grown by its offset) lies in; the workspace's is its own box.
-    fn part_bounds(&self, part: Part) -> (Point, Point) {
+    fn part_bounds(&self, part: Surface) -> (Point, Point) {
         match part {
-            Part::Wall => self.domain.workspace.bounds(),
-            Part::Obstacle(i) => {
+            Surface::Wall => self.domain.workspace.bounds(),
+            Surface::Obstacle(i) => {
                 let (lo, hi) = self.domain.obstacles[i].bounds();
                 let o = Vector::repeat(self.offsets[i]);
                 (lo - o, hi + o)
@@ -368,8 +368,8 @@ impl DomainImplicit<'_> {
     /// Whether obstacle `b` (grown) reaches into part `a` (grown; the wall: beyond the
     /// shrunk workspace): such parts leave wedges around where they meet, not passages.
     /// Balls are tested exactly, boxes and surfaces by their boxes.
-    fn overlap(&self, a: Part, b: Part) -> bool {
-        let Part::Obstacle(j) = b else {
+    fn overlap(&self, a: Surface, b: Surface) -> bool {
+        let Surface::Obstacle(j) = b else {
             return false;
         };
         let grown_ball = |k: usize| match &self.domain.obstacles[k] {
@@ -377,8 +377,8 @@ impl DomainImplicit<'_> {
             _ => None,
         };
         match a {
-            Part::Wall => match grown_ball(j) {
-                Some((c, r)) => self.part_distance(Part::Wall, &c) < r,
+            Surface::Wall => match grown_ball(j) {
+                Some((c, r)) => self.part_distance(Surface::Wall, &c) < r,
                 None => {
                     let (lo, hi) = self.part_bounds(b);
                     let (wlo, whi) = self.domain.workspace.bounds();
@@ -386,7 +386,7 @@ impl DomainImplicit<'_> {
                     (0..3).any(|k| lo[k] < wlo[k] + w || hi[k] > whi[k] - w)
                 }
             },
-            Part::Obstacle(i) => match (grown_ball(i), grown_ball(j)) {
+            Surface::Obstacle(i) => match (grown_ball(i), grown_ball(j)) {
                 (Some((c, r)), _) => self.part_distance(b, &c) < r,
                 (None, Some((c, r))) => self.part_distance(a, &c) < r,
                 (None, None) => box_gap(self.part_bounds(a), self.part_bounds(b)) < 0.0,
@@ -420,12 +420,12 @@ impl ImplicitDomain for DomainImplicit<'_> {
     /// narrow passages or thin parts keeps the uniform lattice.
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
         let n = self.domain.obstacles.len();
-        let mut pairs: Vec<(Part, Part)> = Vec::new();
+        let mut pairs: Vec<(Surface, Surface)> = Vec::new();
         for i in 0..n {
-            let bi = self.part_bounds(Part::Obstacle(i));
+            let bi = self.part_bounds(Surface::Obstacle(i));
             for j in i + 1..n {
-                let bj = self.part_bounds(Part::Obstacle(j));
-                let (a, b) = (Part::Obstacle(i), Part::Obstacle(j));
+                let bj = self.part_bounds(Surface::Obstacle(j));
+                let (a, b) = (Surface::Obstacle(i), Surface::Obstacle(j));
                 if box_gap(bi, bj) < spacing && !self.overlap(a, b) {
                     pairs.push((a, b));
                 }
@@ -436,8 +436,8 @@ impl ImplicitDomain for DomainImplicit<'_> {
             let to_wall = (0..3)
                 .map(|a| (bi.0[a] - wlo[a] - w).min(whi[a] - w - bi.1[a]))
                 .fold(f64::INFINITY, f64::min);
-            if to_wall < spacing && !self.overlap(Part::Wall, Part::Obstacle(i)) {
-                pairs.push((Part::Wall, Part::Obstacle(i)));
+            if to_wall < spacing && !self.overlap(Surface::Wall, Surface::Obstacle(i)) {
+                pairs.push((Surface::Wall, Surface::Obstacle(i)));
             }
         }
         // A part too thin even for the finest size would slip between its vertices too:
@@ -458,7 +458,7 @@ impl ImplicitDomain for DomainImplicit<'_> {
         // part's surface can be: a box test rejects every other tetrahedron cheaply.
         let grow =
             |(lo, hi): (Point, Point), m: f64| (lo - Vector::repeat(m), hi + Vector::repeat(m));
-        let pairs: Vec<(Part, Part, (Point, Point))> = pairs
+        let pairs: Vec<(Surface, Surface, (Point, Point))> = pairs
             .into_iter()
             .map(|(a, b)| {
                 let (ba, bb) = (
@@ -466,15 +466,15 @@ impl ImplicitDomain for DomainImplicit<'_> {
                     grow(self.part_bounds(b), spacing),
                 );
                 let zone = match a {
-                    Part::Wall => bb,
-                    Part::Obstacle(_) => (ba.0.sup(&bb.0), ba.1.inf(&bb.1)),
+                    Surface::Wall => bb,
+                    Surface::Obstacle(_) => (ba.0.sup(&bb.0), ba.1.inf(&bb.1)),
                 };
                 (a, b, zone)
             })
             .collect();
         let thin: Vec<(usize, (Point, Point))> = thin
             .into_iter()
-            .map(|i| (i, grow(self.part_bounds(Part::Obstacle(i)), spacing)))
+            .map(|i| (i, grow(self.part_bounds(Surface::Obstacle(i)), spacing)))
             .collect();
         let zones: Vec<(Point, Point)> = pairs
             .iter()
@@ -515,10 +515,12 @@ impl ImplicitDomain for DomainImplicit<'_> {
                 }
             }
             thin.iter().any(|&(i, zone)| {
-                near_box(&c, zone, 0.0) && self.part_distance(Part::Obstacle(i), &c).abs() < s && {
-                    let (t, need) = self.thickness(i);
-                    s * need > t
-                }
+                near_box(&c, zone, 0.0)
+                    && self.part_distance(Surface::Obstacle(i), &c).abs() < s
+                    && {
+                        let (t, need) = self.thickness(i);
+                        s * need > t
+                    }
             })
         };
         // Ties are broken towards the zones: the distance to the nearest one.

@@ -1,25 +1,6 @@
 //! Everything that can go wrong while validating solids, meshing a volume or writing files.
 
-/// Which solid of a scene an error is about.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SolidRole {
-    /// The workspace.
-    Workspace,
-    /// Obstacle `i` (its position in the input).
-    Obstacle(usize),
-    /// Goal region `j`.
-    Goal(usize),
-}
-
-impl std::fmt::Display for SolidRole {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SolidRole::Workspace => write!(f, "workspace"),
-            SolidRole::Obstacle(i) => write!(f, "obstacle {i}"),
-            SolidRole::Goal(j) => write!(f, "goal {j}"),
-        }
-    }
-}
+pub use harmonic_types::Part;
 
 /// Errors of this crate. Each names what is wrong and where.
 #[derive(Debug, thiserror::Error)]
@@ -28,7 +9,7 @@ pub enum VolumeError {
     #[error("{solid}: {what} is not a finite number")]
     NonFinite {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// Which number ("box min", "vertex 3", ...).
         what: String,
     },
@@ -36,7 +17,7 @@ pub enum VolumeError {
     #[error("{solid}: box min {min} is not below max {max} on axis {axis}")]
     InvertedBox {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// 0, 1 or 2 for x, y, z.
         axis: usize,
         /// The box's min on that axis.
@@ -48,7 +29,7 @@ pub enum VolumeError {
     #[error("{solid}: sphere radius {radius} must be positive")]
     BadRadius {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The radius given.
         radius: f64,
     },
@@ -56,7 +37,7 @@ pub enum VolumeError {
     #[error("{solid}: the triangle surface has no triangles")]
     EmptySurface {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
     },
     /// A triangle refers to a vertex that does not exist.
     #[error(
@@ -64,7 +45,7 @@ pub enum VolumeError {
     )]
     BadVertexIndex {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The triangle.
         triangle: usize,
         /// The bad index.
@@ -76,7 +57,7 @@ pub enum VolumeError {
     #[error("{solid}: triangle {triangle} is degenerate (repeated vertex or zero area)")]
     DegenerateTriangle {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The triangle.
         triangle: usize,
     },
@@ -88,7 +69,7 @@ pub enum VolumeError {
     )]
     SelfIntersecting {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The two triangles.
         triangles: [usize; 2],
     },
@@ -96,7 +77,7 @@ pub enum VolumeError {
     #[error("{solid}: edge ({}, {}) belongs to one triangle only (triangle {triangle}): the surface is not closed", edge[0], edge[1])]
     OpenEdge {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The edge's vertices.
         edge: [u32; 2],
         /// The one triangle using it.
@@ -106,7 +87,7 @@ pub enum VolumeError {
     #[error("{solid}: edge ({}, {}) belongs to {count} triangles: the surface is not manifold", edge[0], edge[1])]
     NonManifoldEdge {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The edge's vertices.
         edge: [u32; 2],
         /// How many triangles use it.
@@ -116,7 +97,7 @@ pub enum VolumeError {
     #[error("{solid}: triangles {first} and {second} traverse edge ({}, {}) in the same direction: the surface is not consistently oriented", edge[0], edge[1])]
     InconsistentOrientation {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// The directed edge.
         edge: [u32; 2],
         /// One triangle.
@@ -128,7 +109,7 @@ pub enum VolumeError {
     #[error("{solid}: the triangle surface was refused: {message}")]
     Surface {
         /// The solid.
-        solid: SolidRole,
+        solid: Part,
         /// parry3d's message.
         message: String,
     },

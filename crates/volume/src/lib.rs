@@ -38,9 +38,9 @@
 //! counts and, where the solution shows it, clamps (`harmonic_fem::volume`).
 //!
 //! ```
-//! use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, SolidRole, VolumeDomain, quality};
-//! let workspace = Solid::new_box(SolidRole::Workspace, Point::origin(), Point::new(4.0, 4.0, 4.0))?;
-//! let ball = Solid::new_sphere(SolidRole::Obstacle(0), Point::new(2.0, 2.0, 2.0), 1.0)?;
+//! use harmonic_volume::{GoalRegion, MeshOptions, Point, Solid, Part, VolumeDomain, quality};
+//! let workspace = Solid::new_box(Part::Workspace, Point::origin(), Point::new(4.0, 4.0, 4.0))?;
+//! let ball = Solid::new_sphere(Part::Obstacle(0), Point::new(2.0, 2.0, 2.0), 1.0)?;
 //! let goal = GoalRegion::Point(Point::new(0.5, 0.5, 0.5));
 //! let domain = VolumeDomain::new(workspace, vec![ball], vec![goal], 0.0)?;
 //! let (mesh, report) = domain.mesh(&MeshOptions::with_max_volume(0.01))?;
@@ -71,7 +71,7 @@ mod stuffing;
 
 pub use carve::{CarveReport, GRADING, GoalHole, carve_goals};
 pub use domain::{DomainImplicit, GoalRegion, PointClass, VolumeDomain};
-pub use error::{SolidRole, VolumeError};
+pub use error::{Part, VolumeError};
 pub use implicit::{Grading, ImplicitDomain, KnownValues, TetTest};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
 pub use nearest::nearest_boundary_point;

@@ -9,7 +9,7 @@ use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::query::PointQuery;
 use parry3d_f64::shape::{Ball, Cuboid, Segment, Shape, TriMesh, TriMeshFlags, Triangle};
 
-use crate::error::{SolidRole, VolumeError};
+use crate::error::{Part, VolumeError};
 
 /// A point in space.
 pub type Point = Point3<f64>;
@@ -67,7 +67,7 @@ impl TriSurface {
     /// directions, no two triangles without a common vertex touching or crossing. `role`
     /// names the solid in errors.
     pub fn new(
-        role: SolidRole,
+        role: Part,
         vertices: Vec<Point>,
         mut triangles: Vec<[u32; 3]>,
     ) -> Result<Self, VolumeError> {
@@ -257,7 +257,7 @@ pub enum Solid {
 
 impl Solid {
     /// A validated box (`min < max` on every axis, finite).
-    pub fn new_box(role: SolidRole, min: Point, max: Point) -> Result<Self, VolumeError> {
+    pub fn new_box(role: Part, min: Point, max: Point) -> Result<Self, VolumeError> {
         if !finite(&min) || !finite(&max) {
             return Err(VolumeError::NonFinite {
                 solid: role,
@@ -278,7 +278,7 @@ impl Solid {
     }
 
     /// A validated sphere (finite centre, radius > 0).
-    pub fn new_sphere(role: SolidRole, center: Point, radius: f64) -> Result<Self, VolumeError> {
+    pub fn new_sphere(role: Part, center: Point, radius: f64) -> Result<Self, VolumeError> {
         if !finite(&center) || !radius.is_finite() {
             return Err(VolumeError::NonFinite {
                 solid: role,
@@ -296,7 +296,7 @@ impl Solid {
 
     /// A validated closed triangle surface (see [`TriSurface::new`]).
     pub fn new_surface(
-        role: SolidRole,
+        role: Part,
         vertices: Vec<Point>,
         triangles: Vec<[u32; 3]>,
     ) -> Result<Self, VolumeError> {
@@ -424,14 +424,14 @@ mod tests {
     #[test]
     fn box_and_sphere_distances() {
         let b = Solid::new_box(
-            SolidRole::Obstacle(0),
+            Part::Obstacle(0),
             Point::new(0.0, 0.0, 0.0),
             Point::new(2.0, 2.0, 2.0),
         )
         .unwrap();
         assert!((b.signed_distance(&Point::new(1.0, 1.0, 1.0)) + 1.0).abs() < 1e-15);
         assert!((b.signed_distance(&Point::new(3.0, 3.0, 1.0)) - 2f64.sqrt()).abs() < 1e-15);
-        let s = Solid::new_sphere(SolidRole::Obstacle(1), Point::new(0.0, 0.0, 0.0), 1.0).unwrap();
+        let s = Solid::new_sphere(Part::Obstacle(1), Point::new(0.0, 0.0, 0.0), 1.0).unwrap();
         assert!((s.signed_distance(&Point::new(0.0, 3.0, 0.0)) - 2.0).abs() < 1e-15);
         let tri = [
             Point::new(4.0, 0.0, 0.0),
@@ -445,7 +445,7 @@ mod tests {
     #[test]
     fn bad_solids_are_named() {
         let e = Solid::new_box(
-            SolidRole::Obstacle(2),
+            Part::Obstacle(2),
             Point::new(0.0, 1.0, 0.0),
             Point::new(1.0, 0.5, 1.0),
         )
@@ -454,10 +454,9 @@ mod tests {
             e.to_string(),
             "obstacle 2: box min 1 is not below max 0.5 on axis 1"
         );
-        let e = Solid::new_sphere(SolidRole::Goal(0), Point::new(0.0, 0.0, 0.0), 0.0).unwrap_err();
+        let e = Solid::new_sphere(Part::Goal(0), Point::new(0.0, 0.0, 0.0), 0.0).unwrap_err();
         assert!(matches!(e, VolumeError::BadRadius { .. }));
-        let e =
-            Solid::new_sphere(SolidRole::Goal(0), Point::new(f64::NAN, 0.0, 0.0), 1.0).unwrap_err();
+        let e = Solid::new_sphere(Part::Goal(0), Point::new(f64::NAN, 0.0, 0.0), 1.0).unwrap_err();
         assert!(matches!(e, VolumeError::NonFinite { .. }));
     }
 
@@ -468,7 +467,7 @@ mod tests {
         let shift = |p: &Point| Point::new(p.x + 0.3, p.y + 0.3, p.z - 0.4);
         v.extend(tetra().0.iter().map(shift));
         t.extend(tetra().1.iter().map(|tri| tri.map(|i| i + 4)));
-        let e = Solid::new_surface(SolidRole::Obstacle(1), v, t.clone()).unwrap_err();
+        let e = Solid::new_surface(Part::Obstacle(1), v, t.clone()).unwrap_err();
         let VolumeError::SelfIntersecting { triangles, .. } = e else {
             panic!("{e}");
         };
@@ -477,28 +476,28 @@ mod tests {
         // Apart, the same two tetrahedra are one valid (two-piece) surface.
         let (mut v, _) = tetra();
         v.extend(tetra().0.iter().map(|p| Point::new(p.x + 3.0, p.y, p.z)));
-        assert!(Solid::new_surface(SolidRole::Obstacle(1), v, t).is_ok());
+        assert!(Solid::new_surface(Part::Obstacle(1), v, t).is_ok());
     }
 
     #[test]
     fn surfaces_are_validated_and_oriented() {
         let (v, t) = tetra();
-        let s = Solid::new_surface(SolidRole::Obstacle(0), v.clone(), t.clone()).unwrap();
+        let s = Solid::new_surface(Part::Obstacle(0), v.clone(), t.clone()).unwrap();
         assert!((s.volume() - 1.0 / 6.0).abs() < 1e-15);
         assert!(s.signed_distance(&Point::new(0.1, 0.1, 0.1)) < 0.0);
         assert!((s.signed_distance(&Point::new(-1.0, 0.2, 0.2)) - 1.0).abs() < 1e-12);
         // Inward given: reoriented, same solid.
         let inward: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
-        let s2 = Solid::new_surface(SolidRole::Obstacle(0), v.clone(), inward).unwrap();
+        let s2 = Solid::new_surface(Part::Obstacle(0), v.clone(), inward).unwrap();
         assert!((s2.volume() - 1.0 / 6.0).abs() < 1e-15);
         assert!(s2.signed_distance(&Point::new(0.1, 0.1, 0.1)) < 0.0);
         // Open: drop a triangle.
-        let e = Solid::new_surface(SolidRole::Obstacle(3), v.clone(), t[..3].to_vec()).unwrap_err();
+        let e = Solid::new_surface(Part::Obstacle(3), v.clone(), t[..3].to_vec()).unwrap_err();
         assert!(
             matches!(
                 e,
                 VolumeError::OpenEdge {
-                    solid: SolidRole::Obstacle(3),
+                    solid: Part::Obstacle(3),
                     ..
                 }
             ),
@@ -507,7 +506,7 @@ mod tests {
         // Inconsistent: flip one triangle.
         let mut bad = t.clone();
         bad[1] = [0, 3, 1];
-        let e = Solid::new_surface(SolidRole::Workspace, v.clone(), bad).unwrap_err();
+        let e = Solid::new_surface(Part::Workspace, v.clone(), bad).unwrap_err();
         assert!(
             matches!(e, VolumeError::InconsistentOrientation { .. }),
             "{e}"
@@ -515,7 +514,7 @@ mod tests {
         // Out-of-range index.
         let mut bad = t.clone();
         bad[0] = [0, 2, 9];
-        let e = Solid::new_surface(SolidRole::Workspace, v, bad).unwrap_err();
+        let e = Solid::new_surface(Part::Workspace, v, bad).unwrap_err();
         assert!(
             matches!(e, VolumeError::BadVertexIndex { vertex: 9, .. }),
             "{e}"

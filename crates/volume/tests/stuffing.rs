@@ -1,7 +1,7 @@
 //! Isosurface stuffing on the bundled kinds of scene: volume, quality, tags, conservativeness.
 
 use harmonic_volume::{
-    BoundaryTag, GoalRegion, MeshOptions, Point, Solid, SolidRole, SphereSolid, VolumeDomain,
+    BoundaryTag, GoalRegion, MeshOptions, Part, Point, Solid, SphereSolid, VolumeDomain,
     VolumeError, quality,
 };
 
@@ -18,16 +18,16 @@ fn torus(robot: f64) -> VolumeDomain {
 fn spheres() -> VolumeDomain {
     VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(4.0, 4.0, 4.0),
         )
         .unwrap(),
         vec![
-            Solid::new_sphere(SolidRole::Obstacle(0), Point::new(1.5, 2.0, 2.0), 0.8).unwrap(),
-            Solid::new_sphere(SolidRole::Obstacle(1), Point::new(2.6, 2.0, 2.0), 0.7).unwrap(),
+            Solid::new_sphere(Part::Obstacle(0), Point::new(1.5, 2.0, 2.0), 0.8).unwrap(),
+            Solid::new_sphere(Part::Obstacle(1), Point::new(2.6, 2.0, 2.0), 0.7).unwrap(),
             Solid::new_box(
-                SolidRole::Obstacle(2),
+                Part::Obstacle(2),
                 Point::new(3.3, -1.0, 0.3),
                 Point::new(5.0, 1.13, 1.7),
             )
@@ -227,11 +227,11 @@ fn triangle_surface_obstacles_are_meshed_around_with_clearance() {
         [1, 3, 5],
         [3, 0, 5],
     ];
-    let octahedron = Solid::new_surface(SolidRole::Obstacle(0), v, t).unwrap();
+    let octahedron = Solid::new_surface(Part::Obstacle(0), v, t).unwrap();
     assert!((octahedron.volume() - 4.0 / 3.0).abs() < 1e-12);
     let domain = VolumeDomain::new(
         Solid::new_box(
-            SolidRole::Workspace,
+            Part::Workspace,
             Point::new(0.0, 0.0, 0.0),
             Point::new(4.0, 4.0, 4.0),
         )
