@@ -754,7 +754,14 @@ struct BitsHasher(u64);
 
 impl std::hash::Hasher for BitsHasher {
     fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
+        // `[u64; 3]` hashes its entries as one byte slice: take them 8 bytes at a time.
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            let mut word = [0u8; 8];
+            word.copy_from_slice(w);
+            self.write_u64(u64::from_le_bytes(word));
+        }
+        for &b in words.remainder() {
             self.write_u64(b as u64);
         }
     }
