@@ -41,7 +41,7 @@ use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, VolumeFieldParts, trace_exact_volume,
 };
 use harmonic_trajectory::{Locate, Path, SmoothOptions, TraceStatus, Tracer, trace_smooth};
-use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, quality};
+use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, dihedral_range};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -499,28 +499,39 @@ impl ConfigPlanner {
         out
     }
 
-    /// The first configuration, sampled along the path's motions so that no robot point moves
-    /// more than 1e-3 × the scene size between samples, where the robot touches an obstacle,
-    /// the workspace boundary or itself (exact clearance 0; the safety margin not counted).
+    /// The first configuration along the path's motions where the robot touches an obstacle,
+    /// the workspace boundary or itself (exact clearance 0; the safety margin not counted):
+    /// samples at most 1e-3 × the scene size of robot motion apart, farther where the
+    /// clearance at a sample certifies the motion up to the next one.
     fn first_collision(&self, configs: &[Vec<f64>]) -> Option<Vec<f64>> {
         let robot = self.space.robot();
         let step = 1e-3 * self.size;
-        let touches = |q: &[f64]| self.space.clearance(q).0 <= 0.0;
         if let [only] = configs {
-            return touches(only).then(|| only.clone());
+            return (self.space.clearance(only).0 <= 0.0).then(|| only.clone());
         }
         for w in configs.windows(2) {
-            let n = ((robot.sweep_bound(&w[0], &w[1]) / step).ceil() as usize).clamp(1, 1 << 20);
-            for k in 0..=n {
-                let t = k as f64 / n as f64;
-                let q: Vec<f64> = w[0]
-                    .iter()
+            // Conservative advancement: no robot point moves more than `bound · Δt` between
+            // t and t + Δt, so a clearance c (to the world, or between two links, which both
+            // move) certifies Δt = c / (2 bound) free; the samples are never sparser than
+            // `step` of motion, as a plain sampling at that spacing would be.
+            let bound = robot.sweep_bound(&w[0], &w[1]);
+            let at = |t: f64| -> Vec<f64> {
+                w[0].iter()
                     .zip(&w[1])
                     .map(|(a, b)| a + t * (b - a))
-                    .collect();
-                if touches(&q) {
+                    .collect()
+            };
+            let mut t = 0.0f64;
+            for _ in 0..=(1 << 20) {
+                let q = at(t);
+                let clearance = self.space.clearance(&q).0;
+                if clearance <= 0.0 {
                     return Some(q);
                 }
+                if t >= 1.0 || bound <= 0.0 {
+                    break;
+                }
+                t = (t + (0.5 * clearance).max(step) / bound).min(1.0);
             }
         }
         None
@@ -586,19 +597,19 @@ impl ConfigPlanner {
         let paths = self.plan_many(starts);
         let mut timings = self.timings;
         timings.trace = millis(t);
-        let q = quality(&self.slab);
+        let [min_dihedral_deg, max_dihedral_deg] = dihedral_range(&self.slab);
         ConfigPlanReport {
             configuration: Some(match self.space.robot() {
                 Robot::Rigid(_) => "pose",
                 Robot::Arm(_) => "joints",
             }),
             mesh: ConfigMeshSummary {
-                vertices: q.vertices,
-                tetrahedra: q.tetrahedra,
+                vertices: self.slab.vertices().len(),
+                tetrahedra: self.slab.tetrahedra().len(),
                 unknowns: self.unknowns,
                 covering_tetrahedra: self.covering.tetrahedra().len(),
-                min_dihedral_deg: q.min_dihedral_deg,
-                max_dihedral_deg: q.max_dihedral_deg,
+                min_dihedral_deg,
+                max_dihedral_deg,
                 spacing: self.report.spacing,
                 scale: self.report.scale,
                 cells: self.report.cells,

@@ -32,33 +32,41 @@ impl Locator {
                 a = a.inf(q);
                 b = b.sup(q);
             }
+            // Cell indices fit 16 bits (at most 1024 cells an axis).
             let idx = |x: f64, axis: usize| {
-                (((x - lo[axis]) / cell).floor().max(0.0) as usize).min(n[axis] - 1)
+                (((x - lo[axis]) / cell).floor().max(0.0) as usize).min(n[axis] - 1) as u16
             };
             [0, 1, 2].map(|axis| (idx(a[axis], axis), idx(b[axis], axis)))
         };
-        let mut count = vec![0u32; cells + 1];
-        let visit = |t: u32, f: &mut dyn FnMut(usize)| {
-            let r = range(t);
-            for k in r[2].0..=r[2].1 {
-                for j in r[1].0..=r[1].1 {
-                    for i in r[0].0..=r[0].1 {
+        // Each tetrahedron's cell range once (in parallel: it is most of the work), then
+        // the counts and the fill in tetrahedron order, so each cell lists its tetrahedra
+        // ascending at any thread count.
+        use rayon::prelude::*;
+        let ranges: Vec<[(u16, u16); 3]> = (0..mesh.tetrahedra().len() as u32)
+            .into_par_iter()
+            .map(range)
+            .collect();
+        let visit = |r: &[(u16, u16); 3], f: &mut dyn FnMut(usize)| {
+            for k in r[2].0 as usize..=r[2].1 as usize {
+                for j in r[1].0 as usize..=r[1].1 as usize {
+                    for i in r[0].0 as usize..=r[0].1 as usize {
                         f(i + n[0] * (j + n[1] * k));
                     }
                 }
             }
         };
-        for t in 0..mesh.tetrahedra().len() as u32 {
-            visit(t, &mut |c| count[c + 1] += 1);
+        let mut count = vec![0u32; cells + 1];
+        for r in &ranges {
+            visit(r, &mut |c| count[c + 1] += 1);
         }
         for c in 0..cells {
             count[c + 1] += count[c];
         }
         let mut next = count.clone();
         let mut items = vec![0u32; count[cells] as usize];
-        for t in 0..mesh.tetrahedra().len() as u32 {
-            visit(t, &mut |c| {
-                items[next[c] as usize] = t;
+        for (t, r) in ranges.iter().enumerate() {
+            visit(r, &mut |c| {
+                items[next[c] as usize] = t as u32;
                 next[c] += 1;
             });
         }

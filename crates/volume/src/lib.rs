@@ -76,7 +76,7 @@ pub use implicit::{Grading, ImplicitDomain, KnownValues, TetTest};
 pub use mesher::{DEFAULT_MAX_TETRAHEDRA, MeshOptions, MeshReport};
 pub use nearest::nearest_boundary_point;
 pub use periodic::{PeriodicMesh, PeriodicStuffed, periodic_lattice_tetrahedra, stuff_periodic};
-pub use quality::{QualityReport, quality, tet_angles_and_weights};
+pub use quality::{QualityReport, dihedral_range, quality, tet_angles_and_weights};
 pub use refine::{PeriodicTets, RefineReport, longest_edge, refine_periodic, refine_where};
 pub use solid::{BoxSolid, Point, Solid, SphereSolid, TriSurface, Vector};
 pub use stuffing::{ALPHA_LONG, ALPHA_SHORT, Stuffed, StuffingOptions, lattice_tetrahedra, stuff};

@@ -40,10 +40,12 @@ pub fn tet_angles_and_weights(mesh: &TetMesh, t: u32) -> ([f64; 6], [f64; 6]) {
     let mut weights = [0.0; 6];
     for (e, &[i, j]) in EDGES.iter().enumerate() {
         weights[e] = -vol * g[i].dot(&g[j]);
-        // The dihedral angle at edge (i, j) is between faces k and l (the other two); the
-        // gradients of λ_k and λ_l are inward normals of those faces.
-        let others: Vec<usize> = (0..4).filter(|&m| m != i && m != j).collect();
-        let (a, b) = (g[others[0]], g[others[1]]);
+        // The dihedral angle at edge (i, j) is between faces k and l (the other two; the
+        // four indices sum to 6); the gradients of λ_k and λ_l are inward normals of those
+        // faces.
+        let k = (0..4).find(|&m| m != i && m != j).unwrap_or(0);
+        let l = 6 - i - j - k;
+        let (a, b) = (g[k], g[l]);
         let c = (-a.dot(&b) / (a.norm() * b.norm())).clamp(-1.0, 1.0);
         angles[e] = c.acos();
     }
@@ -67,43 +69,7 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
     // Per tetrahedron (on every core): its angles and volume folded into the extremes, then
     // its edges with their stiffness weights.
     use rayon::prelude::*;
-    #[derive(Clone, Copy)]
-    struct Part {
-        min_deg: f64,
-        max_deg: f64,
-        min_vol: f64,
-        max_vol: f64,
-        obtuse: usize,
-    }
-    let empty = Part {
-        min_deg: f64::INFINITY,
-        max_deg: 0.0,
-        min_vol: f64::INFINITY,
-        max_vol: 0.0,
-        obtuse: 0,
-    };
-    let join = |p: Part, q: Part| Part {
-        min_deg: p.min_deg.min(q.min_deg),
-        max_deg: p.max_deg.max(q.max_deg),
-        min_vol: p.min_vol.min(q.min_vol),
-        max_vol: p.max_vol.max(q.max_vol),
-        obtuse: p.obtuse + q.obtuse,
-    };
-    let part = (0..mesh.tetrahedra().len() as u32)
-        .into_par_iter()
-        .map(|t| {
-            let (angles, _) = tet_angles_and_weights(mesh, t);
-            let vol = mesh.tet_volume(t);
-            let deg = angles.map(f64::to_degrees);
-            Part {
-                min_deg: deg.iter().copied().fold(f64::INFINITY, f64::min),
-                max_deg: deg.iter().copied().fold(0.0, f64::max),
-                min_vol: vol,
-                max_vol: vol,
-                obtuse: usize::from(deg.iter().any(|&d| d > 90.0 + 1e-9)),
-            }
-        })
-        .reduce(|| empty, join);
+    let part = shapes(mesh);
     report.min_dihedral_deg = part.min_deg;
     report.max_dihedral_deg = part.max_deg;
     report.min_volume = part.min_vol;
@@ -148,4 +114,55 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
         i = j;
     }
     report
+}
+
+/// The extremes of every tetrahedron's dihedral angles and volume, and its obtuse count.
+#[derive(Clone, Copy)]
+struct Part {
+    min_deg: f64,
+    max_deg: f64,
+    min_vol: f64,
+    max_vol: f64,
+    obtuse: usize,
+}
+
+/// The first half of [`quality`]: angles and volumes only, on every core.
+fn shapes(mesh: &TetMesh) -> Part {
+    use rayon::prelude::*;
+    let empty = Part {
+        min_deg: f64::INFINITY,
+        max_deg: 0.0,
+        min_vol: f64::INFINITY,
+        max_vol: 0.0,
+        obtuse: 0,
+    };
+    let join = |p: Part, q: Part| Part {
+        min_deg: p.min_deg.min(q.min_deg),
+        max_deg: p.max_deg.max(q.max_deg),
+        min_vol: p.min_vol.min(q.min_vol),
+        max_vol: p.max_vol.max(q.max_vol),
+        obtuse: p.obtuse + q.obtuse,
+    };
+    (0..mesh.tetrahedra().len() as u32)
+        .into_par_iter()
+        .map(|t| {
+            let (angles, _) = tet_angles_and_weights(mesh, t);
+            let vol = mesh.tet_volume(t);
+            let deg = angles.map(f64::to_degrees);
+            Part {
+                min_deg: deg.iter().copied().fold(f64::INFINITY, f64::min),
+                max_deg: deg.iter().copied().fold(0.0, f64::max),
+                min_vol: vol,
+                max_vol: vol,
+                obtuse: usize::from(deg.iter().any(|&d| d > 90.0 + 1e-9)),
+            }
+        })
+        .reduce(|| empty, join)
+}
+
+/// The smallest and the largest dihedral angle of `mesh`, in degrees: [`quality`]'s angles
+/// without its edge pass (which sorts six entries per tetrahedron).
+pub fn dihedral_range(mesh: &TetMesh) -> [f64; 2] {
+    let part = shapes(mesh);
+    [part.min_deg, part.max_deg]
 }
