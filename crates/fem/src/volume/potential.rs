@@ -15,6 +15,8 @@ pub struct VolumePotential {
     psi: Vec<f64>,
     reference: f64,
     nodal_gradients: OnceLock<Vec<Vector>>,
+    /// Interior strict local minima of φ and extrema of either kind, counted once.
+    extrema: OnceLock<(usize, usize)>,
 }
 
 /// The potential at one point.
@@ -45,6 +47,7 @@ impl VolumePotential {
             psi,
             reference,
             nodal_gradients: OnceLock::new(),
+            extrema: OnceLock::new(),
         })
     }
 
@@ -114,36 +117,43 @@ impl VolumePotential {
     /// The number of vertices off the boundary whose ψ is strictly above or strictly below
     /// every neighbour's: zero when the discrete maximum principle holds.
     pub fn interior_local_extrema(&self) -> usize {
-        self.count_interior(|psi, lo, hi| psi > hi || psi < lo)
+        self.counted_extrema().1
     }
 
     /// The number of vertices off the boundary whose ψ is strictly above every
     /// neighbour's — strict local minima of φ, where a path descending φ would stop short of
     /// the goal (the contract's `interior_local_minima`).
     pub fn interior_local_minima(&self) -> usize {
-        self.count_interior(|psi, _, hi| psi > hi)
+        self.counted_extrema().0
     }
 
-    /// Vertices off the boundary for which `strict(ψ, lowest neighbour, highest neighbour)`.
-    fn count_interior(&self, strict: impl Fn(f64, f64, f64) -> bool) -> usize {
-        let nv = self.mesh.vertices().len();
-        let mut lo = vec![f64::INFINITY; nv];
-        let mut hi = vec![f64::NEG_INFINITY; nv];
-        for tet in self.mesh.tetrahedra() {
-            for &[i, j] in &harmonic_types::EDGES {
-                let (a, b) = (tet[i] as usize, tet[j] as usize);
-                lo[a] = lo[a].min(self.psi[b]);
-                hi[a] = hi[a].max(self.psi[b]);
-                lo[b] = lo[b].min(self.psi[a]);
-                hi[b] = hi[b].max(self.psi[a]);
+    /// Off-boundary vertices whose ψ is strictly above every neighbour's, and those strictly
+    /// above or below, in one pass over the edges (made at the first call: the planning
+    /// solve's check and the report share it).
+    fn counted_extrema(&self) -> (usize, usize) {
+        *self.extrema.get_or_init(|| {
+            let nv = self.mesh.vertices().len();
+            let mut lo = vec![f64::INFINITY; nv];
+            let mut hi = vec![f64::NEG_INFINITY; nv];
+            for tet in self.mesh.tetrahedra() {
+                for &[i, j] in &harmonic_types::EDGES {
+                    let (a, b) = (tet[i] as usize, tet[j] as usize);
+                    lo[a] = lo[a].min(self.psi[b]);
+                    hi[a] = hi[a].max(self.psi[b]);
+                    lo[b] = lo[b].min(self.psi[a]);
+                    hi[b] = hi[b].max(self.psi[a]);
+                }
             }
-        }
-        (0..nv)
-            .filter(|&v| {
-                !self.mesh.is_boundary_vertex(v as u32)
-                    && lo[v] <= hi[v]
-                    && strict(self.psi[v], lo[v], hi[v])
-            })
-            .count()
+            let (mut minima, mut extrema) = (0, 0);
+            for v in 0..nv {
+                if self.mesh.is_boundary_vertex(v as u32) || lo[v] > hi[v] {
+                    continue;
+                }
+                let psi = self.psi[v];
+                minima += usize::from(psi > hi[v]);
+                extrema += usize::from(psi > hi[v] || psi < lo[v]);
+            }
+            (minima, extrema)
+        })
     }
 }
