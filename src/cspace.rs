@@ -501,8 +501,8 @@ impl ConfigPlanner {
 
     /// The first configuration along the path's motions where the robot touches an obstacle,
     /// the workspace boundary or itself (exact clearance 0; the safety margin not counted):
-    /// samples at most 1e-3 × the scene size of robot motion apart, farther where the
-    /// clearance at a sample certifies the motion up to the next one.
+    /// samples at most 1e-3 × the scene size of robot motion apart, except where the
+    /// clearance at a sample certifies the motion up to a farther one.
     fn first_collision(&self, configs: &[Vec<f64>]) -> Option<Vec<f64>> {
         let robot = self.space.robot();
         let step = 1e-3 * self.size;
@@ -512,8 +512,8 @@ impl ConfigPlanner {
         for w in configs.windows(2) {
             // Conservative advancement: no robot point moves more than `bound · Δt` between
             // t and t + Δt, so a clearance c (to the world, or between two links, which both
-            // move) certifies Δt = c / (2 bound) free; the samples are never sparser than
-            // `step` of motion, as a plain sampling at that spacing would be.
+            // move) certifies Δt = c / (2 bound) free; elsewhere the samples are `step` of
+            // motion apart, as a plain sampling at that spacing would be.
             let bound = robot.sweep_bound(&w[0], &w[1]);
             let at = |t: f64| -> Vec<f64> {
                 w[0].iter()

@@ -20,7 +20,7 @@ impl Locator {
         let tets = mesh.tetrahedra().len().max(1);
         let extent = (hi - lo).sup(&Vector::repeat(1e-300));
         // About two tetrahedra per cell.
-        let cell = (extent.product() * 2.0 / tets as f64)
+        let cell = (extent.product() * 8.0 / tets as f64)
             .cbrt()
             .max(extent.max() / 1024.0);
         let n = [0, 1, 2].map(|a| ((extent[a] / cell).ceil() as usize).clamp(1, 1024));
