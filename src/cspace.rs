@@ -304,6 +304,15 @@ impl ConfigPlanner {
         })
     }
 
+    /// What a configuration is: `"pose"` (`[x, y, θ]` of a polygon robot) or `"joints"` (an
+    /// arm's joint angles).
+    pub fn configuration(&self) -> &'static str {
+        match self.space.robot() {
+            Robot::Rigid(_) => "pose",
+            Robot::Arm(_) => "joints",
+        }
+    }
+
     /// The configuration space.
     pub fn space(&self) -> &ConfigSpace {
         &self.space
@@ -599,10 +608,7 @@ impl ConfigPlanner {
         timings.trace = millis(t);
         let [min_dihedral_deg, max_dihedral_deg] = dihedral_range(&self.slab);
         ConfigPlanReport {
-            configuration: Some(match self.space.robot() {
-                Robot::Rigid(_) => "pose",
-                Robot::Arm(_) => "joints",
-            }),
+            configuration: Some(self.configuration()),
             mesh: ConfigMeshSummary {
                 vertices: self.slab.vertices().len(),
                 tetrahedra: self.slab.tetrahedra().len(),

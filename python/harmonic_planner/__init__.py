@@ -10,13 +10,15 @@ factorisation) happens once in ``Planner(scene)``; queries reuse it.
 >>> planner.plan([1.0, 9.0]).status                                  # doctest: +SKIP
 'reached_goal'
 
-Classes: Scene, Planner, Workspace (any goal from one factorisation), VolumePlanner, Path,
-CarRun; exception: SceneError (a ValueError). Not bound yet: configuration-space robots;
-moving obstacles (harmonic-dynamic), the baseline planners, SVG and VTK export.
+Classes: Scene, Planner, Workspace (any goal from one factorisation), VolumePlanner,
+ConfigPlanner (polygon robots and arms, in their configuration space), Path, CarRun;
+exception: SceneError (a ValueError). Not bound yet: moving obstacles (harmonic-dynamic), the
+baseline planners, VTK export.
 """
 
 from ._native import (
     CarRun,
+    ConfigPlanner,
     Path,
     Planner,
     Scene,
@@ -28,6 +30,7 @@ from ._native import (
 
 __all__ = [
     "CarRun",
+    "ConfigPlanner",
     "Path",
     "Planner",
     "Scene",

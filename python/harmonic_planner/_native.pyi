@@ -2,10 +2,10 @@
 
 Bound: plane scenes (``Scene``, ``Planner``: plan, plan_many, potential, psi, gradient, mesh,
 timings, ROS maps, car-like robots), any-goal workspaces (``Workspace``: one factorisation,
-a planner per goal) and volume scenes (``VolumePlanner``, points of shape (n, 3)).
+a planner per goal), volume scenes (``VolumePlanner``, points of shape (n, 3)) and polygon
+robots and arms (``ConfigPlanner``: configurations in, checked motions out).
 
 Not bound yet:
-- configuration-space robots,
 - replanning among moving obstacles (``harmonic-dynamic``), the baseline planners
   (``harmonic-baselines``), SVG / VTK export (use ``hplan``), stage-progress callbacks.
 """
@@ -57,7 +57,8 @@ class Scene:
         """The scene's query points, shape (n, 2) or (n, 3)."""
 
 class Path:
-    """A planned path. ``points``: shape (n, 2), or (n, 3) from a VolumePlanner."""
+    """A planned path. ``points``: shape (n, 2), (n, 3) from a VolumePlanner, (n, dof) of
+    configurations from a ConfigPlanner (``space`` says which)."""
 
     @property
     def status(self) -> str:
@@ -73,6 +74,9 @@ class Path:
     @property
     def start(self) -> List[float]: ...
     @property
+    def space(self) -> str:
+        """"plane", "volume", "pose" (a polygon robot) or "joints" (an arm)."""
+    @property
     def points(self) -> FloatArray: ...
     @property
     def length(self) -> float: ...
@@ -84,7 +88,8 @@ class Path:
         self, start_heading: Optional[float] = None, goal_heading: Optional[float] = None
     ) -> FloatArray:
         """Shape (n, 3) of [x, y, theta]: headings along the path; ``start_heading`` for the
-        first pose and, on reaching the goal, ``goal_heading`` for the last (a pose goal)."""
+        first pose and, on reaching the goal, ``goal_heading`` for the last (a pose goal). A
+        polygon robot's path is its poses; ValueError for a volume's or an arm's."""
     def __len__(self) -> int: ...
 
 class CarRun:
@@ -184,6 +189,32 @@ class VolumePlanner:
     def mesh(self) -> Tuple[FloatArray, IntArray]:
         """(vertices (V, 3) float64, tetrahedra (T, 4) int64)."""
     def phi_at_vertices(self) -> FloatArray: ...
+    @property
+    def timings(self) -> Dict[str, float]: ...
+    @property
+    def source(self) -> Optional[str]: ...
+
+class ConfigPlanner:
+    """A polygon robot (``"robot": {"polygon": ...}``, configurations ``[x, y, theta]``) or a
+    planar arm (``"robot": {"arm": ...}``, joint angles) planned in its configuration space.
+    A path's ``points`` are configurations, shape (n, dof); every motion between two of them
+    is checked against the robot's exact geometry."""
+
+    def __init__(self, scene: Scene) -> None:
+        """Meshes the free configurations, assembles and solves (the GIL is released)."""
+    def plan(self, start: ArrayLike) -> Path: ...
+    def plan_many(self, starts: ArrayLike) -> List[Path]: ...
+    def report_json(self, starts: ArrayLike) -> str:
+        """``hplan plan --json``'s report for ``starts``: mesh, timings, potential, paths."""
+    def summary(self, starts: ArrayLike) -> str:
+        """``hplan plan``'s text summary for ``starts``."""
+    def svg(self, paths: List[Path]) -> str:
+        """The scene with the robot drawn along each path."""
+    @property
+    def dof(self) -> int: ...
+    @property
+    def configuration(self) -> str:
+        """``"pose"`` (a polygon robot) or ``"joints"`` (an arm)."""
     @property
     def timings(self) -> Dict[str, float]: ...
     @property

@@ -2,13 +2,15 @@
 //!
 //! The native module is `harmonic_planner._native`; `python/harmonic_planner/__init__.py`
 //! re-exports it and `_native.pyi` types it. Concepts by file: [`scene`] (`hp.Scene`),
-//! [`planner`] (`hp.Planner`), [`workspace`] (`hp.Workspace`), [`volume`] (`hp.VolumePlanner`), [`paths`] (`hp.Path`,
+//! [`planner`] (`hp.Planner`), [`workspace`] (`hp.Workspace`), [`volume`] (`hp.VolumePlanner`), [`cspace`]
+//! (`hp.ConfigPlanner`), [`paths`] (`hp.Path`,
 //! `hp.CarRun`), [`errors`] (`hp.SceneError`, the panic boundary), [`arrays`] (NumPy in and
 //! out, shape checks).
 
 use pyo3::prelude::*;
 
 mod arrays;
+mod cspace;
 mod errors;
 mod paths;
 mod planner;
@@ -24,6 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::PyScene>()?;
     m.add_class::<planner::PyPlanner>()?;
     m.add_class::<volume::PyVolumePlanner>()?;
+    m.add_class::<cspace::PyConfigPlanner>()?;
     m.add_class::<workspace::PyWorkspace>()?;
     m.add_class::<paths::PyPath>()?;
     m.add_class::<paths::PyCarRun>()?;

@@ -2,6 +2,7 @@
 
 use std::sync::Arc;
 
+use harmonic_planner::cspace::ConfigPlannedPath;
 use harmonic_planner::trajectory::PathPoint;
 use harmonic_planner::{CarRun, PlannedPath, PlannerApi};
 use numpy::PyArray2;
@@ -28,6 +29,19 @@ pub struct PyPath {
     min_gradient: f64,
     dimension: usize,
     points: Vec<f64>,
+    /// What a point is: `"plane"`, `"volume"`, `"pose"` (a polygon robot's `[x, y, θ]`) or
+    /// `"joints"` (an arm's joint angles).
+    space: &'static str,
+}
+
+impl PyPath {
+    /// The path's points as configurations (rows).
+    pub(crate) fn configurations(&self) -> Vec<Vec<f64>> {
+        self.points
+            .chunks_exact(self.dimension.max(1))
+            .map(<[f64]>::to_vec)
+            .collect()
+    }
 }
 
 fn tracer_name(t: &impl serde::Serialize) -> String {
@@ -50,6 +64,30 @@ impl<P: PathPoint> From<PlannedPath<P>> for PyPath {
             min_gradient: p.min_gradient,
             dimension: p.start.as_ref().len(),
             points: p.points.iter().flat_map(|q| q.as_ref().to_vec()).collect(),
+            space: if p.start.as_ref().len() == 2 {
+                "plane"
+            } else {
+                "volume"
+            },
+        }
+    }
+}
+
+impl From<ConfigPlannedPath> for PyPath {
+    /// A motion of a polygon robot or an arm: its configurations as the points.
+    fn from(p: ConfigPlannedPath) -> PyPath {
+        let configurations = p.configurations();
+        PyPath {
+            dimension: p.start.len(),
+            points: configurations.into_iter().flatten().collect(),
+            status: p.status.as_str(),
+            goal: p.status.reached_goal().then_some(0),
+            tracer: tracer_name(&p.tracer),
+            length: p.length,
+            min_clearance: p.min_clearance,
+            min_gradient: p.min_gradient,
+            space: if p.poses.is_some() { "pose" } else { "joints" },
+            start: p.start,
         }
     }
 }
@@ -107,7 +145,14 @@ impl PyPath {
     fn start(&self) -> Vec<f64> {
         self.start.clone()
     }
-    /// The path's vertices, a new float64 array of shape (n, 2) — (n, 3) for a volume.
+    /// What a point of the path is: "plane" (x, y), "volume" (x, y, z), "pose" (a polygon
+    /// robot's x, y, theta) or "joints" (an arm's joint angles).
+    #[getter]
+    fn space(&self) -> &'static str {
+        self.space
+    }
+    /// The path's vertices, a new float64 array of shape (n, 2) — (n, 3) for a volume, (n,
+    /// dof) of configurations for a polygon robot or an arm.
     #[getter]
     fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         rows(py, &self.points, self.dimension)
@@ -138,10 +183,20 @@ impl PyPath {
         start_heading: Option<f64>,
         goal_heading: Option<f64>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        if self.dimension != 2 {
-            return Err(pyo3::exceptions::PyValueError::new_err(
-                "poses are for plane paths; this path is a volume's",
-            ));
+        match self.space {
+            "plane" => {}
+            // A polygon robot's path is its poses.
+            "pose" => return Ok(rows(py, &self.points, 3)),
+            space => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "poses are for plane paths and polygon robots; this path is a {}",
+                    if space == "joints" {
+                        "motion of an arm's joints"
+                    } else {
+                        "volume's"
+                    }
+                )));
+            }
         }
         let points: Vec<[f64; 2]> = self.points.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
         let goal_heading = goal_heading.filter(|_| self.status == "reached_goal");
