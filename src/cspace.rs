@@ -329,6 +329,11 @@ impl ConfigPlanner {
     pub fn potential(&self) -> &VolumePotential {
         &self.potential
     }
+    /// What produced ψ, as the report's `potential.solved_by` says it.
+    pub fn solved_by(&self) -> &'static str {
+        self.solved_by
+    }
+
     /// Milliseconds spent building (assembly counted in `solve`).
     pub fn timings(&self) -> Timings {
         self.timings

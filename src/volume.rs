@@ -238,6 +238,11 @@ impl VolumePlanner {
         &self.potential
     }
 
+    /// What produced ψ, as the report's `potential.solved_by` says it.
+    pub fn solved_by(&self) -> &'static str {
+        self.solved_by
+    }
+
     /// Milliseconds spent building.
     pub fn timings(&self) -> Timings {
         self.timings

@@ -162,6 +162,9 @@ class Planner:
     def reference(self) -> float:
         """The walls' value c (psi = c - phi)."""
     @property
+    def solved_by(self) -> str:
+        """What produced psi, as ``hplan plan --json`` says in ``potential.solved_by``."""
+    @property
     def timings(self) -> Dict[str, float]:
         """Milliseconds: {"mesh", "assemble", "solve"}."""
     @property
@@ -190,6 +193,9 @@ class VolumePlanner:
         """(vertices (V, 3) float64, tetrahedra (T, 4) int64)."""
     def phi_at_vertices(self) -> FloatArray: ...
     @property
+    def solved_by(self) -> str:
+        """What produced psi, as ``hplan plan --json`` says in ``potential.solved_by``."""
+    @property
     def timings(self) -> Dict[str, float]: ...
     @property
     def source(self) -> Optional[str]: ...
@@ -215,6 +221,9 @@ class ConfigPlanner:
     @property
     def configuration(self) -> str:
         """``"pose"`` (a polygon robot) or ``"joints"`` (an arm)."""
+    @property
+    def solved_by(self) -> str:
+        """What produced psi, as ``hplan plan --json`` says in ``potential.solved_by``."""
     @property
     def timings(self) -> Dict[str, float]: ...
     @property

@@ -139,6 +139,13 @@ impl PyConfigPlanner {
         self.planner.configuration()
     }
 
+    /// What produced ψ, as `hplan plan --json` says in `potential.solved_by` ("accurate",
+    /// "cholesky", "multigrid", "pcg (clamped M-matrix)", …).
+    #[getter]
+    fn solved_by(&self) -> &'static str {
+        self.planner.solved_by()
+    }
+
     /// Wall-clock milliseconds of each build stage: {"mesh", "assemble", "solve"}.
     #[getter]
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -269,6 +269,13 @@ impl PyPlanner {
         self.planner.potential().reference()
     }
 
+    /// What produced ψ, as `hplan plan --json` says in `potential.solved_by` ("accurate",
+    /// "cholesky", "multigrid", "pcg (clamped M-matrix)", …).
+    #[getter]
+    fn solved_by(&self) -> &'static str {
+        self.planner.solved_by()
+    }
+
     /// Wall-clock milliseconds of each build stage: {"mesh", "assemble", "solve"}.
     #[getter]
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

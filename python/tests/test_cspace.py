@@ -66,3 +66,12 @@ def test_an_arm_reaches_its_joint_goal_and_refuses_bad_starts():
 def test_a_plane_scene_is_refused_with_the_planner_to_use():
     with pytest.raises(hp.SceneError, match="use Planner or VolumePlanner"):
         hp.ConfigPlanner(hp.Scene.from_file(MESHES / "reference.json"))
+
+
+def test_every_planner_says_how_its_field_was_solved():
+    plane = hp.Planner(hp.Scene.from_file(MESHES / "reference.json"))
+    config = hp.ConfigPlanner(hp.Scene.from_file(MESHES / "piano.json"))
+    report = json.loads(config.report_json([[1.5, 2.5, 1.5708]]))
+    assert plane.solved_by in ("accurate", "cholesky", "cholesky (flat, checked: no interior extremum)")
+    assert config.solved_by == report["potential"]["solved_by"]
+    assert config.solved_by.split(" ")[0] in ("accurate", "cholesky", "pcg")

@@ -442,6 +442,11 @@ impl Planner {
     pub fn potential(&self) -> &Potential {
         &self.potential
     }
+    /// What produced ψ, as the report's `potential.solved_by` says it.
+    pub fn solved_by(&self) -> &'static str {
+        self.solved_by
+    }
+
     /// Time spent meshing, assembling and solving. For a planner from a
     /// [`crate::Workspace`] only `solve` is its own (the goal's solve and gradient recovery);
     /// the workspace's stages are [`crate::Workspace::timings`].
