@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
-use crate::errors::{guarded, scene_error};
+use crate::errors::{built, guarded, scene_error};
 use crate::paths::PyPath;
 use crate::planner::timings_dict;
 use crate::scene::PyScene;
@@ -68,17 +68,7 @@ impl PyConfigPlanner {
             }
         };
         let source = scene.source.clone();
-        let shown = source.clone();
-        let planner = py.detach(move || {
-            guarded(|| {
-                ConfigPlanner::new(&config).map_err(|e| {
-                    scene_error(match &shown {
-                        Some(file) => format!("{file}: {e}"),
-                        None => e.to_string(),
-                    })
-                })
-            })
-        })?;
+        let planner = built(py, &source, move || ConfigPlanner::new(&config))?;
         Ok(PyConfigPlanner {
             planner: Arc::new(planner),
             source,

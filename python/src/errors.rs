@@ -37,3 +37,23 @@ pub fn guarded<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
         }
     }
 }
+
+/// Builds something heavy with `build` outside the GIL and inside the panic boundary; its
+/// error becomes a [`SceneError`] saying `<file>: <error>` when the input came from `source`.
+pub fn built<T: Send, E: std::fmt::Display>(
+    py: Python<'_>,
+    source: &Option<String>,
+    build: impl FnOnce() -> Result<T, E> + Send,
+) -> PyResult<T> {
+    let shown = source.clone();
+    py.detach(move || {
+        guarded(|| {
+            build().map_err(|e| {
+                scene_error(match &shown {
+                    Some(file) => format!("{file}: {e}"),
+                    None => e.to_string(),
+                })
+            })
+        })
+    })
+}

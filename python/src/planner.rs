@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
-use crate::errors::{guarded, scene_error};
+use crate::errors::{built, guarded, scene_error};
 use crate::paths::{PyCarRun, PyPath};
 use crate::scene::PyScene;
 
@@ -66,22 +66,12 @@ impl PyPlanner {
         multigrid: Option<usize>,
         threads: Option<usize>,
     ) -> PyResult<PyPlanner> {
-        let shown = source.clone();
         let options = PlannerOptions {
             multigrid,
             threads,
             ..PlannerOptions::default()
         };
-        let planner = py.detach(move || {
-            guarded(|| {
-                Planner::with_options(&scene, &options).map_err(|e| {
-                    scene_error(match &shown {
-                        Some(file) => format!("{file}: {e}"),
-                        None => e.to_string(),
-                    })
-                })
-            })
-        })?;
+        let planner = built(py, &source, move || Planner::with_options(&scene, &options))?;
         Ok(PyPlanner {
             planner: Arc::new(planner),
             source,

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
-use crate::errors::{guarded, scene_error};
+use crate::errors::{built, guarded, scene_error};
 use crate::paths::PyPath;
 use crate::planner::{positive, timings_dict};
 use crate::scene::PyScene;
@@ -57,17 +57,7 @@ impl PyVolumePlanner {
             volume.mesh.max_volume = Some(v);
         }
         let source = scene.source.clone();
-        let shown = source.clone();
-        let planner = py.detach(move || {
-            guarded(|| {
-                VolumePlanner::new(&volume).map_err(|e| {
-                    scene_error(match &shown {
-                        Some(file) => format!("{file}: {e}"),
-                        None => e.to_string(),
-                    })
-                })
-            })
-        })?;
+        let planner = built(py, &source, move || VolumePlanner::new(&volume))?;
         Ok(PyVolumePlanner {
             planner: Arc::new(planner),
             source,

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays;
-use crate::errors::{guarded, scene_error};
+use crate::errors::{built, guarded, scene_error};
 use crate::planner::{PyPlanner, positive};
 use crate::scene::PyScene;
 
@@ -42,17 +42,7 @@ fn goal_of(goal: &Bound<'_, PyAny>, radius: f64) -> PyResult<Goal> {
 
 impl PyWorkspace {
     fn build(py: Python<'_>, scene: Scene, source: Option<String>) -> PyResult<PyWorkspace> {
-        let shown = source.clone();
-        let workspace = py.detach(move || {
-            guarded(|| {
-                Workspace::new(&scene).map_err(|e| {
-                    scene_error(match &shown {
-                        Some(file) => format!("{file}: {e}"),
-                        None => e.to_string(),
-                    })
-                })
-            })
-        })?;
+        let workspace = built(py, &source, move || Workspace::new(&scene))?;
         Ok(PyWorkspace {
             workspace: Arc::new(workspace),
             source,
