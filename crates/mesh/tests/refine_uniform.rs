@@ -41,7 +41,17 @@ fn refine_and_check(coarse: &Mesh) -> Mesh {
         q.min_angle_deg >= q0.min_angle_deg - 1e-9,
         "{q:?} vs {q0:?}"
     );
-    assert!(q.max_triangle_area <= q0.max_triangle_area / 4.0 * (1.0 + 1e-12));
+    // A child has a quarter of its parent's area; a Lawson flip replaces two children by two
+    // triangles inside their union, so no triangle exceeds half the coarse mesh's largest.
+    // (A quarter is not a bound: the flips that restore the Delaunay property can join the
+    // halves of two children of a large triangle; the seed kept in the regressions file gives
+    // 0.252 of the coarse largest.)
+    assert!(
+        q.max_triangle_area <= q0.max_triangle_area / 2.0 * (1.0 + 1e-12),
+        "largest triangle {} after refinement, {} before",
+        q.max_triangle_area,
+        q0.max_triangle_area
+    );
     // The M-matrix conditions (the refined coarse meshes satisfy them).
     assert_eq!(
         q0.non_delaunay_edges + q0.obtuse_boundary_edges,
