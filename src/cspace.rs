@@ -273,7 +273,13 @@ impl ConfigPlanner {
 
         let t = Instant::now();
         let bcs = scene.boundary_conditions();
-        let (potential, solved) = solve_periodic_for_planning(Arc::clone(&slab), &images, &bcs)?;
+        // The covering's point-location grid (what a first query would build) beside the solve,
+        // whose two tries leave a core idle at their ends.
+        let (solved, ()) = rayon::join(
+            || solve_periodic_for_planning(Arc::clone(&slab), &images, &bcs),
+            || covering.prepare_locate(),
+        );
+        let (potential, solved) = solved?;
         let psi: Vec<f64> = slab_vertex
             .iter()
             .map(|&v| potential.psi()[v as usize])

@@ -196,7 +196,12 @@ impl VolumePlanner {
         // Stuffed meshes keep a few obtuse tetrahedra; where their positive off-diagonals let
         // the Galerkin field have an interior extremum (or ψ is too flat for Cholesky), the
         // planning solve redoes it on the M-matrix with those weights clamped.
-        let (potential, solve, clamped) = solve_assembled_for_planning(&assembler, &bcs, &system)?;
+        // The mesh's point-location grid (what a first query would build) beside the solve.
+        let (solved, ()) = rayon::join(
+            || solve_assembled_for_planning(&assembler, &bcs, &system),
+            || mesh.prepare_locate(),
+        );
+        let (potential, solve, clamped) = solved?;
         let solved_by = volume_solved_by(&solve, clamped.is_some());
         let clamped_edges = clamped.unwrap_or(0);
         let field = Arc::clone(P1VolumeField::ascending(&mesh, potential.psi())?.parts());

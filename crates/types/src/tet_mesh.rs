@@ -285,6 +285,14 @@ impl TetMesh {
         l
     }
 
+    /// Builds the bucket grid [`TetMesh::locate`] falls back on, if it is not built yet: a
+    /// planner does it while it builds (beside its solve), so that its first query does not.
+    pub fn prepare_locate(&self) {
+        if !self.tets.is_empty() {
+            self.locator.get_or_init(|| Locator::new(self));
+        }
+    }
+
     /// The tetrahedron holding `p` (on its boundary counts), walking from `hint` when given
     /// and falling back on a bucket grid; `None` if `p` is outside the mesh.
     pub fn locate(&self, p: &Point, hint: Option<u32>) -> Option<u32> {
