@@ -64,9 +64,13 @@ impl Meshed {
         t: Instant,
     ) -> Result<Meshed, PlanError> {
         let (mesh, report) = domain.mesh(mesh_options)?;
-        let ms = millis(t);
+        Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
+    }
+
+    /// A domain and its mesh, the domain's bounding box giving the scale.
+    fn of_parts(domain: Domain, mesh: Mesh, report: MeshReport, ms: f64) -> Meshed {
         let (lo, hi) = domain.bounding_box();
-        Ok(Meshed {
+        Meshed {
             domain: Arc::new(domain),
             mesh: Arc::new(mesh),
             report,
@@ -74,7 +78,7 @@ impl Meshed {
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms,
             hierarchy: None,
-        })
+        }
     }
 
     /// A mesh made elsewhere, as it is: its domain from its boundary loops
@@ -114,15 +118,6 @@ impl Meshed {
             bridges_remaining: 0,
             seam_refinements: Default::default(),
         };
-        let (lo, hi) = domain.bounding_box();
-        Ok(Meshed {
-            domain: Arc::new(domain),
-            mesh: Arc::new(mesh),
-            report,
-            quality: Arc::new(OnceLock::new()),
-            scale: (hi.x - lo.x).max(hi.y - lo.y),
-            ms: millis(t),
-            hierarchy: None,
-        })
+        Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
     }
 }

@@ -19,7 +19,8 @@ impl Locator {
         let (lo, hi) = mesh.bounds();
         let tets = mesh.tetrahedra().len().max(1);
         let extent = (hi - lo).sup(&Vector::repeat(1e-300));
-        // About two tetrahedra per cell.
+        // About eight tetrahedra per cell: each is listed in fewer cells than at two, which
+        // is what the build pays for; a lookup (the fallback of a walk) checks a few more.
         let cell = (extent.product() * 8.0 / tets as f64)
             .cbrt()
             .max(extent.max() / 1024.0);
