@@ -646,7 +646,7 @@ const CUT_ROUNDS: usize = 8;
 
 /// Meshes `halves` (the constraint inputs of the two sides of `cut`) on two threads and
 /// refines them until they have the same vertices on the cut. `None` if they do not settle
-/// within [`CUT_ROUNDS`].
+/// within [`CUT_ROUNDS`], or if a half spends its share of the vertex budget.
 fn mesh_halves(
     halves: [HalfInput; 2],
     refiner: &Refiner<'_>,
@@ -666,6 +666,11 @@ fn mesh_halves(
     });
     let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
     let mut parts = [a?, b?];
+    if !parts.iter().all(|p| p.complete) {
+        // A half spent its half of the budget (a cut close to a small feature can cost more
+        // vertices than the whole mesh does): mesh in one piece, under the whole budget.
+        return Ok(None);
+    }
     if !cut.exact {
         // Points refinement put on this cut need not be exactly on it: glue only halves
         // whose seam is still the pre-split one.
@@ -717,7 +722,10 @@ fn mesh_halves(
         };
         let (for_a, for_b) = (missing(&ta, &tb), missing(&tb, &ta));
         if for_a.is_empty() && for_b.is_empty() {
-            return Ok(Some(with_free_faces(parts, seam)));
+            return Ok(parts
+                .iter()
+                .all(|p| p.complete)
+                .then(|| with_free_faces(parts, seam)));
         }
         // Each half takes the other's cut vertices (exactly on its cut edges, so they split
         // them) and refines again.
