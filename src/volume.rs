@@ -105,7 +105,7 @@ impl std::fmt::Display for VolumeMeshSummary {
 
 /// How a volume or configuration-space solve names itself in `potential.solved_by`.
 pub(crate) fn volume_solved_by(report: &VolumeSolveReport, clamped: bool) -> &'static str {
-    use VolumeSolveMethod::{Accurate, Auto, Cholesky, Pcg};
+    use VolumeSolveMethod::{Accurate, Auto, Cholesky, Multigrid, Pcg};
     match (report.method, clamped) {
         (Accurate, false) => "accurate",
         (Accurate, true) => "accurate (clamped M-matrix)",
@@ -113,6 +113,8 @@ pub(crate) fn volume_solved_by(report: &VolumeSolveReport, clamped: bool) -> &'s
         (Cholesky, true) => "cholesky (clamped M-matrix)",
         (Pcg | Auto, false) => "pcg",
         (Pcg | Auto, true) => "pcg (clamped M-matrix)",
+        (Multigrid, false) => "multigrid",
+        (Multigrid, true) => "multigrid (clamped M-matrix)",
     }
 }
 

@@ -1,5 +1,6 @@
-//! The three solves of the tetrahedral system agree: the accurate M-matrix elimination,
-//! faer's Cholesky and IC(0)-PCG, on a stuffed box-minus-ball mesh with clamped weights.
+//! The four solves of the tetrahedral system agree: the accurate M-matrix elimination,
+//! faer's Cholesky, IC(0)-PCG and smoothed-aggregation multigrid-PCG, on a stuffed
+//! box-minus-ball mesh with clamped weights.
 
 use std::sync::Arc;
 
@@ -10,7 +11,7 @@ use harmonic_fem::volume::{
 use harmonic_volume::{GoalRegion, MeshOptions, Part, Point, Solid, VolumeDomain};
 
 #[test]
-fn accurate_cholesky_and_pcg_agree() {
+fn accurate_cholesky_pcg_and_multigrid_agree() {
     let domain = VolumeDomain::new(
         Solid::new_box(
             Part::Workspace,
@@ -23,7 +24,7 @@ fn accurate_cholesky_and_pcg_agree() {
         0.0,
     )
     .unwrap();
-    let (mesh, _) = domain.mesh(&MeshOptions::with_max_volume(0.001)).unwrap();
+    let (mesh, _) = domain.mesh(&MeshOptions::with_max_volume(0.0002)).unwrap();
     let mesh = Arc::new(mesh);
     let bcs = BoundaryConditions::default();
     let options = VolumeAssemblyOptions {
@@ -37,15 +38,24 @@ fn accurate_cholesky_and_pcg_agree() {
     let (a, ra) = solve_volume(&system, VolumeSolveMethod::Accurate).unwrap();
     let (c, rc) = solve_volume(&system, VolumeSolveMethod::Cholesky).unwrap();
     let (p, rp) = solve_volume(&system, VolumeSolveMethod::Pcg).unwrap();
+    let (m, rm) = solve_volume(&system, VolumeSolveMethod::Multigrid).unwrap();
     println!(
-        "{} unknowns: accurate {:.3} s, Cholesky {:.3} s, PCG {:.3} s ({} iterations)",
+        "{} unknowns: accurate {:.3} s, Cholesky {:.3} s, PCG {:.3} s ({} iterations), multigrid {:.3} s ({} iterations)",
         system.matrix().n(),
         ra.seconds,
         rc.seconds,
         rp.seconds,
-        rp.iterations
+        rp.iterations,
+        rm.seconds,
+        rm.iterations
     );
     assert!(rp.iterations > 0);
+    // The multigrid's iterations do not grow with the mesh (IC(0)'s do): a few tens at most.
+    assert!(
+        rm.iterations > 0 && rm.iterations <= 30,
+        "{}",
+        rm.iterations
+    );
     let max = a.iter().copied().fold(0.0, f64::max);
     for i in 0..a.len() {
         assert!(
@@ -59,6 +69,12 @@ fn accurate_cholesky_and_pcg_agree() {
             "vertex {i}: {} vs {}",
             a[i],
             p[i]
+        );
+        assert!(
+            (a[i] - m[i]).abs() <= 1e-7 * max,
+            "vertex {i}: {} vs {}",
+            a[i],
+            m[i]
         );
     }
 }
@@ -101,6 +117,7 @@ fn solver_costs() {
         system.matrix().n()
     );
     for method in [
+        VolumeSolveMethod::Multigrid,
         VolumeSolveMethod::Pcg,
         VolumeSolveMethod::Cholesky,
         VolumeSolveMethod::Accurate,

@@ -62,6 +62,7 @@
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod aggregation;
 mod csc;
 mod direct;
 mod error;
@@ -75,6 +76,7 @@ mod pcg;
 mod wide;
 mod wide_ldlt;
 
+pub use aggregation::AggregationOptions;
 pub use csc::SymmetricCsc;
 pub use direct::{Cholesky, SymbolicCholesky, solve_direct};
 pub use error::{SolverError, StructureIssue};

@@ -88,6 +88,39 @@ impl Prolongation {
         self.coarse
     }
 
+    /// Row `i`: the coarse unknowns fine unknown `i` interpolates from, and their weights.
+    pub(crate) fn row(&self, i: usize) -> (&[u32], &[f64]) {
+        let r = self.row_ptr[i]..self.row_ptr[i + 1];
+        (&self.columns[r.clone()], &self.values[r])
+    }
+
+    /// `Pᵀ` by rows (a coarse unknown's fine unknowns, sorted).
+    pub(crate) fn transpose(&self) -> crate::aggregation::SparseRows {
+        let mut count = vec![0usize; self.coarse + 1];
+        for &c in &self.columns {
+            count[c as usize + 1] += 1;
+        }
+        for c in 0..self.coarse {
+            count[c + 1] += count[c];
+        }
+        let row_ptr = count.clone();
+        let mut columns = vec![0u32; self.columns.len()];
+        let mut values = vec![0.0; self.values.len()];
+        for (i, w) in self.row_ptr.windows(2).enumerate() {
+            for k in w[0]..w[1] {
+                let slot = &mut count[self.columns[k] as usize];
+                columns[*slot] = i as u32;
+                values[*slot] = self.values[k];
+                *slot += 1;
+            }
+        }
+        crate::aggregation::SparseRows {
+            row_ptr,
+            columns,
+            values,
+        }
+    }
+
     /// `coarse = Pᵀ fine` (the restriction of a residual).
     fn restrict(&self, fine: &[f64], coarse: &mut [f64]) {
         coarse.fill(0.0);
