@@ -362,3 +362,31 @@ fn the_movingai_fuzz_corpus_replays_without_a_panic() {
     let (_, panicked) = harmonic_fixtures::replay(&files, fuzz_movingai::run_movingai);
     assert!(panicked.is_empty(), "panicked:\n{}", panicked.join("\n"));
 }
+
+/// A draw of the property above: a robot of 1.23 cells whose goal's cell alone keeps the
+/// tracing margin, so the traced mesh is a small diamond around the goal's hole, and a start
+/// diagonal to it. Its walk over the clear cells reaches the goal's cell, whose centre the
+/// mesh leaves out: the walk ends there, on the goal point.
+#[test]
+fn a_walk_over_clear_cells_may_end_in_the_goal_cell() {
+    let (w, h) = (24, 20);
+    let grid = occupancy::random_blocks(8295793560670503292, w, h, 0.04883252646420921);
+    let radius = 1.2331098271554701;
+    let clear = clear_cells(&grid, radius);
+    let (start, goal) = ((4, 13), (3, 14));
+    assert!(reachable(&clear, w, h, start, goal));
+    let map = map_of(&grid, 1.0);
+    let goal_xy = map.cell_center(goal.0, goal.1);
+    let planner = map
+        .planner(
+            goal_xy,
+            radius,
+            &MapOptions::default(),
+            &PlannerOptions::default(),
+        )
+        .expect("the goal's cell is clear");
+    let path = planner.plan(map.cell_center(start.0, start.1));
+    assert!(path.status.reached_goal(), "{}", path.status);
+    assert_eq!(path.points.last(), Some(&goal_xy));
+    assert_eq!(path.points[0], map.cell_center(start.0, start.1));
+}

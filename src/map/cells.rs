@@ -333,9 +333,12 @@ impl crate::planner::StartEntry for CellEntry {
             Default::default();
         from.insert(first, first);
         let mut queue = std::collections::VecDeque::from([first]);
+        // The goal's cell ends a walk too: its centre may lie inside the goal's boundary,
+        // which the mesh leaves out (a goal cell that only the mesh's goal hole covers).
+        let goal_cell = self.goal.map(|(c, _)| c);
         let found = loop {
             let (i, j) = queue.pop_front()?;
-            if in_mesh(centre((i, j))) {
+            if Some((i, j)) == goal_cell || in_mesh(centre((i, j))) {
                 break (i, j);
             }
             let steps = [
@@ -369,6 +372,17 @@ impl crate::planner::StartEntry for CellEntry {
         let skip = usize::from(on_first && cells.len() >= 2);
         let mut lead = vec![start];
         lead.extend(cells.iter().skip(skip).map(|&k| centre(k)));
+        if let Some((cell, g)) = self.goal
+            && cell == found
+        {
+            // On to the goal point, inside the goal's clear square (each walk's step joins
+            // two side-by-side clear squares, so the last one reaches the goal's).
+            if let Some(last) = lead.last_mut().filter(|_| cells.len() > skip) {
+                *last = harmonic_mesh::Point::new(g[0], g[1]);
+            } else {
+                lead.push(harmonic_mesh::Point::new(g[0], g[1]));
+            }
+        }
         Some(lead)
     }
 }

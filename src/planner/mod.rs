@@ -81,8 +81,9 @@ pub struct Planner {
 /// can be neither planned nor led in is told why ([`StartEntry::refusal`]).
 pub trait StartEntry: Send + Sync {
     /// A polyline from `start` to a point inside the mesh (`in_mesh` tells which points
-    /// are) along which the robot keeps its radius from every obstacle, or `None` when there
-    /// is none.
+    /// are), or to goal 0's point ([`StartEntry::goal_point`]: the path is then whole),
+    /// along which the robot keeps its radius from every obstacle, or `None` when there is
+    /// none.
     fn lead_in(&self, start: Point, in_mesh: &dyn Fn(Point) -> bool) -> Option<Vec<Point>>;
 
     /// The point a path that reached goal `j` ends on, when the goal is a point that its

@@ -67,6 +67,10 @@ impl Planner {
             return self.unplanned(start, entry.refusal(start), vec![start]);
         };
         let inside = lead[lead.len() - 1];
+        if entry.goal_point(0) == Some(inside) {
+            // The walk over clear cells reached the goal itself.
+            return self.unplanned(start, TraceStatus::ReachedGoal(0), lead);
+        }
         let mut path = plan(inside, Clearance::Zero);
         let lead_length: f64 = lead.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         path.start = [start.x, start.y];
