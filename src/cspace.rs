@@ -182,28 +182,30 @@ fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// The part the slab faces around a free two-link arm's anti-goal get: held at the walls'
-/// value (see [`free_everywhere`]).
-pub const ANTIGOAL_PART: u32 = u32::MAX - 2;
+/// The part the faces around a free space's anti-goal get: held at the walls' value (see
+/// [`free_everywhere`]).
+pub use harmonic_cspace::ANTIGOAL_PART;
 
 /// A configuration space bounded by nothing but its goal (an arm whose joints all wrap and
 /// that touches nothing anywhere): every configuration is free and a potential held only at
-/// the goal is constant. A two-link arm's slab faces within 1.5 spacings of the point of the
-/// torus farthest from the goal are then held at the walls' value: φ rises from the goal to
-/// there with no interior extremum, and every start but that very point flows to the goal.
-/// A space without such faces (three wrapping joints) is refused, saying why.
+/// the goal is constant. The point of the torus farthest from the goal is then held at the
+/// walls' value: a two-link arm's slab faces within 1.5 spacings of it are retagged here; for
+/// three wrapping joints (no slab faces there) the point returned is the centre of a ball of
+/// that radius to leave out of the mesh ([`ConfigSpace::with_anti_goal`]), meshed again.
+/// φ then rises from the goal to there with no interior extremum, and every start but those
+/// very points flows to the goal.
 fn free_everywhere(
     space: &ConfigSpace,
     mesh: &mut PeriodicMesh,
     spacing: f64,
-) -> Result<(), PlanError> {
+) -> Result<Option<Point>, PlanError> {
     let bounded = mesh.slab.boundary_faces().iter().any(|f| {
         !matches!(f.tag, BoundaryTag::Goal(_))
             && f.tag != BoundaryTag::Obstacle(harmonic_volume::SEAM_PART)
             && f.tag != BoundaryTag::Obstacle(EXTRUDE_PART)
     });
     if bounded {
-        return Ok(());
+        return Ok(None);
     }
     let centroid = |f: &harmonic_volume::BoundaryFace| {
         let v = mesh.slab.vertices();
@@ -224,13 +226,20 @@ fn free_everywhere(
         .axes()
         .iter()
         .any(|a| matches!(a, harmonic_cspace::Axis::Extruded { .. }));
-    if goals.is_empty() || !extruded {
+    if goals.is_empty() {
         return Err(PlanError::NothingToAvoid);
     }
     let goal = goals.iter().sum::<harmonic_volume::Vector>() / goals.len() as f64;
     let period = mesh.period;
     let anti = [0, 1, 2].map(|a| period[a].map(|l| (goal[a] + 0.5 * l).rem_euclid(l)));
-    let radius = 1.5 * spacing;
+    let radius = ANTIGOAL_SPACINGS * spacing;
+    if !extruded {
+        return Ok(Some(Point::new(
+            anti[0].unwrap_or(goal[0]),
+            anti[1].unwrap_or(goal[1]),
+            anti[2].unwrap_or(goal[2]),
+        )));
+    }
     let near = move |c: &[Point; 3]| {
         let m = (c[0].coords + c[1].coords + c[2].coords) / 3.0;
         let d2: f64 = (0..3)
@@ -249,8 +258,11 @@ fn free_everywhere(
             tag
         }
     });
-    Ok(())
+    Ok(None)
 }
+
+/// Radius of the anti-goal ball (or of the slab faces held around it), in lattice spacings.
+const ANTIGOAL_SPACINGS: f64 = 1.5;
 
 impl ConfigPlanner {
     /// Builds the planner: validates the scene, meshes its configuration space, solves.
@@ -258,8 +270,15 @@ impl ConfigPlanner {
         let t = Instant::now();
         let space = scene.build()?;
         let budget = scene.mesh.max_tetrahedra.unwrap_or(DEFAULT_MAX_TETRAHEDRA);
-        let (mut mesh, report) = space.mesh(budget)?;
-        free_everywhere(&space, &mut mesh, report.spacing)?;
+        let (mut mesh, mut report) = space.mesh(budget)?;
+        let space = match free_everywhere(&space, &mut mesh, report.spacing)? {
+            None => space,
+            Some(anti) => {
+                let space = space.with_anti_goal(anti, ANTIGOAL_SPACINGS * report.spacing);
+                (mesh, report) = space.mesh(budget)?;
+                space
+            }
+        };
         let PeriodicMesh {
             slab,
             images,
@@ -391,8 +410,9 @@ impl ConfigPlanner {
         out
     }
 
-    /// The way out of the safety margin from a start that touches but does not overlap an
-    /// obstacle or wall: steps of a quarter margin up the exact clearance's gradient (central
+    /// The way out of the anti-goal's ball ([`ConfigSpace::out_of_anti_goal`]), or out of
+    /// the safety margin from a start that touches but does not overlap an obstacle or wall:
+    /// steps of a quarter margin up the exact clearance's gradient (central
     /// differences in mesh units) until the clearance exceeds 1.5 margins; `None` when the
     /// start keeps the margin, overlaps something, breaks a joint limit, or no way out is
     /// found in 64 steps.
@@ -400,6 +420,9 @@ impl ConfigPlanner {
         let dof = self.space.dof();
         if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
             return None;
+        }
+        if let Some(out) = self.space.out_of_anti_goal(start) {
+            return Some(vec![start.to_vec(), out]);
         }
         if self.space.classify(start) != ConfigClass::Collision {
             return None;

@@ -53,8 +53,9 @@ pub enum PlanError {
         /// What the planner was built from instead.
         what: &'static str,
     },
-    /// A configuration-space robot touches nothing in any configuration and every axis
-    /// wraps around, so nothing but the goal bounds the space a potential could flow through.
+    /// A configuration-space robot touches nothing in any configuration, every axis wraps
+    /// around, and the goal got no face either: nothing bounds the space a potential could
+    /// flow through (a space bounded by its goal alone gets an anti-goal instead).
     #[error(
         "the robot touches nothing in any configuration (no obstacle in reach, no joint limit, \
          no link that can meet another), so nothing but the goal bounds the configuration \

@@ -48,6 +48,6 @@ pub use geometry::{
 };
 pub use robot::{Arm, RigidRobot, Robot};
 pub use space::{
-    Axis, ConfigClass, ConfigGoal, ConfigSpace, CspaceMeshReport, DEFAULT_MAX_TETRAHEDRA,
-    EXTRUDE_PART,
+    ANTIGOAL_PART, Axis, ConfigClass, ConfigGoal, ConfigSpace, CspaceMeshReport,
+    DEFAULT_MAX_TETRAHEDRA, EXTRUDE_PART,
 };

@@ -44,6 +44,10 @@ use crate::robot::Robot;
 /// The obstacle index of a two-link arm's slab faces (natural condition).
 pub const EXTRUDE_PART: u32 = u32::MAX - 1;
 
+/// The obstacle index of the faces around a free space's anti-goal (held at the walls'
+/// value; see [`ConfigSpace::with_anti_goal`]).
+pub const ANTIGOAL_PART: u32 = u32::MAX - 2;
+
 /// The default tetrahedron budget of a configuration-space lattice.
 pub const DEFAULT_MAX_TETRAHEDRA: u64 = 3_000_000;
 
@@ -128,6 +132,9 @@ pub struct ConfigSpace {
     /// Per periodic axis, the angle at mesh coordinate 0.
     origin: [f64; 3],
     cells: [Option<usize>; 3],
+    /// A ball (mesh coordinates: centre, radius) left out of the mesh as if it collided
+    /// ([`ConfigSpace::with_anti_goal`]).
+    anti_goal: Option<(Point, f64)>,
 }
 
 /// What meshing the configuration space did.
@@ -279,6 +286,7 @@ impl ConfigSpace {
             scale,
             origin: [0.0; 3],
             cells,
+            anti_goal: None,
         }
         .centred_on_thin_goal())
     }
@@ -471,7 +479,72 @@ impl ConfigSpace {
         if with_goal {
             raise(-self.goal_value(&q), BoundaryTag::Goal(0));
         }
+        if let Some((c, r)) = self.anti_goal {
+            let d2: f64 = (0..3)
+                .map(|a| {
+                    let d = p[a] - c[a];
+                    match self.axes[a] {
+                        Axis::Periodic => {
+                            let period = TAU * self.scale[a];
+                            let d = d.rem_euclid(period);
+                            d.min(period - d).powi(2)
+                        }
+                        _ => d * d,
+                    }
+                })
+                .sum();
+            raise(r - d2.sqrt(), BoundaryTag::Obstacle(ANTIGOAL_PART));
+        }
         best
+    }
+
+    /// This space with a ball of `radius` around `centre` (mesh coordinates, taken modulo the
+    /// periods) left out of the mesh, its faces tagged [`ANTIGOAL_PART`]: for a space that
+    /// nothing but its goal bounds (every joint wraps and the robot touches nothing anywhere),
+    /// where a potential held only at the goal would be constant. Held at the walls' value,
+    /// the ball's faces make φ rise from the goal to them with no interior extremum, so every
+    /// start but those inside the ball flows to the goal. [`ConfigSpace::classify`] does not
+    /// see the ball: it is no collision.
+    pub fn with_anti_goal(mut self, centre: Point, radius: f64) -> Self {
+        self.anti_goal = Some((centre, radius));
+        self
+    }
+
+    /// For a configuration inside the anti-goal's ball ([`ConfigSpace::with_anti_goal`]):
+    /// the configuration straight away from the ball's centre at 1.25 radii, where the mesh
+    /// begins (a space with an anti-goal touches nothing anywhere, so the straight move is
+    /// free). `None` outside the ball or without one.
+    pub fn out_of_anti_goal(&self, q: &[f64]) -> Option<Vec<f64>> {
+        let (c, r) = self.anti_goal?;
+        let dof = self.dof();
+        if q.len() != dof || !q.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let (p, _) = self.to_mesh(q);
+        let mut d = [0.0; 3];
+        for a in 0..dof {
+            let mut x = p[a] - c[a];
+            if self.axes[a] == Axis::Periodic {
+                let period = TAU * self.scale[a];
+                x = (x + 0.5 * period).rem_euclid(period) - 0.5 * period;
+            }
+            d[a] = x;
+        }
+        let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if n > r {
+            return None;
+        }
+        let dir = if n > 1e-12 * r {
+            d.map(|x| x / n)
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        let step = 1.25 * r - n;
+        Some(
+            (0..dof)
+                .map(|a| q[a] + dir[a] * step / self.scale[a])
+                .collect(),
+        )
     }
 
     /// Where `q` lies.
