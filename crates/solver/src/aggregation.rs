@@ -200,10 +200,6 @@ fn smoothed_prolongation(
                     None => row.push((c, w)),
                 }
             }
-            if !cols.contains(&i) {
-                // A row without its diagonal is refused by `positive_diagonal`; kept total.
-                row.push((aggregate_of[i], 1.0));
-            }
             row.retain(|e| e.1 != 0.0);
             row.sort_unstable_by_key(|e| e.0);
             row
@@ -363,6 +359,23 @@ fn rows_by_chunks(
 mod tests {
     use super::*;
     use crate::gallery;
+
+    #[test]
+    fn a_diagonal_that_is_not_positive_is_refused_by_name() {
+        let (a, _) = gallery::triangulated_grid_laplacian(60, 60);
+        let mut bad = a.clone();
+        let (rows, _) = a.column(17);
+        let k = a.col_ptr()[17] + rows.iter().position(|&r| r == 17).expect("diagonal");
+        bad.values_mut()[k] = -1.0;
+        let opts = AggregationOptions {
+            coarsest: 100,
+            ..Default::default()
+        };
+        assert!(matches!(
+            Multigrid::aggregation(&bad, opts),
+            Err(SolverError::NotPositiveDefinite { column: 17 })
+        ));
+    }
 
     #[test]
     fn aggregates_cover_every_unknown_and_coarsen() {
