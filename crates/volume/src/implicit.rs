@@ -29,7 +29,7 @@ use crate::solid::Point;
 /// let c = Ball.cut(&Point::origin(), &Point::new(2.0, 0.0, 0.0));
 /// assert!((c.x - 1.0).abs() < 1e-9);
 /// ```
-pub trait ImplicitDomain {
+pub trait ImplicitDomain: Sync {
     /// A continuous function, negative in free space, positive outside it and zero on its
     /// boundary. A signed distance is best (cut points then converge fast); a ±1 inside
     /// test works too (cut points are found by bisection).

@@ -244,7 +244,7 @@ fn lattice_neighbours(lattice: &Lattice, v: u32, k: &mut dyn FnMut(u32, f64)) {
 }
 
 /// Lists a vertex's neighbours, each with whether the edge is long (axis-parallel).
-type Neighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64)) + 'a;
+type Neighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64)) + Sync + 'a;
 
 /// Hands every tetrahedron of a background to a callback.
 pub(crate) type Tets<'a> = dyn FnMut(&mut dyn FnMut([u32; 4])) + 'a;
@@ -261,11 +261,14 @@ fn cut_and_warp(
     positions: &[Point],
     neighbours: &Neighbours<'_>,
 ) -> (Vec<Point>, Vec<f64>, Cuts, usize) {
+    use rayon::prelude::*;
     let nv = positions.len();
     let mut pos = positions.to_vec();
     let zero = 1e-12 * h;
+    // The values, and below the cut points, on every core: each is a function of its
+    // point (or edge) alone, so the result is the same at any thread count.
     let mut f: Vec<f64> = pos
-        .iter()
+        .par_iter()
         .map(|p| {
             let v = domain.value(p);
             if v.abs() <= zero { 0.0 } else { v }
@@ -273,18 +276,20 @@ fn cut_and_warp(
         .collect();
 
     // 1. Cut points on edges with strictly opposite signs.
-    let mut cuts: Cuts = HashMap::new();
-    for v in 0..nv as u32 {
-        if f[v as usize] >= 0.0 {
-            continue;
-        }
-        neighbours(v, &mut |w, _| {
-            if f[w as usize] > 0.0 {
-                let c = domain.cut(&pos[v as usize], &pos[w as usize]);
-                cuts.insert(key(v, w), c);
-            }
-        });
-    }
+    let found: Vec<((u32, u32), Point)> = (0..nv as u32)
+        .into_par_iter()
+        .filter(|&v| f[v as usize] < 0.0)
+        .flat_map_iter(|v| {
+            let mut here = Vec::new();
+            neighbours(v, &mut |w, _| {
+                if f[w as usize] > 0.0 {
+                    here.push((key(v, w), domain.cut(&pos[v as usize], &pos[w as usize])));
+                }
+            });
+            here
+        })
+        .collect();
+    let mut cuts: Cuts = found.into_iter().collect();
 
     // 2. Warping: the threshold is α times the edge's length before any warping.
     let mut warped = 0;
