@@ -158,12 +158,17 @@ pub fn solve_periodic_for_planning(
     let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
     let positive_offdiagonals = system.positive_offdiagonals();
     let unknowns = system.matrix().n();
-    let (potential, solve, clamped_edges) = planning_solve(&slab, &system, || {
-        identify_periodic(
-            &assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?,
-            images,
-        )
-    })?;
+    let (potential, solve, clamped_edges) = planning_solve(
+        &slab,
+        &system,
+        super::solve::AUTO_MULTIGRID_MIN_UNKNOWNS,
+        || {
+            identify_periodic(
+                &assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?,
+                images,
+            )
+        },
+    )?;
     Ok((
         potential,
         PeriodicSolveReport {

@@ -95,7 +95,7 @@ fn solve_volume_to(
             } else if n <= AUTO_CHOLESKY_MAX_UNKNOWNS {
                 VolumeSolveMethod::Cholesky
             } else {
-                return iterative(system, pcg_tol, start);
+                return iterative(system, pcg_tol, AUTO_MULTIGRID_MIN_UNKNOWNS, start);
             }
         }
         m => m,
@@ -104,14 +104,16 @@ fn solve_volume_to(
     finish(system, x, method, iterations, start)
 }
 
-/// The iterative solve of [`VolumeSolveMethod::Auto`]: multigrid-PCG from
-/// [`AUTO_MULTIGRID_MIN_UNKNOWNS`] unknowns, IC(0)-PCG below.
+/// The iterative solve of [`VolumeSolveMethod::Auto`]: multigrid-PCG from `multigrid_from`
+/// unknowns ([`AUTO_MULTIGRID_MIN_UNKNOWNS`] but for a volume's Galerkin try), IC(0)-PCG
+/// below.
 fn iterative(
     system: &VolumeSystem,
     pcg_tol: f64,
+    multigrid_from: usize,
     start: Instant,
 ) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
-    let method = if system.matrix().n() >= AUTO_MULTIGRID_MIN_UNKNOWNS {
+    let method = if system.matrix().n() >= multigrid_from {
         VolumeSolveMethod::Multigrid
     } else {
         VolumeSolveMethod::Pcg
@@ -229,7 +231,12 @@ fn clamped_first_try(
     let (psi, report) = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         solve_volume(system, VolumeSolveMethod::Accurate)?
     } else {
-        iterative(system, PLANNING_PCG_TOL, Instant::now())?
+        iterative(
+            system,
+            PLANNING_PCG_TOL,
+            AUTO_MULTIGRID_MIN_UNKNOWNS,
+            Instant::now(),
+        )?
     };
     let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
     Ok((potential, report))
@@ -320,10 +327,24 @@ pub fn solve_assembled_for_planning(
     bcs: &BoundaryConditions,
     system: &VolumeSystem,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
-    planning_solve(assembler.mesh(), system, || {
-        assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp)
-    })
+    planning_solve(
+        assembler.mesh(),
+        system,
+        VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS,
+        || assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp),
+    )
 }
+
+/// From this many unknowns a volume's Galerkin try is solved by the multigrid (below, by
+/// IC(0)-PCG; the clamped try takes the multigrid from [`AUTO_MULTIGRID_MIN_UNKNOWNS`]
+/// either way). A volume's Galerkin field often passes the check, and where ψ falls many
+/// orders of magnitude only IC(0)'s does: the 3D maze at 1 M tetrahedra (147 k unknowns, ψ
+/// down to 1e-66) built in 1.89 s on one thread with IC(0) and 2.45 s with the multigrid,
+/// whose field failed the check on both systems. A configuration space's Galerkin field
+/// seldom passes (its slab's obtuse angles), so there the multigrid starts at
+/// [`AUTO_MULTIGRID_MIN_UNKNOWNS`]. Above this size no clamped try runs beside the Galerkin
+/// one, and IC(0) is far slower than the multigrid (me766: 6.2 s against 1.9 s).
+pub const VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS: usize = SPECULATIVE_MAX_UNKNOWNS;
 
 /// The planning solve on `mesh` (a slab for a periodic `system`): the Galerkin `system` first;
 /// when its field is flat or has an interior extremum, `clamped()` assembles the M-matrix and
@@ -331,9 +352,10 @@ pub fn solve_assembled_for_planning(
 pub(super) fn planning_solve(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
+    galerkin_multigrid_from: usize,
     clamped: impl FnOnce() -> Result<VolumeSystem, FemError> + Send,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
-    let galerkin = || galerkin_checked(mesh, system);
+    let galerkin = || galerkin_checked(mesh, system, galerkin_multigrid_from);
     // A large system's clamped try runs on another core while the Galerkin one is solved (the
     // graded meshes of small goals almost always need it); it is dropped if the Galerkin field
     // passes. Either way the result is the one the sequential order gives.
@@ -371,8 +393,14 @@ pub(super) fn planning_solve(
 fn galerkin_checked(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
+    multigrid_from: usize,
 ) -> Result<(VolumePotential, VolumeSolveReport, bool), FemError> {
-    let (psi, report) = solve_volume(system, VolumeSolveMethod::Auto)?;
+    let n = system.matrix().n();
+    let (psi, report) = if n > AUTO_CHOLESKY_MAX_UNKNOWNS {
+        iterative(system, 1e-10, multigrid_from, Instant::now())?
+    } else {
+        solve_volume(system, VolumeSolveMethod::Auto)?
+    };
     let flat = {
         let free = system.free_vertices();
         let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
