@@ -186,37 +186,18 @@ fn smoothed_prolongation(
         .map(|i| a.column(i).1.iter().map(|v| v.abs()).sum::<f64>() / diagonal[i])
         .reduce(|| 0.0, f64::max);
     let omega = 4.0 / (3.0 * rho.max(1.0));
-    let rows: Vec<Vec<(u32, f64)>> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            let (cols, vals) = a.column(i);
-            let scale = omega / diagonal[i];
-            let mut row: Vec<(u32, f64)> = Vec::with_capacity(8);
-            for (&j, &v) in cols.iter().zip(vals) {
-                let w = if j == i { 1.0 - omega } else { -scale * v };
-                let c = aggregate_of[j];
-                match row.iter_mut().find(|e| e.0 == c) {
-                    Some(e) => e.1 += w,
-                    None => row.push((c, w)),
-                }
-            }
-            row.retain(|e| e.1 != 0.0);
-            row.sort_unstable_by_key(|e| e.0);
-            row
-        })
-        .collect();
-    let mut row_ptr = Vec::with_capacity(n + 1);
-    row_ptr.push(0);
-    let nnz: usize = rows.iter().map(Vec::len).sum();
-    let (mut columns, mut values) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
-    for row in rows {
-        for (c, v) in row {
-            columns.push(c);
-            values.push(v);
+    let chunk = n
+        .div_ceil(4 * rayon::current_num_threads().max(1))
+        .max(1024);
+    let rows = rows_by_chunks(n, aggregates, chunk, |i, acc| {
+        let (cols, vals) = a.column(i);
+        let scale = omega / diagonal[i];
+        for (&j, &v) in cols.iter().zip(vals) {
+            let w = if j == i { 1.0 - omega } else { -scale * v };
+            acc.add(aggregate_of[j], w);
         }
-        row_ptr.push(columns.len());
-    }
-    Prolongation::try_new(aggregates, row_ptr, columns, values)
+    });
+    Prolongation::try_new(aggregates, rows.row_ptr, rows.columns, rows.values)
 }
 
 /// Step 4: `Pᵀ A P`, symmetric by construction of its pattern.
