@@ -1,6 +1,8 @@
 //! Solving the tetrahedral system: the entrywise-accurate M-matrix elimination where it is
 //! small, faer's Cholesky (AMD ordering) on small systems, IC(0)-PCG beyond (in 3D the
-//! factors' fill makes PCG far cheaper from a few ten thousand unknowns).
+//! factors' fill makes PCG far cheaper from a few ten thousand unknowns), multigrid-PCG on
+//! large ones; and the planning solve, which checks the field's maximum principle and falls
+//! back (clamped weights, IC(0), the far field layer by layer, Cholesky) until it holds.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -28,7 +30,7 @@ pub const AUTO_CHOLESKY_MAX_UNKNOWNS: usize = 20_000;
 /// From this many unknowns [`VolumeSolveMethod::Auto`] (and the planning solve's clamped
 /// try) use the smoothed-aggregation multigrid instead of IC(0): measured on this project's
 /// 2-core machine, me766's 891 k unknowns in 18 iterations and 1.9 s against IC(0)'s 6.2 s,
-/// a 3-link arm's 125 k in 23–24 iterations and 0.24 s against about 1 s; at the 40 k of
+/// a 3-link arm's 125 k in 23–24 iterations and 0.24–0.43 s against 0.7–0.8 s; at the 40 k of
 /// the seeded volume scenes the two are even (`cargo run --release --example volume_reach`).
 pub const AUTO_MULTIGRID_MIN_UNKNOWNS: usize = 80_000;
 
