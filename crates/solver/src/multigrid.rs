@@ -422,7 +422,8 @@ struct Scratch {
 }
 
 /// A multigrid V-cycle over a coarsest level solved directly and finer levels smoothed by
-/// Gauss–Seidel; a [`Precondition`] for [`crate::pcg_with`] (see the [module](self) notes).
+/// Gauss–Seidel; a [`Precondition`] for [`crate::pcg_with`] (forward sweeps, the coarse
+/// correction, backward sweeps: a symmetric operator).
 #[derive(Debug)]
 pub struct Multigrid {
     coarsest: Cholesky,
