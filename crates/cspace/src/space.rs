@@ -479,21 +479,9 @@ impl ConfigSpace {
         if with_goal {
             raise(-self.goal_value(&q), BoundaryTag::Goal(0));
         }
-        if let Some((c, r)) = self.anti_goal {
-            let d2: f64 = (0..3)
-                .map(|a| {
-                    let d = p[a] - c[a];
-                    match self.axes[a] {
-                        Axis::Periodic => {
-                            let period = TAU * self.scale[a];
-                            let d = d.rem_euclid(period);
-                            d.min(period - d).powi(2)
-                        }
-                        _ => d * d,
-                    }
-                })
-                .sum();
-            raise(r - d2.sqrt(), BoundaryTag::Obstacle(ANTIGOAL_PART));
+        if let Some((d, r)) = self.anti_goal_offset(p) {
+            let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+            raise(r - n, BoundaryTag::Obstacle(ANTIGOAL_PART));
         }
         best
     }
@@ -510,26 +498,33 @@ impl ConfigSpace {
         self
     }
 
+    /// The offset from the anti-goal's centre to the mesh point `p`, the shortest way round
+    /// along periodic axes, and the ball's radius.
+    fn anti_goal_offset(&self, p: &Point) -> Option<([f64; 3], f64)> {
+        let (c, r) = self.anti_goal?;
+        let d = [0, 1, 2].map(|a| {
+            let x = p[a] - c[a];
+            match self.axes[a] {
+                Axis::Periodic => {
+                    let period = TAU * self.scale[a];
+                    (x + 0.5 * period).rem_euclid(period) - 0.5 * period
+                }
+                _ => x,
+            }
+        });
+        Some((d, r))
+    }
+
     /// For a configuration inside the anti-goal's ball ([`ConfigSpace::with_anti_goal`]):
     /// the configuration straight away from the ball's centre at 1.25 radii, where the mesh
     /// begins (a space with an anti-goal touches nothing anywhere, so the straight move is
     /// free). `None` outside the ball or without one.
     pub fn out_of_anti_goal(&self, q: &[f64]) -> Option<Vec<f64>> {
-        let (c, r) = self.anti_goal?;
         let dof = self.dof();
-        if q.len() != dof || !q.iter().all(|x| x.is_finite()) {
+        if self.anti_goal.is_none() || q.len() != dof || !q.iter().all(|x| x.is_finite()) {
             return None;
         }
-        let (p, _) = self.to_mesh(q);
-        let mut d = [0.0; 3];
-        for a in 0..dof {
-            let mut x = p[a] - c[a];
-            if self.axes[a] == Axis::Periodic {
-                let period = TAU * self.scale[a];
-                x = (x + 0.5 * period).rem_euclid(period) - 0.5 * period;
-            }
-            d[a] = x;
-        }
+        let (d, r) = self.anti_goal_offset(&self.to_mesh(q).0)?;
         let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
         if n > r {
             return None;

@@ -2,29 +2,16 @@
 //! come with no coarser levels (stuffed tetrahedra, configuration-space slabs, meshes made
 //! elsewhere).
 //!
-//! Each level is coarsened in four small steps (Vaněk, Mandel and Brezina's smoothed
-//! aggregation, as PyAMG's `smoothed_aggregation_solver` does it for a scalar problem):
-//!
-//! 1. **Strength.** `j` is a strong neighbour of `i` when `|a_ij| ≥ θ √(a_ii a_jj)`.
-//! 2. **Aggregates.** Greedy, in the unknowns' order (which follows the mesh): an unknown
-//!    whose strong neighbours are all still free roots a new aggregate with them; a free
-//!    unknown left over joins the aggregate of its strongest aggregated neighbour; what is
-//!    still free then roots aggregates of its own.
-//! 3. **Prolongation.** The piecewise-constant interpolation `P₀` (each unknown takes its
-//!    aggregate's value) smoothed by one damped Jacobi step, `P = (I − ω D⁻¹A) P₀`, with
-//!    `ω = 4 / (3 ρ)` and `ρ` Gershgorin's bound on the spectral radius of `D⁻¹A`.
-//! 4. **Coarse matrix.** The Galerkin product `Pᵀ A P`, row by row (first `A P`, then `Pᵀ`
-//!    of it), on rayon's pool.
-//!
-//! Coarsening stops at [`AggregationOptions::coarsest`] unknowns (factored by Cholesky) or
-//! when a level no longer shrinks. The cycle itself is [`Multigrid`]'s: Gauss–Seidel
-//! smoothing, symmetric, a preconditioner for conjugate gradients.
+//! The steps are Vaněk, Mandel and Brezina's smoothed aggregation as PyAMG's
+//! `smoothed_aggregation_solver` does it for a scalar problem; [`Multigrid::aggregation`]
+//! lists them. The cycle itself is [`Multigrid`]'s: Gauss–Seidel smoothing, symmetric, a
+//! preconditioner for conjugate gradients.
 
 use rayon::prelude::*;
 
 use crate::csc::SymmetricCsc;
 use crate::error::SolverError;
-use crate::multigrid::{Multigrid, MultigridOptions, Prolongation};
+use crate::multigrid::{Multigrid, MultigridOptions, Prolongation, SparseRows};
 use crate::{Ordering, SymbolicCholesky};
 
 /// How [`Multigrid::aggregation`] coarsens.
@@ -246,20 +233,6 @@ fn galerkin_product(a: &SymmetricCsc, p: &Prolongation) -> Result<SymmetricCsc, 
     } = coarse;
     let row_idx = columns.into_iter().map(|c| c as usize).collect();
     SymmetricCsc::try_from_symmetric_pattern(nc, row_ptr, row_idx, values)
-}
-
-/// Sparse rows with sorted columns.
-pub(crate) struct SparseRows {
-    pub(crate) row_ptr: Vec<usize>,
-    pub(crate) columns: Vec<u32>,
-    pub(crate) values: Vec<f64>,
-}
-
-impl SparseRows {
-    pub(crate) fn row(&self, i: usize) -> (&[u32], &[f64]) {
-        let r = self.row_ptr[i]..self.row_ptr[i + 1];
-        (&self.columns[r.clone()], &self.values[r])
-    }
 }
 
 /// A dense accumulator over `width` columns that remembers which it touched.

@@ -26,9 +26,23 @@ use crate::pcg::{PcgReport, Precondition, iterate_with, zero_rhs};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prolongation {
     coarse: usize,
-    row_ptr: Vec<usize>,
-    columns: Vec<u32>,
-    values: Vec<f64>,
+    rows: SparseRows,
+}
+
+/// Sparse rows: row `i` is `columns[k]`, `values[k]` for `k` in `row_ptr[i]..row_ptr[i + 1]`.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct SparseRows {
+    pub(crate) row_ptr: Vec<usize>,
+    pub(crate) columns: Vec<u32>,
+    pub(crate) values: Vec<f64>,
+}
+
+impl SparseRows {
+    /// Row `i`'s columns and values.
+    pub(crate) fn row(&self, i: usize) -> (&[u32], &[f64]) {
+        let r = self.row_ptr[i]..self.row_ptr[i + 1];
+        (&self.columns[r.clone()], &self.values[r])
+    }
 }
 
 impl Prolongation {
@@ -72,15 +86,17 @@ impl Prolongation {
         }
         Ok(Self {
             coarse,
-            row_ptr,
-            columns,
-            values,
+            rows: SparseRows {
+                row_ptr,
+                columns,
+                values,
+            },
         })
     }
 
     /// Unknowns of the fine level (rows).
     pub fn fine_len(&self) -> usize {
-        self.row_ptr.len() - 1
+        self.rows.row_ptr.len() - 1
     }
 
     /// Unknowns of the coarse level (columns).
@@ -90,31 +106,35 @@ impl Prolongation {
 
     /// Row `i`: the coarse unknowns fine unknown `i` interpolates from, and their weights.
     pub(crate) fn row(&self, i: usize) -> (&[u32], &[f64]) {
-        let r = self.row_ptr[i]..self.row_ptr[i + 1];
-        (&self.columns[r.clone()], &self.values[r])
+        self.rows.row(i)
     }
 
     /// `Pᵀ` by rows (a coarse unknown's fine unknowns, sorted).
-    pub(crate) fn transpose(&self) -> crate::aggregation::SparseRows {
+    pub(crate) fn transpose(&self) -> SparseRows {
+        let SparseRows {
+            row_ptr: p_ptr,
+            columns: p_columns,
+            values: p_values,
+        } = &self.rows;
         let mut count = vec![0usize; self.coarse + 1];
-        for &c in &self.columns {
+        for &c in p_columns {
             count[c as usize + 1] += 1;
         }
         for c in 0..self.coarse {
             count[c + 1] += count[c];
         }
         let row_ptr = count.clone();
-        let mut columns = vec![0u32; self.columns.len()];
-        let mut values = vec![0.0; self.values.len()];
-        for (i, w) in self.row_ptr.windows(2).enumerate() {
+        let mut columns = vec![0u32; p_columns.len()];
+        let mut values = vec![0.0; p_values.len()];
+        for (i, w) in p_ptr.windows(2).enumerate() {
             for k in w[0]..w[1] {
-                let slot = &mut count[self.columns[k] as usize];
+                let slot = &mut count[p_columns[k] as usize];
                 columns[*slot] = i as u32;
-                values[*slot] = self.values[k];
+                values[*slot] = p_values[k];
                 *slot += 1;
             }
         }
-        crate::aggregation::SparseRows {
+        SparseRows {
             row_ptr,
             columns,
             values,
@@ -124,22 +144,24 @@ impl Prolongation {
     /// `coarse = Pᵀ fine` (the restriction of a residual).
     fn restrict(&self, fine: &[f64], coarse: &mut [f64]) {
         coarse.fill(0.0);
-        for (i, w) in self.row_ptr.windows(2).enumerate() {
-            let r = fine[i];
-            for k in w[0]..w[1] {
-                coarse[self.columns[k] as usize] += self.values[k] * r;
+        for (i, &r) in fine.iter().enumerate().take(self.fine_len()) {
+            let (columns, values) = self.rows.row(i);
+            for (&c, &v) in columns.iter().zip(values) {
+                coarse[c as usize] += v * r;
             }
         }
     }
 
     /// `fine += P coarse` (a coarse correction added).
     fn add_prolonged(&self, coarse: &[f64], fine: &mut [f64]) {
-        for (i, w) in self.row_ptr.windows(2).enumerate() {
-            let mut s = 0.0;
-            for k in w[0]..w[1] {
-                s += self.values[k] * coarse[self.columns[k] as usize];
-            }
-            fine[i] += s;
+        for (i, f) in fine.iter_mut().enumerate().take(self.fine_len()) {
+            let (columns, values) = self.rows.row(i);
+            let s: f64 = columns
+                .iter()
+                .zip(values)
+                .map(|(&c, &v)| v * coarse[c as usize])
+                .sum();
+            *f += s;
         }
     }
 }

@@ -88,50 +88,11 @@ fn solve_volume_to(
 ) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
     let pcg_tol = pcg_tol.min(1e-10);
     let start = Instant::now();
-    let n = system.matrix().n();
     let method = match method {
-        VolumeSolveMethod::Auto if n == 0 => VolumeSolveMethod::Cholesky,
-        VolumeSolveMethod::Auto => {
-            if system.not_m_matrix().is_none() && n <= AUTO_ACCURATE_MAX_UNKNOWNS_3D {
-                VolumeSolveMethod::Accurate
-            } else if n <= AUTO_CHOLESKY_MAX_UNKNOWNS {
-                VolumeSolveMethod::Cholesky
-            } else {
-                return iterative(system, pcg_tol, AUTO_MULTIGRID_MIN_UNKNOWNS, start);
-            }
-        }
+        VolumeSolveMethod::Auto => auto_method(system, AUTO_MULTIGRID_MIN_UNKNOWNS),
         m => m,
     };
     let (x, iterations) = solve_unknowns(system, method, pcg_tol)?;
-    finish(system, x, method, iterations, start)
-}
-
-/// The iterative solve of [`VolumeSolveMethod::Auto`]: multigrid-PCG from `multigrid_from`
-/// unknowns ([`AUTO_MULTIGRID_MIN_UNKNOWNS`] but for a volume's Galerkin try), IC(0)-PCG
-/// below.
-fn iterative(
-    system: &VolumeSystem,
-    pcg_tol: f64,
-    multigrid_from: usize,
-    start: Instant,
-) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
-    let method = if system.matrix().n() >= multigrid_from {
-        VolumeSolveMethod::Multigrid
-    } else {
-        VolumeSolveMethod::Pcg
-    };
-    let (x, iterations) = solve_unknowns(system, method, pcg_tol)?;
-    finish(system, x, method, iterations, start)
-}
-
-/// ψ at every vertex from the unknowns `x`, and the report.
-fn finish(
-    system: &VolumeSystem,
-    x: Vec<f64>,
-    method: VolumeSolveMethod,
-    iterations: usize,
-    start: Instant,
-) -> Result<(Vec<f64>, VolumeSolveReport), FemError> {
     let psi = system.expand(&x)?;
     Ok((
         psi,
@@ -141,6 +102,32 @@ fn finish(
             seconds: start.elapsed().as_secs_f64(),
         },
     ))
+}
+
+/// The method [`VolumeSolveMethod::Auto`] takes for `system`: the accurate elimination on
+/// small M-matrices, Cholesky on small systems, else [`iterative_method`] with the multigrid
+/// from `multigrid_from` unknowns ([`AUTO_MULTIGRID_MIN_UNKNOWNS`] but for a volume's
+/// Galerkin try).
+fn auto_method(system: &VolumeSystem, multigrid_from: usize) -> VolumeSolveMethod {
+    let n = system.matrix().n();
+    if n == 0 {
+        VolumeSolveMethod::Cholesky
+    } else if system.not_m_matrix().is_none() && n <= AUTO_ACCURATE_MAX_UNKNOWNS_3D {
+        VolumeSolveMethod::Accurate
+    } else if n <= AUTO_CHOLESKY_MAX_UNKNOWNS {
+        VolumeSolveMethod::Cholesky
+    } else {
+        iterative_method(n, multigrid_from)
+    }
+}
+
+/// Multigrid-PCG from `multigrid_from` unknowns, IC(0)-PCG below.
+fn iterative_method(n: usize, multigrid_from: usize) -> VolumeSolveMethod {
+    if n >= multigrid_from {
+        VolumeSolveMethod::Multigrid
+    } else {
+        VolumeSolveMethod::Pcg
+    }
 }
 
 /// The unknowns by `method` (not [`VolumeSolveMethod::Auto`], taken as Cholesky), and the
@@ -233,12 +220,8 @@ fn clamped_first_try(
     let (psi, report) = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         solve_volume(system, VolumeSolveMethod::Accurate)?
     } else {
-        iterative(
-            system,
-            PLANNING_PCG_TOL,
-            AUTO_MULTIGRID_MIN_UNKNOWNS,
-            Instant::now(),
-        )?
+        let method = iterative_method(system.matrix().n(), AUTO_MULTIGRID_MIN_UNKNOWNS);
+        solve_volume_to(system, method, PLANNING_PCG_TOL)?
     };
     let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
     Ok((potential, report))
@@ -310,9 +293,8 @@ const LAYER_RATIO: f64 = 1e-6;
 const MAX_LAYERS: usize = 60;
 
 /// The far field of an iterative solution `x` of `a x = b` (an M-matrix) solved again, layer
-/// by layer: the
-/// unknowns below [`LAYER_RATIO`] of the largest are solved on their own, the rest held at
-/// their values (a principal submatrix of an M-matrix, its right-hand side the couplings to
+/// by layer: the unknowns below [`LAYER_RATIO`] of the largest are solved on their own, the
+/// rest held at their values (a principal submatrix of an M-matrix, its right-hand side the couplings to
 /// the held unknowns: non-negative), then those below the ratio again of that threshold, and
 /// so on. A residual-based stop leaves an error of about the residual's size everywhere,
 /// which swamps ψ where it is many orders smaller (behind a narrow passage of a
@@ -358,9 +340,6 @@ pub(crate) fn far_field_layers(
             }
             col_ptr.push(row_idx.len());
         }
-        // Rows keep their order (`local` increases with the row), so each column stays sorted.
-        let sub = SymmetricCsc::try_from_symmetric_pattern(far.len(), col_ptr, row_idx, values)?;
-        let mut y = vec![0.0; far.len()];
         if rhs.iter().all(|&r| r == 0.0) {
             // Nothing couples the far unknowns to the rest: their ψ is zero.
             for &i in &far {
@@ -369,6 +348,9 @@ pub(crate) fn far_field_layers(
             layered = true;
             break;
         }
+        // Rows keep their order (`local` increases with the row), so each column stays sorted.
+        let sub = SymmetricCsc::try_from_symmetric_pattern(far.len(), col_ptr, row_idx, values)?;
+        let mut y = vec![0.0; far.len()];
         let opts = PcgOptions {
             preconditioner: Preconditioner::IncompleteCholesky,
             rel_tol: PLANNING_PCG_TOL,
@@ -499,12 +481,7 @@ fn galerkin_checked(
     system: &VolumeSystem,
     multigrid_from: usize,
 ) -> Result<(VolumePotential, VolumeSolveReport, bool), FemError> {
-    let n = system.matrix().n();
-    let (psi, report) = if n > AUTO_CHOLESKY_MAX_UNKNOWNS {
-        iterative(system, 1e-10, multigrid_from, Instant::now())?
-    } else {
-        solve_volume(system, VolumeSolveMethod::Auto)?
-    };
+    let (psi, report) = solve_volume(system, auto_method(system, multigrid_from))?;
     let flat = {
         let free = system.free_vertices();
         let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
@@ -525,8 +502,7 @@ mod tests {
     use super::*;
 
     /// A chain whose every unknown leaks to the walls: ψ falls by about 60 a step from the
-    /// goal's end, to 1e-89 at the far end (the exact values by an elimination that only adds
-    /// non-negative numbers). From values wrong by 1e-14 of the largest everywhere, the layers
+    /// goal's end, to 1e-89 at the far end. From values wrong by 1e-14 of the largest everywhere, the layers
     /// recover every value to 1e-3 relatively.
     #[test]
     fn far_field_layers_recover_a_decay_far_below_the_residual() {
@@ -545,9 +521,9 @@ mod tests {
         let a = SymmetricCsc::try_new(n, col_ptr, row_idx, values).expect("a chain");
         let mut b = vec![0.0; n];
         b[0] = 1.0;
-        // The exact solution: x_k = c·r^k with r the root of r² − 62 r + 1 = 0 below 1, and
-        // the last row's boundary term; solved here by elimination in the chain's order
-        // (every operation adds non-negative numbers: entrywise accurate).
+        // The exact solution by elimination from the far end: d_k = 62 − 1/d_{k+1} (1/d is
+        // below 0.02: no cancellation), then x_0 = b_0/d_0 and x_k = x_{k−1}/d_k, each entry
+        // to a few roundings relatively however small.
         let mut d = vec![0.0; n];
         d[n - 1] = diag;
         for k in (0..n - 1).rev() {
