@@ -55,8 +55,9 @@ pub use harmonic_solver as solver;
 pub use harmonic_trajectory as trajectory;
 pub use harmonic_types::{Point3, Vector3};
 pub use planner::{
-    CarParams, CarReport, CarRun, Export, PlanReport, PlannedPath, Planner, PlannerOptions, Report,
-    Stage, StartEntry, SvgOptions, Timings, poses_along,
+    AUTO_MULTIGRID_FROM, AUTO_MULTIGRID_REFINEMENTS, CarParams, CarReport, CarRun, Export,
+    PlanReport, PlannedPath, Planner, PlannerOptions, Report, Stage, StartEntry, SvgOptions,
+    Timings, poses_along,
 };
 pub use scene::{AnyScene, Scene, SceneError};
 pub use volume::{VolumePlanner, VolumeScene};

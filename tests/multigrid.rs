@@ -67,3 +67,79 @@ fn multigrid_is_refused_where_there_is_no_scene_mesh_to_refine() {
     // Zero refinements is the direct solve.
     assert!(Planner::with_options(&scene, &multigrid(0)).is_ok());
 }
+
+/// From `AUTO_MULTIGRID_FROM` estimated triangles a planner with default options takes the
+/// multigrid route, checked; below it, and with `multigrid: Some(0)`, the direct solve on
+/// the scene's own mesh. The two paths agree to 0.5 %.
+#[test]
+fn large_scenes_take_the_multigrid_route_by_default() {
+    let scene = reference(0.001);
+    let auto = Planner::new(&scene).unwrap();
+    let direct = Planner::with_options(&scene, &multigrid(0)).unwrap();
+    assert!(
+        auto.mesh().triangles().len() >= harmonic_planner::AUTO_MULTIGRID_FROM,
+        "{} triangles",
+        auto.mesh().triangles().len()
+    );
+    assert_eq!(
+        auto.solved_by(),
+        "multigrid (checked: no interior extremum)"
+    );
+    assert!(
+        !direct.solved_by().contains("multigrid"),
+        "{}",
+        direct.solved_by()
+    );
+    for &start in &scene.starts {
+        let (a, b) = (direct.plan(start), auto.plan(start));
+        assert!(
+            a.status.reached_goal() && b.status.reached_goal(),
+            "{start:?}"
+        );
+        assert!(
+            (a.length - b.length).abs() <= 5e-3 * a.length,
+            "{start:?}: {} vs {}",
+            a.length,
+            b.length
+        );
+    }
+    // The bundled scene's own size stays on the direct route.
+    let small = Planner::new(&reference(0.004)).unwrap();
+    assert!(
+        !small.solved_by().contains("multigrid"),
+        "{}",
+        small.solved_by()
+    );
+}
+
+/// The spiral's ψ falls past the double range, far below a multigrid ψ's residual scale:
+/// the check rejects the multigrid ψ and the finest level is solved directly (in the
+/// extended exponent), so the multigrid route still reaches the goal, along the direct
+/// route's path to 0.5 %.
+#[test]
+fn a_multigrid_psi_that_fails_its_check_is_solved_directly_on_the_same_mesh() {
+    let scene = Scene::from_file(harmonic_fixtures::mesh_file("spiral.json")).unwrap();
+    let refined = Planner::with_options(&scene, &multigrid(2)).unwrap();
+    let direct = Planner::new(&scene).unwrap();
+    assert!(
+        refined
+            .solved_by()
+            .contains("the multigrid ψ failed its check"),
+        "{}",
+        refined.solved_by()
+    );
+    assert!(!scene.starts.is_empty());
+    for &start in &scene.starts {
+        let (a, b) = (direct.plan(start), refined.plan(start));
+        assert!(
+            a.status.reached_goal() && b.status.reached_goal(),
+            "{start:?}"
+        );
+        assert!(
+            (a.length - b.length).abs() <= 5e-3 * a.length,
+            "{start:?}: {} vs {}",
+            a.length,
+            b.length
+        );
+    }
+}

@@ -20,9 +20,11 @@ use crate::scene::PyScene;
 /// factors and solves it — once (the GIL is released meanwhile); every query afterwards
 /// (`plan`, `plan_many`, `potential`, `psi`, `gradient`, `drive`) reuses that solution.
 /// `max_area` overrides the scene's `mesh.max_area` (as `hplan --max-area`). `multigrid=K`
-/// (1 to 8) meshes at 4^K times that area, refines the mesh uniformly K times and solves by
-/// multigrid-preconditioned conjugate gradients instead of factoring (as `hplan --multigrid`:
-/// linear time for large, open scenes; ψ to 1e-10 of its scale, so not for mazes).
+/// (0 to 8) meshes at 4^K times that area, refines the mesh uniformly K times and solves by
+/// multigrid-preconditioned conjugate gradients, checked (no negative ψ, no underflow, no
+/// interior extremum) and else solved directly on the same mesh (as `hplan --multigrid`);
+/// 0 factors the scene's own mesh. By default (`None`) K = 2 from 100 000 estimated
+/// triangles and 0 below.
 ///
 /// A planner is immutable: an error in one query leaves it usable for the next.
 #[pyclass(module = "harmonic_planner", name = "Planner", frozen)]
@@ -108,9 +110,9 @@ impl PyPlanner {
         if let Some(a) = positive("max_area", max_area)? {
             plane.mesh.max_area = Some(a);
         }
-        if let Some(k) = multigrid.filter(|k| !(1..=8).contains(k)) {
+        if let Some(k) = multigrid.filter(|&k| k > 8) {
             return Err(scene_error(format!(
-                "multigrid must be 1 to 8 refinements, got {k}"
+                "multigrid must be 0 to 8 refinements, got {k}"
             )));
         }
         PyPlanner::build(py, plane, scene.source.clone(), multigrid, threads)

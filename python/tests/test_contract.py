@@ -84,5 +84,10 @@ def test_multigrid_plans_the_same_path(reference_path):
         a, b = direct.plan(start), refined.plan(start)
         assert a.reached_goal and b.reached_goal
         assert abs(a.length - b.length) <= 5e-3 * a.length
-    with pytest.raises(hp.SceneError, match="multigrid must be 1 to 8"):
-        hp.Planner(scene, multigrid=0)
+    # 0 is the direct solve on the scene's own mesh: the same path as the default below
+    # 100 000 estimated triangles.
+    direct0 = hp.Planner(scene, max_area=0.004, multigrid=0)
+    assert direct0.plan([1.0, 1.0]).length == direct.plan([1.0, 1.0]).length
+    assert "multigrid" in refined.solved_by
+    with pytest.raises(hp.SceneError, match="multigrid must be 0 to 8"):
+        hp.Planner(scene, multigrid=9)

@@ -22,18 +22,19 @@ pub(crate) struct Meshed {
 impl Meshed {
     /// Validates and meshes `spec` with the scene's mesh options.
     pub(crate) fn new(scene: &Scene, spec: &DomainSpec) -> Result<Meshed, PlanError> {
-        Meshed::constrained(scene, spec, &[], &[], 0)
+        Meshed::constrained(scene, spec, &[], &[], Some(0))
     }
 
     /// [`Meshed::new`] with interior constraint segments and points the mesh must hold
     /// (see [`Domain::with_constraints`]), meshed at `4^refinements` times the scene's
-    /// largest area and refined uniformly `refinements` times.
+    /// largest area and refined uniformly `refinements` times; `None`: decided from the
+    /// mesh's estimated size ([`auto_refinements`]).
     pub(crate) fn constrained(
         scene: &Scene,
         spec: &DomainSpec,
         segments: &[[Point; 2]],
         points: &[Point],
-        refinements: usize,
+        refinements: Option<usize>,
     ) -> Result<Meshed, PlanError> {
         let t = Instant::now();
         let mut mesh_options = scene.mesh_options();
@@ -41,6 +42,10 @@ impl Meshed {
         if !segments.is_empty() || !points.is_empty() {
             domain = domain.with_constraints(segments, points)?;
         }
+        let refinements = match refinements {
+            Some(k) => k,
+            None => auto_refinements(&domain, &mesh_options)?,
+        };
         if refinements == 0 {
             return Meshed::of_domain(domain, &mesh_options, t);
         }
@@ -120,4 +125,16 @@ impl Meshed {
         };
         Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
     }
+}
+
+/// The uniform refinements [`PlannerOptions::multigrid`]'s automatic choice makes:
+/// [`AUTO_MULTIGRID_REFINEMENTS`] for a mesh estimated at [`AUTO_MULTIGRID_FROM`] triangles
+/// or more (where the multigrid route is the faster one), none below.
+fn auto_refinements(domain: &Domain, mesh_options: &MeshOptions) -> Result<usize, PlanError> {
+    let estimated = domain.estimated_triangles(mesh_options)?;
+    Ok(if estimated >= AUTO_MULTIGRID_FROM {
+        AUTO_MULTIGRID_REFINEMENTS
+    } else {
+        0
+    })
 }

@@ -43,12 +43,17 @@ pub struct PlannerOptions {
     /// it sets none), refine that mesh uniformly `k` times ([`MeshHierarchy`]: the same
     /// smallest angle, triangles of at most the area asked) and solve by conjugate gradients
     /// with a multigrid V-cycle over those levels ([`MultilevelSystem`]) instead of a
-    /// factorisation. Its work grows linearly with the mesh (a 1 M-triangle scene in about
-    /// half the direct route's time), but ψ is right only to about 1e-10 of its largest
-    /// value: for open scenes, not for mazes where ψ falls many orders of magnitude (the
-    /// direct solve resolves those). Scene planners only ([`Planner::with_options`],
-    /// [`Planner::with_constraints`]); others refuse it with
-    /// [`PlanError::MultigridUnsupported`]. `None` (the default) or `Some(0)`: the direct solve.
+    /// factorisation. Its work grows linearly with the mesh (the 1 M-triangle reference
+    /// scene plans in under half the direct route's time), but ψ is right only to about
+    /// 1e-10 of its largest value, so it is checked
+    /// ([`MultilevelSystem::checked_potential`]: no negative ψ, no zero beside a positive
+    /// one, no interior extremum) and, where it fails (a maze or corridor whose ψ falls far
+    /// below that), the finest level is factored directly on the same mesh. Scene planners
+    /// only ([`Planner::with_options`], [`Planner::with_constraints`]); others refuse
+    /// `k ≥ 1` with [`PlanError::MultigridUnsupported`]. `Some(0)`: the direct solve on the
+    /// scene's own mesh. `None` (the default): [`crate::AUTO_MULTIGRID_REFINEMENTS`] for a
+    /// scene whose mesh is estimated at [`crate::AUTO_MULTIGRID_FROM`] triangles or more
+    /// (with [`SolveMethod::Auto`], no conductivity and no blend), else 0.
     pub multigrid: Option<usize>,
     /// Asked at the start of every stage (meshing, assembling, solving); when it returns
     /// true the build stops there with [`PlanError::Cancelled`]. A stage already running

@@ -120,9 +120,9 @@ pub use assemble::{
 };
 pub use bc::{BoundaryCondition, BoundaryConditions, ConditionKind};
 pub use goals::{BLOCK_COLUMNS, GoalReport, GoalSolution, GoalSolver, MAX_GOAL_RIM};
-pub use multigrid::{MULTIGRID_REL_TOL, MultilevelSystem};
+pub use multigrid::{MULTIGRID_REL_TOL, MultigridRejection, MultilevelSolve, MultilevelSystem};
 pub use potential::{
-    Evaluation, LocalExtrema, Potential, blend, interior_local_extrema,
+    Evaluation, LocalExtrema, Potential, Unsound, blend, interior_local_extrema,
     interior_local_extrema_except,
 };
 pub use solve::{

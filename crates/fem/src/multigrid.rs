@@ -11,10 +11,17 @@
 
 use std::sync::Arc;
 
-use harmonic_solver::{Multigrid, MultigridOptions, PcgReport, Prolongation, SymbolicCholesky};
+use harmonic_solver::{
+    Multigrid, MultigridOptions, Ordering, Parallelism, PcgReport, Prolongation, SolverError,
+    SymbolicCholesky,
+};
 use harmonic_types::{Mesh, MeshHierarchy};
 
-use crate::{Assembler, AssemblyOptions, BoundaryConditions, FemError, LinearSystem, Potential};
+use crate::potential::{Unsound, unsound};
+use crate::{
+    Assembler, AssemblyOptions, BoundaryConditions, FemError, LinearSystem, Potential, SolveMethod,
+    SolveReport, Solver,
+};
 
 /// The relative residual [`MultilevelSystem::solve`] stops at by default: ψ to about 1e-10
 /// of its largest value, below the discretisation error of any mesh that fits in memory.
@@ -128,6 +135,80 @@ impl MultilevelSystem {
             fine.reference(),
         )?;
         Ok((potential, report))
+    }
+}
+
+/// Why [`MultilevelSystem::checked_potential`] did not keep the multigrid ψ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MultigridRejection {
+    /// The iteration stopped before its tolerance.
+    NotConverged,
+    /// ψ broke the maximum principle somewhere: it is resolved only to the residual's
+    /// scale, and a maze's or a long corridor's ψ falls far below it.
+    Unsound(Unsound),
+}
+
+/// How [`MultilevelSystem::checked_potential`] had ψ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MultilevelSolve {
+    /// The multigrid ψ, kept: no negative value, no zero beside a positive one and no
+    /// interior local extremum (the discrete maximum principle holds for it, so the tracer
+    /// cannot stop short of a goal).
+    Multigrid(PcgReport),
+    /// The multigrid ψ failed the check, so the finest level was solved directly
+    /// ([`SolveMethod::Auto`]: Cholesky, checked in its turn, else the accurate solve).
+    Direct {
+        /// Why the multigrid ψ was not kept.
+        rejected: MultigridRejection,
+        /// What the direct solve did.
+        report: SolveReport,
+    },
+}
+
+impl MultilevelSystem {
+    /// The potential on the finest mesh, by multigrid when its ψ passes the check the
+    /// tracer needs, else directly: the V-cycle over the levels and conjugate gradients to
+    /// `rel_tol` ([`MultilevelSystem::solve`]), then the check — the iteration converged,
+    /// and at the unknowns no ψ is negative, none is zero beside a positive one (underflow)
+    /// and none is an interior local extremum. A ψ that falls
+    /// below the residual's scale (a long maze, a corridor) fails it, and the finest level is
+    /// factored instead (in `parallelism`), on the same mesh: the path is never worse for
+    /// having tried the fast solve first.
+    pub fn checked_potential(
+        &self,
+        rel_tol: f64,
+        parallelism: Parallelism,
+    ) -> Result<(Potential, MultilevelSolve), FemError> {
+        let fine = self.finest();
+        let cycle = self.multigrid(MultigridOptions::default())?;
+        let rejected = match self.solve(&cycle, rel_tol) {
+            Ok((potential, report)) => {
+                match unsound(self.finest_mesh(), potential.psi(), fine.free_vertices()) {
+                    None => return Ok((potential, MultilevelSolve::Multigrid(report))),
+                    Some(why) => MultigridRejection::Unsound(why),
+                }
+            }
+            Err(FemError::Solver(SolverError::NotConverged { .. })) => {
+                MultigridRejection::NotConverged
+            }
+            Err(e) => return Err(e),
+        };
+        drop(cycle);
+        let mesh = self.finest_mesh();
+        let vertices = mesh.vertices();
+        let coords = fine
+            .free_vertices()
+            .iter()
+            .map(|&v| [vertices[v as usize].x, vertices[v as usize].y])
+            .collect();
+        let solver = Solver::with_parallelism(
+            fine,
+            Ordering::NestedDissection { coords },
+            SolveMethod::Auto,
+            parallelism,
+        )?;
+        let (potential, report) = solver.potential_with_report(Arc::clone(mesh), fine)?;
+        Ok((potential, MultilevelSolve::Direct { rejected, report }))
     }
 }
 

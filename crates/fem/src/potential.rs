@@ -373,6 +373,47 @@ pub fn interior_local_extrema_except(
     extrema_of(mesh, psi, excluded)
 }
 
+/// Why a ψ solved to a normwise accuracy (a Cholesky ψ, a multigrid ψ) cannot be handed to
+/// the tracer as it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unsound {
+    /// A negative (or not-a-number) value at an unknown.
+    Negative,
+    /// A zero at an unknown beside a positive value: ψ underflowed there (the M-matrix's
+    /// inverse is positive, so a goal's ψ is positive at every vertex connected to it), and
+    /// a start there would not move.
+    Underflow,
+    /// An interior local extremum at an unknown, where the tracer could stop.
+    InteriorExtremum,
+}
+
+/// Whether the discrete maximum principle holds for `psi` on `mesh` as the tracer needs it,
+/// over the unknowns `free_vertices` (every other vertex is held by a condition): no
+/// negative value, no zero beside a positive one, no interior local extremum.
+pub(crate) fn unsound(mesh: &Mesh, psi: &[f64], free_vertices: &[u32]) -> Option<Unsound> {
+    if free_vertices
+        .iter()
+        .any(|&v| psi[v as usize].is_nan() || psi[v as usize] < 0.0)
+    {
+        return Some(Unsound::Negative);
+    }
+    let mut held = vec![true; psi.len()];
+    for &v in free_vertices {
+        held[v as usize] = false;
+    }
+    let underflow = mesh.triangles().iter().any(|t| {
+        let zero = t
+            .iter()
+            .any(|&v| !held[v as usize] && psi[v as usize] == 0.0);
+        zero && t.iter().any(|&v| psi[v as usize] > 0.0)
+    });
+    if underflow {
+        return Some(Unsound::Underflow);
+    }
+    let e = interior_local_extrema_except(mesh, psi, |v| held[v as usize]);
+    (e.minima + e.maxima > 0).then_some(Unsound::InteriorExtremum)
+}
+
 /// [`interior_local_extrema_except`] over any ordered values (floats or [`Wide`] numbers).
 fn extrema_of<T: PartialOrd + Copy>(
     mesh: &Mesh,

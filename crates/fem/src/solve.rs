@@ -9,7 +9,7 @@ use harmonic_types::Mesh;
 use crate::FemError;
 use crate::assemble::{Assembler, AssemblyOptions, LinearSystem, NotMMatrix};
 use crate::bc::BoundaryConditions;
-use crate::potential::{Potential, interior_local_extrema_except};
+use crate::potential::{Potential, unsound};
 
 /// Up to this many unknowns [`SolveMethod::Auto`] uses the accurate solve outright: there it
 /// costs about as much as the Cholesky factorisation (see the crate docs for the figures).
@@ -315,18 +315,9 @@ impl Solver {
         system: &LinearSystem,
     ) -> Result<(Potential, SolveReport), FemError> {
         let sound = |x: &[f64]| -> bool {
-            if x.iter().any(|&v| v < 0.0) {
-                return false;
-            }
-            let Ok(psi) = system.expand(x) else {
-                return false;
-            };
-            let mut held = vec![true; psi.len()];
-            for &v in system.free_vertices() {
-                held[v as usize] = false;
-            }
-            let e = interior_local_extrema_except(&mesh, &psi, |v| held[v as usize]);
-            e.minima + e.maxima == 0
+            system
+                .expand(x)
+                .is_ok_and(|psi| unsound(&mesh, &psi, system.free_vertices()).is_none())
         };
         let (psi, report) = self.solve_wide_checked(system, Some(&sound))?;
         Ok((Potential::from_wide(mesh, psi, system.reference())?, report))

@@ -254,7 +254,7 @@ fn multigrid_plans_a_scene_and_is_refused_elsewhere() {
             ],
             "cannot be used with",
         ),
-        (&["plan", &reference, "--multigrid", "0"], "not in 1..=8"),
+        (&["plan", &reference, "--multigrid", "9"], "not in 0..=8"),
         (
             &["plan", maze3d, "--multigrid", "1"],
             "--multigrid is for plane scenes",

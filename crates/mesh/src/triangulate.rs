@@ -795,6 +795,15 @@ fn with_free_faces(parts: [Part; 2], seam: &Seam) -> [(Part, FreeFaces); 2] {
 }
 
 impl Domain {
+    /// The triangle count [`Domain::mesh`] expects to make with `opts` (from the free area,
+    /// the area bound and the boundary's detail; what it checks against
+    /// `opts.max_triangles`), without meshing: for choosing a solver before the mesh exists.
+    pub fn estimated_triangles(&self, opts: &MeshOptions) -> Result<usize, MeshError> {
+        opts.validate()?;
+        let opts = &crate::domain::options_to_unit(opts, &self.frame());
+        Ok(Budget::of(self, opts)?.estimated)
+    }
+
     /// Triangulates free space: constrained Delaunay triangulation of the tagged rings,
     /// refined to `opts.min_angle_deg` and `opts.max_area`, vertices numbered along a Hilbert
     /// curve (from [`HILBERT_FROM`] vertices; a smaller mesh keeps the triangulation's order).
