@@ -17,6 +17,27 @@ fn multigrid(k: usize) -> PlannerOptions {
     }
 }
 
+/// Every start of `scene` reaches the goal on both planners, with clearance, along paths
+/// whose lengths agree to 0.5 %.
+fn same_paths(scene: &Scene, direct: &Planner, other: &Planner) {
+    assert!(!scene.starts.is_empty());
+    for &start in &scene.starts {
+        let (a, b) = (direct.plan(start), other.plan(start));
+        assert!(
+            a.status.reached_goal() && b.status.reached_goal(),
+            "{start:?}"
+        );
+        assert!(b.min_clearance > 0.0, "{start:?}: {}", b.min_clearance);
+        let relative = (a.length - b.length).abs() / a.length;
+        assert!(
+            relative <= 5e-3,
+            "start {start:?}: {} vs {} m",
+            a.length,
+            b.length
+        );
+    }
+}
+
 #[test]
 fn multigrid_paths_match_the_direct_ones() {
     let scene = reference(0.004);
@@ -32,22 +53,7 @@ fn multigrid_paths_match_the_direct_ones() {
         "{n_refined} vs {n_direct} triangles"
     );
     assert_eq!(refined.mesh().quality().non_delaunay_edges, 0);
-    assert!(!scene.starts.is_empty());
-    for &start in &scene.starts {
-        let (a, b) = (direct.plan(start), refined.plan(start));
-        assert!(
-            a.status.reached_goal() && b.status.reached_goal(),
-            "{start:?}"
-        );
-        assert!(b.min_clearance > 0.0, "{start:?}: {}", b.min_clearance);
-        let relative = (a.length - b.length).abs() / a.length;
-        assert!(
-            relative <= 5e-3,
-            "start {start:?}: {} vs {} m",
-            a.length,
-            b.length
-        );
-    }
+    same_paths(&scene, &direct, &refined);
 }
 
 #[test]
@@ -90,19 +96,7 @@ fn large_scenes_take_the_multigrid_route_by_default() {
         "{}",
         direct.solved_by()
     );
-    for &start in &scene.starts {
-        let (a, b) = (direct.plan(start), auto.plan(start));
-        assert!(
-            a.status.reached_goal() && b.status.reached_goal(),
-            "{start:?}"
-        );
-        assert!(
-            (a.length - b.length).abs() <= 5e-3 * a.length,
-            "{start:?}: {} vs {}",
-            a.length,
-            b.length
-        );
-    }
+    same_paths(&scene, &direct, &auto);
     // The bundled scene's own size stays on the direct route.
     let small = Planner::new(&reference(0.004)).unwrap();
     assert!(
@@ -128,18 +122,5 @@ fn a_multigrid_psi_that_fails_its_check_is_solved_directly_on_the_same_mesh() {
         "{}",
         refined.solved_by()
     );
-    assert!(!scene.starts.is_empty());
-    for &start in &scene.starts {
-        let (a, b) = (direct.plan(start), refined.plan(start));
-        assert!(
-            a.status.reached_goal() && b.status.reached_goal(),
-            "{start:?}"
-        );
-        assert!(
-            (a.length - b.length).abs() <= 5e-3 * a.length,
-            "{start:?}: {} vs {}",
-            a.length,
-            b.length
-        );
-    }
+    same_paths(&scene, &direct, &refined);
 }
