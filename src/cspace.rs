@@ -183,7 +183,7 @@ fn millis(t: Instant) -> f64 {
 }
 
 /// The part the faces around a free space's anti-goal get: held at the walls' value (see
-/// [`free_everywhere`]).
+/// `free_everywhere`).
 pub use harmonic_cspace::ANTIGOAL_PART;
 
 /// A configuration space bounded by nothing but its goal (an arm whose joints all wrap and

@@ -271,7 +271,7 @@ impl DynamicPlanner {
     }
 
     /// Replaces every extra obstacle by `polygons` (numbered from 0), e.g. with
-    /// [`scan_obstacles`] of the latest scan.
+    /// `scan_obstacles` of the latest scan.
     pub fn set_obstacles(&mut self, polygons: Vec<Vec<[f64; 2]>>) {
         self.obstacles = polygons
             .into_iter()

@@ -1,8 +1,8 @@
-//! P1 finite elements on tetrahedra ([`harmonic_volume::TetMesh`]): the same mathematics as
+//! P1 finite elements on tetrahedra (`harmonic_volume::TetMesh`): the same mathematics as
 //! the 2D assembler — stiffness `K_ij = Σ_T V_T ∇λ_i·∇λ_j` assembled straight into compressed
 //! sparse storage, Dirichlet lifting, Neumann load, lumped Robin mass — and the same ψ = c − φ
 //! convention (see the crate docs). Boundary faces are tagged with the 2D
-//! [`harmonic_mesh::BoundaryTag`], so [`crate::BoundaryConditions`] applies unchanged.
+//! `harmonic_mesh::BoundaryTag`, so `crate::BoundaryConditions` applies unchanged.
 //!
 //! The reduced matrix is an M-matrix exactly when every edge between unknowns has a
 //! non-negative summed weight `−K_ij` (in 3D: when the cotangent-of-dihedral-angle sums are

@@ -679,7 +679,7 @@ impl Headings {
 }
 
 /// The SVG and VTU files a plan report asks for.
-/// [`draw`], with regions shaded under the picture (a map's graded costs).
+/// `draw`, with regions shaded under the picture (a map's graded costs).
 fn draw_shaded(
     planner: &Planner,
     report: &PlanReport,

@@ -46,7 +46,7 @@ pub const SPECULATIVE_MAX_UNKNOWNS: usize = 400_000;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum VolumeSolveMethod {
     /// Accurate on small M-matrices, else Cholesky, PCG on large systems, multigrid-PCG
-    /// from [`AUTO_MULTIGRID_MIN_UNKNOWNS`].
+    /// from `AUTO_MULTIGRID_MIN_UNKNOWNS`.
     #[default]
     Auto,
     /// [`AccurateLdlt`] (needs an M-matrix).
@@ -382,7 +382,7 @@ pub fn planning_method(n: usize) -> VolumeSolveMethod {
 /// ([`VolumeSolveMethod::Auto`]). If that solution has an interior local extremum (possible
 /// where the mesh has obtuse dihedral angles), or ψ spans more than 1/[`FLAT_RATIO_3D`] (a
 /// far field a Cholesky solve cannot resolve), assemble again with [`NegativeWeights::Clamp`]
-/// — an M-matrix, so no interior extremum — and solve that as [`solve_clamped_for_planning`]
+/// — an M-matrix, so no interior extremum — and solve that as `solve_clamped_for_planning`
 /// says.
 pub fn solve_volume_potential(
     mesh: Arc<TetMesh>,
