@@ -142,6 +142,19 @@ fn solved_by(report: &SolveReport) -> &'static str {
     }
 }
 
+/// [`solved_by`] for a direct solve of the finest level after the multigrid ψ failed its
+/// check ([`MultilevelSystem::checked_potential`]).
+fn solved_by_after_multigrid(report: &SolveReport) -> &'static str {
+    match (report.method, report.extended, report.flat_but_sound) {
+        (SolveMethod::Cholesky, _, true) => {
+            "cholesky (flat, checked; the multigrid ψ failed its check)"
+        }
+        (SolveMethod::Cholesky, _, false) => "cholesky (the multigrid ψ failed its check)",
+        (_, true, _) => "accurate (extended exponent; the multigrid ψ failed its check)",
+        _ => "accurate (the multigrid ψ failed its check)",
+    }
+}
+
 /// The ME766 blend `k·φ_D + (1 − k)·φ_N` on `mesh`, `φ_N` scaled to a largest value of 1.
 fn blended_potential(
     mesh: &Arc<Mesh>,
@@ -363,14 +376,7 @@ impl Planner {
                 levels.checked_potential(MULTIGRID_REL_TOL, options.parallelism)?;
             let by = match how {
                 MultilevelSolve::Multigrid(_) => "multigrid (checked: no interior extremum)",
-                MultilevelSolve::Direct { report, .. } => match solved_by(&report) {
-                    "cholesky" => "cholesky (the multigrid ψ failed its check)",
-                    "accurate" => "accurate (the multigrid ψ failed its check)",
-                    "accurate (extended exponent)" => {
-                        "accurate (extended exponent; the multigrid ψ failed its check)"
-                    }
-                    _ => "cholesky (flat, checked; the multigrid ψ failed its check)",
-                },
+                MultilevelSolve::Direct { report, .. } => solved_by_after_multigrid(&report),
             };
             (potential, assemble_ms, t, by)
         } else if let Some((k, d, n)) = blend {

@@ -134,7 +134,7 @@ enum Command {
         goal_tag: Option<String>,
         /// On a plane scene with one goal: mesh at 4^K times the largest triangle area,
         /// refine that mesh uniformly K times and solve by multigrid-preconditioned
-        /// conjugate gradients, checked (no negative ψ, no interior extremum) and else
+        /// conjugate gradients, checked (no negative ψ, no underflow, no interior extremum), else
         /// solved directly on the same mesh; 0: the direct solve on the scene's own mesh.
         /// Without it, K = 2 from 100 000 estimated triangles and 0 below.
         #[arg(
