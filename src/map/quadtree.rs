@@ -141,10 +141,13 @@ impl OccupancyMap {
             file: self.source.clone(),
             source: e.into(),
         };
-        let halves: Vec<Block> = (0..2 * h)
-            .flat_map(|j| (0..2 * w).map(move |i| (i, j)))
-            .map(|(i, j)| labels[(j / 2) * w + i / 2])
-            .collect();
+        // Each row of cells twice, each cell twice along its row.
+        let mut halves: Vec<Block> = Vec::with_capacity(4 * w * h);
+        for row in labels.chunks_exact(w) {
+            let start = halves.len();
+            halves.extend(row.iter().flat_map(|&b| [b, b]));
+            halves.extend_from_within(start..);
+        }
         drop(labels);
         let grid = BlockGrid::new(2 * w, 2 * h, halves).map_err(mesh_error)?;
         let quadtree = QuadtreeOptions {
