@@ -195,19 +195,29 @@ pub struct Run {
     pub triangles: (usize, usize),
 }
 
-/// Walks `points` from the first one for an arc length `step`; returns where it stops.
+/// Walks `points` from the first one for an arc length `step`; returns where it stops. It
+/// stops early at a cusp, a vertex where the path turns back by more than a right angle (as a
+/// local path does where the flow converges on a lattice vertex and the trace steps off it
+/// to a lower neighbour): a robot halts to turn there, and a step run on through the cusp
+/// would end about where it began, replan after replan.
 fn advance(points: &[[f64; 2]], step: f64) -> [f64; 2] {
     let mut left = step;
+    let mut previous: Option<[f64; 2]> = None;
     for w in points.windows(2) {
+        let d = [w[1][0] - w[0][0], w[1][1] - w[0][1]];
         let l = dist(w[0], w[1]);
-        if l >= left && l > 0.0 {
+        if l == 0.0 {
+            continue;
+        }
+        if previous.is_some_and(|p| p[0] * d[0] + p[1] * d[1] < 0.0) {
+            return w[0];
+        }
+        if l >= left {
             let s = left / l;
-            return [
-                w[0][0] + s * (w[1][0] - w[0][0]),
-                w[0][1] + s * (w[1][1] - w[0][1]),
-            ];
+            return [w[0][0] + s * d[0], w[0][1] + s * d[1]];
         }
         left -= l;
+        previous = Some(d);
     }
     points.last().copied().unwrap_or([f64::NAN, f64::NAN])
 }
@@ -315,5 +325,28 @@ impl Run {
         v.sort_by(f64::total_cmp);
         let at = |q: f64| v[((q * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
         (at(0.5), at(0.99))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::advance;
+
+    #[test]
+    fn a_step_stops_at_a_cusp_and_runs_on_through_ordinary_bends() {
+        // Out 0.02 to a vertex, then back 0.1 along the same line: a step of 0.045 stops on
+        // the vertex instead of ending 0.005 from where it began.
+        let cusp = [[0.0, 0.0], [0.02, 0.0], [-0.08, 0.0]];
+        assert_eq!(advance(&cusp, 0.045), [0.02, 0.0]);
+        // A right-angle bend is walked through.
+        let bend = [[0.0, 0.0], [0.02, 0.0], [0.02, 0.1]];
+        let p = advance(&bend, 0.045);
+        assert!(
+            (p[0] - 0.02).abs() < 1e-15 && (p[1] - 0.025).abs() < 1e-15,
+            "{p:?}"
+        );
+        // A step shorter than the first segment never reaches the cusp.
+        let p = advance(&cusp, 0.01);
+        assert!((p[0] - 0.01).abs() < 1e-15 && p[1] == 0.0, "{p:?}");
     }
 }
