@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 use crate::csc::Pattern;
 use crate::error::SolverError;
-use crate::mmatrix::{AccurateLdlt, MMatrix, symbolic};
+use crate::mmatrix::{AccurateLdlt, MMatrix, numeric, symbolic};
 use crate::ordering::{Ordering, permutation};
 use crate::wide::Wide;
 
@@ -99,8 +99,8 @@ impl WideLdlt {
         )
     }
 
-    /// The left-looking elimination of `AccurateLdlt` (same loop, same order of operations),
-    /// in [`Wide`] numbers.
+    /// The elimination of `AccurateLdlt` (the same multifrontal code, the same order of
+    /// operations), in [`Wide`] numbers.
     fn numeric(
         m: &MMatrix,
         perm: Vec<usize>,
@@ -109,69 +109,7 @@ impl WideLdlt {
         col_ptr: Vec<usize>,
         row_idx: Vec<u32>,
     ) -> Result<Self, SolverError> {
-        let n = perm.len();
-        let mut l = vec![Wide::ZERO; row_idx.len()];
-        let mut d = vec![Wide::ZERO; n];
-        let mut s: Vec<Wide> = perm
-            .iter()
-            .map(|&old| Wide::from_f64(m.excess()[old]))
-            .collect();
-        const NONE: usize = usize::MAX;
-        let mut head = vec![NONE; n];
-        let mut link = vec![NONE; n];
-        let mut next = vec![0usize; n];
-        let mut x = vec![Wide::ZERO; n];
-        for j in 0..n {
-            let (rows, vals) = m.offdiag().column(perm[j]);
-            for (&old_i, &w) in rows.iter().zip(vals) {
-                let i = inv[old_i];
-                if i > j {
-                    x[i] = Wide::from_f64(w);
-                }
-            }
-            let mut sj = s[j];
-            let mut k = head[j];
-            while k != NONE {
-                let following = link[k];
-                let p = next[k];
-                let ljk = l[p];
-                if !ljk.is_zero() {
-                    sj += ljk * s[k];
-                    let scale = ljk * d[k];
-                    let rest = p + 1..col_ptr[k + 1];
-                    for (&i, &lik) in row_idx[rest.clone()].iter().zip(&l[rest]) {
-                        x[i as usize] += lik * scale;
-                    }
-                }
-                if p + 1 < col_ptr[k + 1] {
-                    next[k] = p + 1;
-                    let r = row_idx[p + 1] as usize;
-                    link[k] = head[r];
-                    head[r] = k;
-                }
-                k = following;
-            }
-            s[j] = sj;
-            let range = col_ptr[j]..col_ptr[j + 1];
-            let mut dj = sj;
-            for &i in &row_idx[range.clone()] {
-                dj += x[i as usize];
-            }
-            if dj <= Wide::ZERO || !dj.mantissa().is_finite() {
-                return Err(SolverError::Singular { column: perm[j] });
-            }
-            d[j] = dj;
-            for (&i, lij) in row_idx[range.clone()].iter().zip(&mut l[range.clone()]) {
-                *lij = x[i as usize] / dj;
-                x[i as usize] = Wide::ZERO;
-            }
-            if !range.is_empty() {
-                next[j] = range.start;
-                let r = row_idx[range.start] as usize;
-                link[j] = head[r];
-                head[r] = j;
-            }
-        }
+        let (l, d) = numeric::<Wide>(m, &perm, &inv, &col_ptr, &row_idx)?;
         Ok(WideLdlt {
             perm,
             inv,

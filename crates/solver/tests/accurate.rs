@@ -138,6 +138,43 @@ fn corridor(nx: usize, ny: usize) -> (MMatrix, Vec<f64>, Vec<f64>, Vec<[f64; 2]>
     (m, b, exact, coords)
 }
 
+/// The multifrontal factor splits its tree into tasks by the thread count and updates a
+/// front's columns in parallel; every number is computed by the same operations in the same
+/// order however the work is split.
+#[test]
+fn the_factor_is_the_same_bit_for_bit_at_any_thread_count() {
+    let (m, b, exact, coords) = corridor(200, 150);
+    let solve_in = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let f = AccurateLdlt::factor(
+                &m,
+                Ordering::NestedDissection {
+                    coords: coords.clone(),
+                },
+            )
+            .unwrap();
+            f.solve(&b).unwrap()
+        })
+    };
+    let one = solve_in(1);
+    assert!(
+        entrywise(&one, &exact) <= 1e-10,
+        "{:e}",
+        entrywise(&one, &exact)
+    );
+    for threads in [2, 3, 4] {
+        let x = solve_in(threads);
+        assert!(
+            x.iter().zip(&one).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{threads} threads"
+        );
+    }
+}
+
 #[test]
 fn corridor_2d_decaying_to_1e_minus_200_is_entrywise_accurate() {
     let (m, b, exact, coords) = corridor(1200, 7);
