@@ -19,8 +19,9 @@ use super::potential::VolumePotential;
 use crate::bc::BoundaryConditions;
 
 /// Up to this many unknowns [`VolumeSolveMethod::Auto`] uses the accurate solve on M-matrix
-/// systems: the simplicial elimination's 3D fill makes it slow beyond (measured on the bench
-/// scene, clamped weights: 7.7k unknowns 0.05 s, 50.6k unknowns 69 s).
+/// systems: the elimination's 3D fill makes it slower than Cholesky beyond (measured on the
+/// bench scene, clamped weights, 51 k unknowns: 4.4 s against Cholesky's 1.9 s and IC(0)-PCG's
+/// 0.12 s; 69 s when the elimination was simplicial).
 pub const AUTO_ACCURATE_MAX_UNKNOWNS_3D: usize = 15_000;
 /// Up to this many unknowns [`VolumeSolveMethod::Auto`] factors with Cholesky; above, IC(0)-PCG,
 /// which wins by far in 3D (50.6k unknowns: PCG 0.16 s in 40 iterations, Cholesky 3.9 s;
