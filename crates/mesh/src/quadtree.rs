@@ -164,37 +164,50 @@ impl Default for QuadtreeOptions {
 /// The leaf level of a block that is not free.
 const NOT_FREE: u8 = u8::MAX;
 
-/// Per level, whether each 2^k node's blocks are all free.
+/// Per level, whether each 2^k node's blocks are all free, and whether any of them is.
 struct Pyramid {
-    /// `(width, height, all free)` of each level, level 0 (the blocks) first.
-    levels: Vec<(usize, usize, Vec<bool>)>,
+    /// `(width, height, all free, any free)` of each level, level 0 (the blocks) first; a
+    /// block is all or nothing, so level 0 keeps only the first.
+    levels: Vec<(usize, usize, Vec<bool>, Vec<bool>)>,
 }
 
 impl Pyramid {
     fn new(grid: &BlockGrid, max_level: u8) -> Pyramid {
         let free: Vec<bool> = grid.blocks.iter().map(|&b| b == Block::Free).collect();
-        let mut levels = vec![(grid.width, grid.height, free)];
+        let mut levels = vec![(grid.width, grid.height, free, Vec::new())];
         for _ in 0..max_level {
-            let (pw, ph, prev) = levels.last().expect("level 0 is there");
+            let (pw, ph, all, any) = levels.last().expect("level 0 is there");
             let (pw, ph) = (*pw, *ph);
+            let any = if any.is_empty() { all } else { any };
             let (nw, nh) = (pw.div_ceil(2), ph.div_ceil(2));
-            let at = |i: usize, j: usize| i < pw && j < ph && prev[j * pw + i];
-            let mut next = vec![false; nw * nh];
+            let at = |e: &[bool], i: usize, j: usize| i < pw && j < ph && e[j * pw + i];
+            let mut next_all = vec![false; nw * nh];
+            let mut next_any = vec![false; nw * nh];
             for j in 0..nh {
                 for i in 0..nw {
-                    next[j * nw + i] = at(2 * i, 2 * j)
-                        && at(2 * i + 1, 2 * j)
-                        && at(2 * i, 2 * j + 1)
-                        && at(2 * i + 1, 2 * j + 1);
+                    let kids = [
+                        (2 * i, 2 * j),
+                        (2 * i + 1, 2 * j),
+                        (2 * i, 2 * j + 1),
+                        (2 * i + 1, 2 * j + 1),
+                    ];
+                    next_all[j * nw + i] = kids.iter().all(|&(x, y)| at(all, x, y));
+                    next_any[j * nw + i] = kids.iter().any(|&(x, y)| at(any, x, y));
                 }
             }
-            levels.push((nw, nh, next));
+            levels.push((nw, nh, next_all, next_any));
         }
         Pyramid { levels }
     }
 
     fn all_free(&self, k: u8, i: usize, j: usize) -> bool {
-        let (w, h, e) = &self.levels[k as usize];
+        let (w, h, e, _) = &self.levels[k as usize];
+        i < *w && j < *h && e[j * w + i]
+    }
+
+    fn any_free(&self, k: u8, i: usize, j: usize) -> bool {
+        let (w, h, all, any) = &self.levels[k as usize];
+        let e = if k == 0 { all } else { any };
         i < *w && j < *h && e[j * w + i]
     }
 }
@@ -280,7 +293,7 @@ impl<'a> Leaves<'a> {
             grid,
             level: vec![NOT_FREE; grid.width * grid.height],
         };
-        let (tw, th, _) = pyramid.levels[max_level as usize];
+        let (tw, th, _, _) = pyramid.levels[max_level as usize];
         let mut stack: Vec<Node> = Vec::new();
         for j in 0..th {
             for i in 0..tw {
@@ -291,7 +304,12 @@ impl<'a> Leaves<'a> {
                 });
                 while let Some(n) = stack.pop() {
                     let (bi, bj) = n.origin();
-                    if bi >= grid.width || bj >= grid.height {
+                    // Nothing to mesh below a node with no free block (wide blocked or
+                    // unknown areas are skipped whole, not visited block by block).
+                    if bi >= grid.width
+                        || bj >= grid.height
+                        || !pyramid.any_free(n.k, n.i as usize, n.j as usize)
+                    {
                         continue;
                     }
                     if n.k == 0 {
