@@ -95,6 +95,9 @@ impl Meshed {
         // the one opposite its shortest side); the full quality report (Delaunay checks,
         // boundary loops) is made when a report asks for it.
         let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
+        // (|cross|, dot) of the smallest angle so far with a positive dot: tan θ = |cross| / dot
+        // orders the angles below 90° without an arctangent per triangle.
+        let mut best: Option<(f64, f64)> = None;
         for t in mesh.triangles() {
             let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
             let sides = [(b, c, a), (c, a, b), (a, b, c)];
@@ -109,7 +112,16 @@ impl Meshed {
             let (u, v) = (p - apex, q - apex);
             let cross = u.x * v.y - u.y * v.x;
             max_area = max_area.max(0.5 * cross.abs());
-            min_angle = min_angle.min(cross.abs().atan2(u.dot(&v)));
+            let (sine, cosine) = (cross.abs(), u.dot(&v));
+            if cosine <= 0.0 || best.is_none_or(|(bs, bc)| sine * bc <= bs * cosine) {
+                let angle = sine.atan2(cosine);
+                if angle < min_angle {
+                    min_angle = angle;
+                    if cosine > 0.0 {
+                        best = Some((sine, cosine));
+                    }
+                }
+            }
         }
         let report = MeshReport {
             refinement_complete: true,
