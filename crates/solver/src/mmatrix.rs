@@ -73,6 +73,10 @@ impl MMatrix {
                 });
             }
         }
+        // Columns in increasing order meet the entries of column i above its diagonal in
+        // increasing row order too: each entry below the diagonal finds its mirror at column
+        // i's cursor, without a search.
+        let mut mirror: Vec<usize> = (0..n).map(|i| offdiag.col_ptr()[i]).collect();
         for j in 0..n {
             let (rows, vals) = offdiag.column(j);
             for (&i, &v) in rows.iter().zip(vals) {
@@ -82,15 +86,19 @@ impl MMatrix {
                         issue: StructureIssue::DiagonalStored,
                     });
                 }
-                let (mrows, mvals) = offdiag.column(i);
+                if i < j {
+                    continue;
+                }
                 // The pattern is symmetric (checked by SymmetricCsc), so the mirror exists.
-                let k = mrows
-                    .binary_search(&j)
-                    .map_err(|_| SolverError::InvalidStructure {
+                let k = mirror[i];
+                if k >= offdiag.col_ptr()[i + 1] || offdiag.row_idx()[k] != j {
+                    return Err(SolverError::InvalidStructure {
                         column: j,
                         issue: StructureIssue::MissingMirror { row: i },
-                    })?;
-                if mvals[k] != v {
+                    });
+                }
+                mirror[i] += 1;
+                if offdiag.values()[k] != v {
                     return Err(SolverError::Asymmetric { row: i, column: j });
                 }
             }
