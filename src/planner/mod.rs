@@ -132,26 +132,25 @@ pub(crate) struct VertexGoals {
     pub(crate) report: Option<harmonic_fem::GoalReport>,
 }
 
-/// How a solve report names the method in `potential.solved_by`.
-fn solved_by(report: &SolveReport) -> &'static str {
-    match (report.method, report.extended, report.flat_but_sound) {
-        (SolveMethod::Cholesky, _, true) => "cholesky (flat, checked: no interior extremum)",
-        (SolveMethod::Cholesky, _, false) => "cholesky",
-        (_, true, _) => "accurate (extended exponent)",
-        _ => "accurate",
-    }
-}
-
-/// [`solved_by`] for a direct solve of the finest level after the multigrid ψ failed its
-/// check ([`MultilevelSystem::checked_potential`]).
-fn solved_by_after_multigrid(report: &SolveReport) -> &'static str {
-    match (report.method, report.extended, report.flat_but_sound) {
-        (SolveMethod::Cholesky, _, true) => {
-            "cholesky (flat, checked; the multigrid ψ failed its check)"
-        }
-        (SolveMethod::Cholesky, _, false) => "cholesky (the multigrid ψ failed its check)",
-        (_, true, _) => "accurate (extended exponent; the multigrid ψ failed its check)",
-        _ => "accurate (the multigrid ψ failed its check)",
+/// How a solve report names the method in `potential.solved_by`; `after_multigrid` for a
+/// direct solve of the finest level after the multigrid ψ failed its check
+/// ([`MultilevelSystem::checked_potential`]).
+fn solved_by(report: &SolveReport, after_multigrid: bool) -> &'static str {
+    use SolveMethod::Cholesky;
+    match (
+        report.method,
+        report.extended,
+        report.flat_but_sound,
+        after_multigrid,
+    ) {
+        (Cholesky, _, true, false) => "cholesky (flat, checked: no interior extremum)",
+        (Cholesky, _, false, false) => "cholesky",
+        (_, true, _, false) => "accurate (extended exponent)",
+        (_, false, _, false) => "accurate",
+        (Cholesky, _, true, true) => "cholesky (flat, checked; the multigrid ψ failed its check)",
+        (Cholesky, _, false, true) => "cholesky (the multigrid ψ failed its check)",
+        (_, true, _, true) => "accurate (extended exponent; the multigrid ψ failed its check)",
+        (_, false, _, true) => "accurate (the multigrid ψ failed its check)",
     }
 }
 
@@ -376,7 +375,7 @@ impl Planner {
                 levels.checked_potential(MULTIGRID_REL_TOL, options.parallelism)?;
             let by = match how {
                 MultilevelSolve::Multigrid(_) => "multigrid (checked: no interior extremum)",
-                MultilevelSolve::Direct { report, .. } => solved_by_after_multigrid(&report),
+                MultilevelSolve::Direct { report, .. } => solved_by(&report, true),
             };
             (potential, assemble_ms, t, by)
         } else if let Some((k, d, n)) = blend {
@@ -411,7 +410,7 @@ impl Planner {
                 options.parallelism,
             )?;
             let (potential, report) = solver.potential_with_report(Arc::clone(&mesh), &system)?;
-            (potential, assemble_ms, t, solved_by(&report))
+            (potential, assemble_ms, t, solved_by(&report, false))
         };
         let solved = Solved {
             by: solved_by,

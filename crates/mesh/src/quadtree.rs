@@ -207,7 +207,7 @@ impl Pyramid {
 
     fn any_free(&self, k: u8, i: usize, j: usize) -> bool {
         let (w, h, all, any) = &self.levels[k as usize];
-        let e = if k == 0 { all } else { any };
+        let e = if any.is_empty() { all } else { any };
         i < *w && j < *h && e[j * w + i]
     }
 }

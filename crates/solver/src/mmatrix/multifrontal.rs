@@ -1,9 +1,10 @@
 //! The numeric phase of the accurate LDLᵀ ([`super::AccurateLdlt`], and [`crate::WideLdlt`]
 //! in extended-exponent numbers): multifrontal, on dense fronts, subtrees on the thread pool.
 //!
-//! The columns of `L` are grouped into fundamental supernodes (a chain of columns whose
-//! patterns nest exactly: column `j + 1` is `j`'s parent and holds all of `j`'s rows but
-//! itself). A supernode with columns `S` and rows below `R` owns a dense *front* over `S ∪ R`
+//! The columns of `L` are grouped into relaxed supernodes (chains of columns, each the next
+//! one's child in the elimination tree, whose patterns nest exactly or nearly: a front may
+//! hold a few explicit zeros). A supernode with columns `S` and the rows `R` below its last
+//! column owns a dense *front* over `S ∪ R`
 //! (column-major, lower triangle): its own magnitudes `w_ij` and excesses `s_j` are scattered
 //! in, its children's *update matrices* (the Schur complement magnitudes and excess increments
 //! they leave on their rows `R_c ⊆ S ∪ R`) are added in, the columns of `S` are eliminated, and
@@ -23,7 +24,7 @@
 //! the same bit for bit at any thread count.
 
 use std::collections::BinaryHeap;
-use std::ops::{Add, AddAssign, Div, Mul};
+use std::ops::{Add, AddAssign, Div, Mul, Range};
 
 use rayon::prelude::*;
 
@@ -93,8 +94,6 @@ struct Tree {
     post: Vec<usize>,
     /// `post[at[s]] = s`.
     at: Vec<usize>,
-    /// Number of children of each supernode.
-    children: Vec<usize>,
     /// Number of supernodes in each supernode's subtree (itself included).
     size: Vec<usize>,
     /// Multiply-adds of each supernode's subtree (about).
@@ -211,7 +210,6 @@ impl Tree {
             first,
             post,
             at,
-            children,
             size,
             work,
             child_ptr,
@@ -220,8 +218,19 @@ impl Tree {
         }
     }
 
+    /// Supernode `s`'s columns, and the positions of its entries of `L` in the pattern.
+    fn columns(&self, s: usize, col_ptr: &[usize]) -> (Range<usize>, Range<usize>) {
+        let (f, e) = (self.first[s], self.first[s + 1]);
+        (f..e, col_ptr[f]..col_ptr[e])
+    }
+
+    /// The number of children of supernode `s`.
+    fn children(&self, s: usize) -> usize {
+        self.child_ptr[s + 1] - self.child_ptr[s]
+    }
+
     /// The postorder positions of `s`'s subtree.
-    fn range(&self, s: usize) -> std::ops::Range<usize> {
+    fn range(&self, s: usize) -> Range<usize> {
         self.at[s] + 1 - self.size[s]..self.at[s] + 1
     }
 
@@ -229,10 +238,8 @@ impl Tree {
     /// the largest subtree is split (its root left to the caller) until every subtree is at
     /// most a quarter of a thread's share of the work.
     fn tasks(&self, threads: usize) -> Vec<usize> {
-        let total: f64 = (0..self.post.len())
-            .filter(|&s| self.is_root(s))
-            .map(|s| self.work[s])
-            .sum();
+        let roots = (0..self.post.len()).filter(|&s| self.parent[s] == NONE);
+        let total: f64 = roots.clone().map(|s| self.work[s]).sum();
         if threads < 2 || total < PARALLEL_TREE_WORK {
             return Vec::new();
         }
@@ -250,10 +257,7 @@ impl Tree {
                 self.0.total_cmp(&other.0).then(other.1.cmp(&self.1))
             }
         }
-        let mut heap: BinaryHeap<ByWork> = (0..self.post.len())
-            .filter(|&s| self.is_root(s))
-            .map(|s| ByWork(self.work[s], s))
-            .collect();
+        let mut heap: BinaryHeap<ByWork> = roots.map(|s| ByWork(self.work[s], s)).collect();
         let mut tasks = Vec::new();
         while let Some(ByWork(work, s)) = heap.pop() {
             let kids = &self.child[self.child_ptr[s]..self.child_ptr[s + 1]];
@@ -265,10 +269,6 @@ impl Tree {
         }
         tasks.sort_by_key(|&s| self.at[s]);
         tasks
-    }
-
-    fn is_root(&self, s: usize) -> bool {
-        self.parent[s] == NONE
     }
 }
 
@@ -366,34 +366,27 @@ pub(crate) fn numeric<T: Magnitude>(
         .map_init(
             || Scratch::new(n),
             |scratch, &root| {
-                let range = tree.range(root);
-                let (l_len, d_len) = range.clone().fold((0, 0), |(a, b), p| {
-                    let s = tree.post[p];
-                    let (f, e) = (tree.first[s], tree.first[s + 1]);
-                    (a + col_ptr[e] - col_ptr[f], b + e - f)
-                });
                 let mut out = Factored {
-                    l: vec![T::ZERO; l_len],
-                    d: vec![T::ZERO; d_len],
+                    l: Vec::new(),
+                    d: Vec::new(),
                     update: None,
                 };
                 let mut stack = Updates::new();
-                let (mut lo, mut dl) = (0, 0);
-                for p in range {
+                for p in tree.range(root) {
                     let s = tree.post[p];
-                    let (f, e) = (tree.first[s], tree.first[s + 1]);
-                    let ll = col_ptr[e] - col_ptr[f];
+                    let (cols, entries) = tree.columns(s, col_ptr);
+                    let (lo, dl) = (out.l.len(), out.d.len());
+                    out.l.resize(lo + entries.len(), T::ZERO);
+                    out.d.resize(dl + cols.len(), T::ZERO);
                     front(
                         &input,
                         &tree,
                         s,
                         &mut stack,
                         scratch,
-                        &mut out.l[lo..lo + ll],
-                        &mut out.d[dl..dl + e - f],
+                        &mut out.l[lo..],
+                        &mut out.d[dl..],
                     )?;
-                    lo += ll;
-                    dl += e - f;
                 }
                 out.update = stack.pop();
                 Ok(out)
@@ -414,13 +407,11 @@ pub(crate) fn numeric<T: Magnitude>(
             let range = tree.range(tasks[task_at[p]]);
             let (mut lo, mut dl) = (0, 0);
             for q in range.clone() {
-                let s = tree.post[q];
-                let (f, e) = (tree.first[s], tree.first[s + 1]);
-                let (a, b) = (col_ptr[f], col_ptr[e]);
-                l[a..b].copy_from_slice(&done.l[lo..lo + b - a]);
-                d[f..e].copy_from_slice(&done.d[dl..dl + e - f]);
-                lo += b - a;
-                dl += e - f;
+                let (cols, entries) = tree.columns(tree.post[q], col_ptr);
+                l[entries.clone()].copy_from_slice(&done.l[lo..lo + entries.len()]);
+                d[cols.clone()].copy_from_slice(&done.d[dl..dl + cols.len()]);
+                lo += entries.len();
+                dl += cols.len();
             }
             if let Some((s, u)) = &done.update {
                 stack.push(*s, u);
@@ -429,15 +420,15 @@ pub(crate) fn numeric<T: Magnitude>(
             continue;
         }
         let s = tree.post[p];
-        let (f, e) = (tree.first[s], tree.first[s + 1]);
+        let (cols, entries) = tree.columns(s, col_ptr);
         front(
             &input,
             &tree,
             s,
             &mut stack,
             &mut scratch,
-            &mut l[col_ptr[f]..col_ptr[e]],
-            &mut d[f..e],
+            &mut l[entries],
+            &mut d[cols],
         )?;
         p += 1;
     }
@@ -489,7 +480,7 @@ fn front<T: Magnitude>(
             }
         }
     }
-    let kids = tree.children[s];
+    let kids = tree.children(s);
     let bottom = stack.tops.len() - kids;
     for &(c, start) in stack.tops[bottom..].iter().rev() {
         let u = &stack.data[start..];
@@ -632,6 +623,41 @@ fn receive<T: Magnitude>(
         let w = ljk * pivot[k];
         for (x, &y) in col[j + 1..].iter_mut().zip(&lk[j + 1..]) {
             *x += y * w;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Tree;
+    use crate::gallery::triangulated_grid_laplacian;
+    use crate::mmatrix::symbolic;
+    use crate::ordering::{Ordering, permutation};
+
+    /// The thread-count test in `tests/accurate.rs` compares factors; this checks that a
+    /// system of its size is really split, into disjoint subtrees.
+    #[test]
+    fn a_large_tree_is_split_into_disjoint_subtrees() {
+        let (a, coords) = triangulated_grid_laplacian(200, 150);
+        let perm = permutation(&a, &Ordering::NestedDissection { coords }).unwrap();
+        let mut inv = vec![0; perm.len()];
+        for (new, &old) in perm.iter().enumerate() {
+            inv[old] = new;
+        }
+        let (col_ptr, row_idx) = symbolic(&a, &perm, &inv);
+        let tree = Tree::new(&col_ptr, &row_idx);
+        assert!(tree.tasks(1).is_empty());
+        for threads in [2, 4] {
+            let tasks = tree.tasks(threads);
+            assert!(
+                tasks.len() >= threads,
+                "{threads} threads: {} tasks",
+                tasks.len()
+            );
+            let ranges: Vec<_> = tasks.iter().map(|&t| tree.range(t)).collect();
+            for w in ranges.windows(2) {
+                assert!(w[0].end <= w[1].start, "{threads} threads: {ranges:?}");
+            }
         }
     }
 }
