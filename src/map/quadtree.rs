@@ -141,15 +141,7 @@ impl OccupancyMap {
             file: self.source.clone(),
             source: e.into(),
         };
-        // Each row of cells twice, each cell twice along its row.
-        let mut halves: Vec<Block> = Vec::with_capacity(4 * w * h);
-        for row in labels.chunks_exact(w) {
-            let start = halves.len();
-            halves.extend(row.iter().flat_map(|&b| [b, b]));
-            halves.extend_from_within(start..);
-        }
-        drop(labels);
-        let grid = BlockGrid::new(2 * w, 2 * h, halves).map_err(mesh_error)?;
+        let grid = BlockGrid::halved(w, h, labels).map_err(mesh_error)?;
         let quadtree = QuadtreeOptions {
             max_level,
             interior_vertices: true,

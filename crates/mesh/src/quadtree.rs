@@ -26,8 +26,10 @@
 //! block all along (a straight wall lets open floor's large leaves reach it).
 //!
 //! Building it is a few passes over the grid (an eligibility pyramid, the leaves, the
-//! balance, the triangles), linear in the number of blocks; there is no point location and
-//! no refinement loop.
+//! balance) and one over the leaves (the triangles, their vertices numbered in a window of
+//! rows), linear in the number of blocks; there is no point location and no refinement
+//! loop. An occupancy grid meshed at half a cell is held as its cells
+//! ([`BlockGrid::halved`]), never written out at four times the size.
 //!
 //! ```
 //! use harmonic_mesh::quadtree::{Block, BlockGrid, QuadtreeOptions, quadtree_mesh};
@@ -67,7 +69,9 @@ pub enum Block {
 pub struct BlockGrid {
     width: usize,
     height: usize,
+    /// The blocks as given: each stands for 2^`shift` × 2^`shift` blocks of the grid.
     blocks: Vec<Block>,
+    shift: u32,
 }
 
 /// The most blocks a grid may have (2^30, about a billion: the vertex numbers stay in `u32`).
@@ -92,7 +96,29 @@ impl BlockGrid {
             width,
             height,
             blocks,
+            shift: 0,
         })
+    }
+
+    /// A grid of `2 width × 2 height` blocks, each of the `width × height` given (row by
+    /// row from the bottom) standing for 2 × 2 of them: an occupancy grid's cells as half
+    /// cells, without a copy four times the size.
+    pub fn halved(width: usize, height: usize, cells: Vec<Block>) -> Result<BlockGrid, MeshError> {
+        let given = cells.len();
+        let size_error = || MeshError::BlockGridSize {
+            width: 2 * width,
+            height: 2 * height,
+            blocks: 4 * given,
+            max: MAX_BLOCKS,
+        };
+        if cells.len() > MAX_BLOCKS / 4 {
+            return Err(size_error());
+        }
+        let mut grid = BlockGrid::new(width, height, cells).map_err(|_| size_error())?;
+        grid.width *= 2;
+        grid.height *= 2;
+        grid.shift = 1;
+        Ok(grid)
     }
 
     /// Blocks per row.
@@ -107,7 +133,7 @@ impl BlockGrid {
 
     /// The block in column `i`, row `j`.
     pub fn block(&self, i: usize, j: usize) -> Block {
-        self.blocks[j * self.width + i]
+        self.blocks[(j >> self.shift) * (self.width >> self.shift) + (i >> self.shift)]
     }
 
     /// Whether the lattice point `(x, y)` touches only free blocks (so a vertex there is
@@ -122,7 +148,7 @@ impl BlockGrid {
     /// What lies outside a side: the block there, or `Blocked` past the grid's edge.
     fn outside(&self, i: isize, j: isize) -> Block {
         if i >= 0 && j >= 0 && (i as usize) < self.width && (j as usize) < self.height {
-            self.blocks[j as usize * self.width + i as usize]
+            self.block(i as usize, j as usize)
         } else {
             Block::Blocked
         }
@@ -142,7 +168,7 @@ pub struct QuadtreeOptions {
     /// boundary, and it does not touch a goal block. A leaf cut in two whose only such
     /// corner is one is cut through that corner.
     ///
-    /// With blocks of half a cell (every cell of a grid given as 2 × 2 blocks) every free
+    /// With blocks of half a cell (every cell of a grid as 2 × 2 blocks: [`BlockGrid::halved`]) every free
     /// cell is then either a leaf of one or more cells with such corners, or split into its
     /// four half cells around a centre vertex with midpoints on its sides: the vertices off
     /// the boundary are joined, from any free cell to any 4-neighbouring free cell, by edges
@@ -164,25 +190,32 @@ impl Default for QuadtreeOptions {
 /// The leaf level of a block that is not free.
 const NOT_FREE: u8 = u8::MAX;
 
+/// One level of a [`Pyramid`]: `(width, height, all free, any free)`.
+type Level = (usize, usize, Vec<bool>, Vec<bool>);
+
 /// Per level, whether each 2^k node's blocks are all free, and whether any of them is.
 struct Pyramid {
-    /// `(width, height, all free, any free)` of each level, level 0 (the blocks) first; a
-    /// block is all or nothing, so level 0 keeps only the first.
-    levels: Vec<(usize, usize, Vec<bool>, Vec<bool>)>,
+    /// The level of the blocks as the grid holds them (1 for a [`BlockGrid::halved`] grid);
+    /// a node below it lies inside one of them.
+    first: u8,
+    /// `(width, height, all free, any free)` of each level from `first` on; a block as
+    /// given is all or nothing, so level `first` keeps only the first.
+    levels: Vec<Level>,
 }
 
 impl Pyramid {
     fn new(grid: &BlockGrid, max_level: u8) -> Pyramid {
+        let first = grid.shift as u8;
         let free: Vec<bool> = grid.blocks.iter().map(|&b| b == Block::Free).collect();
-        let mut levels = vec![(grid.width, grid.height, free, Vec::new())];
-        for _ in 0..max_level {
-            let (pw, ph, all, any) = levels.last().expect("level 0 is there");
+        let mut levels = vec![(grid.width >> first, grid.height >> first, free, Vec::new())];
+        for _ in first..max_level.max(first) {
+            let (pw, ph, all, any) = levels.last().expect("the first level is there");
             let (pw, ph) = (*pw, *ph);
             let any = if any.is_empty() { all } else { any };
             let (nw, nh) = (pw.div_ceil(2), ph.div_ceil(2));
-            let at = |e: &[bool], i: usize, j: usize| i < pw && j < ph && e[j * pw + i];
             let mut next_all = vec![false; nw * nh];
             let mut next_any = vec![false; nw * nh];
+            let at = |e: &[bool], i: usize, j: usize| i < pw && j < ph && e[j * pw + i];
             for j in 0..nh {
                 for i in 0..nw {
                     let kids = [
@@ -197,16 +230,28 @@ impl Pyramid {
             }
             levels.push((nw, nh, next_all, next_any));
         }
-        Pyramid { levels }
+        Pyramid { first, levels }
+    }
+
+    /// Level `k`'s `(width, height, all free, any free)` and `(i, j)` moved up to the
+    /// first level when `k` is below it.
+    fn level(&self, k: u8, i: usize, j: usize) -> (&Level, usize, usize) {
+        match k.checked_sub(self.first) {
+            Some(up) => (&self.levels[up as usize], i, j),
+            None => {
+                let down = self.first - k;
+                (&self.levels[0], i >> down, j >> down)
+            }
+        }
     }
 
     fn all_free(&self, k: u8, i: usize, j: usize) -> bool {
-        let (w, h, e, _) = &self.levels[k as usize];
+        let ((w, h, e, _), i, j) = self.level(k, i, j);
         i < *w && j < *h && e[j * w + i]
     }
 
     fn any_free(&self, k: u8, i: usize, j: usize) -> bool {
-        let (w, h, all, any) = &self.levels[k as usize];
+        let ((w, h, all, any), i, j) = self.level(k, i, j);
         let e = if any.is_empty() { all } else { any };
         i < *w && j < *h && e[j * w + i]
     }
@@ -278,6 +323,9 @@ fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node, interior_vertices: boo
 struct Leaves<'a> {
     grid: &'a BlockGrid,
     level: Vec<u8>,
+    /// Every node made a leaf so far, split ones included ([`Leaves::into_leaves`] keeps
+    /// the others).
+    made: Vec<Node>,
 }
 
 impl<'a> Leaves<'a> {
@@ -292,8 +340,12 @@ impl<'a> Leaves<'a> {
         let mut leaves = Leaves {
             grid,
             level: vec![NOT_FREE; grid.width * grid.height],
+            made: Vec::new(),
         };
-        let (tw, th, _, _) = pyramid.levels[max_level as usize];
+        let (tw, th) = (
+            grid.width.div_ceil(1 << max_level),
+            grid.height.div_ceil(1 << max_level),
+        );
         let mut stack: Vec<Node> = Vec::new();
         for j in 0..th {
             for i in 0..tw {
@@ -313,12 +365,14 @@ impl<'a> Leaves<'a> {
                         continue;
                     }
                     if n.k == 0 {
-                        if grid.blocks[bj * grid.width + bi] == Block::Free {
+                        if grid.block(bi, bj) == Block::Free {
                             leaves.level[bj * grid.width + bi] = 0;
+                            leaves.made.push(n);
                             todo.push(n);
                         }
                     } else if eligible(grid, pyramid, n, opts.interior_vertices) {
                         leaves.fill(n, n.k);
+                        leaves.made.push(n);
                         todo.push(n);
                     } else {
                         stack.extend(n.children());
@@ -344,6 +398,22 @@ impl<'a> Leaves<'a> {
         } else {
             NOT_FREE
         }
+    }
+
+    /// The leaves (the nodes made leaves and never split: a split node's first block
+    /// belongs to a finer leaf since), ordered by their first block, row by row.
+    fn leaves(&mut self) -> Vec<Node> {
+        let w = self.grid.width;
+        let mut made = std::mem::take(&mut self.made);
+        made.retain(|n| {
+            let (x, y) = n.origin();
+            self.level[y * w + x] == n.k
+        });
+        made.sort_unstable_by_key(|n| {
+            let (x, y) = n.origin();
+            (y, x)
+        });
+        made
     }
 
     /// Splits leaves until neighbours across a side differ by at most one level.
@@ -374,6 +444,7 @@ impl<'a> Leaves<'a> {
                         };
                         for c in big.children() {
                             self.fill(c, m - 1);
+                            self.made.push(c);
                             todo.push(c);
                         }
                     }
@@ -411,22 +482,52 @@ impl Node {
     }
 }
 
-/// Vertices on the block-corner lattice, numbered as first used.
+/// Vertices on the block-corner lattice, numbered as first used, over a window of rows:
+/// the leaves come row by row of their first block and a leaf of side s spans s + 1 rows
+/// of corners, so a row below the current leaves' is never asked for again and only the
+/// `rows` rows from there (the largest side + 1) need numbers. `id` holds the number plus
+/// one (0 where there is none yet), row `y` in slot row `y % rows`.
 struct Lattice<F> {
     width: usize,
+    rows: usize,
+    /// The lowest row still in the window.
+    low: usize,
     id: Vec<u32>,
     points: Vec<Point>,
     to_world: F,
 }
 
 impl<F: Fn(f64, f64) -> Point> Lattice<F> {
-    fn vertex(&mut self, x: usize, y: usize) -> u32 {
-        let slot = &mut self.id[y * (self.width + 1) + x];
-        if *slot == u32::MAX {
-            *slot = self.points.len() as u32;
-            self.points.push((self.to_world)(x as f64, y as f64));
+    fn new(width: usize, height: usize, max_side: usize, to_world: F) -> Self {
+        let rows = (max_side + 1).min(height + 1);
+        Lattice {
+            width,
+            rows,
+            low: 0,
+            id: vec![0; rows * (width + 1)],
+            points: Vec::new(),
+            to_world,
         }
-        *slot
+    }
+
+    /// Moves the window up to start at row `y` (rows below it are done with).
+    fn advance(&mut self, y: usize) {
+        let stride = self.width + 1;
+        for r in self.low..y.min(self.low + self.rows) {
+            let slot = (r % self.rows) * stride;
+            self.id[slot..slot + stride].fill(0);
+        }
+        self.low = self.low.max(y);
+    }
+
+    fn vertex(&mut self, x: usize, y: usize) -> u32 {
+        debug_assert!(y >= self.low && y < self.low + self.rows);
+        let slot = &mut self.id[(y % self.rows) * (self.width + 1) + x];
+        if *slot == 0 {
+            self.points.push((self.to_world)(x as f64, y as f64));
+            *slot = self.points.len() as u32;
+        }
+        *slot - 1
     }
 }
 
@@ -458,29 +559,18 @@ pub fn quadtree_mesh(
     leaves.balance(&mut todo);
 
     let (w, h) = (grid.width, grid.height);
-    let mut lattice = Lattice {
-        width: w,
-        id: vec![u32::MAX; (w + 1) * (h + 1)],
-        points: Vec::new(),
-        to_world,
-    };
+    let mut lattice = Lattice::new(w, h, 1 << opts.max_level, to_world);
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut boundary: Vec<(u32, u32, BoundaryTag)> = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            let k = leaves.level[y * w + x];
-            if k == NOT_FREE || x & ((1 << k) - 1) != 0 || y & ((1 << k) - 1) != 0 {
-                continue;
-            }
+    for leaf in leaves.leaves() {
+        {
+            let ((x, y), k) = (leaf.origin(), leaf.k);
+            lattice.advance(y);
             let s = 1usize << k;
             let corners = [(x, y), (x + s, y), (x + s, y + s), (x, y + s)];
             let c = corners.map(|(a, b)| lattice.vertex(a, b));
             // A side facing the boundary faces one kind of block all along (eligibility).
-            let node = Node {
-                k,
-                i: (x >> k) as u32,
-                j: (y >> k) as u32,
-            };
+            let node = leaf;
             for (q, mut strip) in strips(node).into_iter().enumerate() {
                 let (ox, oy) = strip.next().expect("a strip has at least one block");
                 let tag = match grid.outside(ox, oy) {
@@ -537,7 +627,8 @@ pub fn quadtree_mesh(
             }
         }
     }
-    Ok(Mesh::from_parts(lattice.points, triangles, &boundary)?)
+    let m = Mesh::from_parts(lattice.points, triangles, &boundary)?;
+    Ok(m)
 }
 
 #[cfg(test)]
@@ -776,5 +867,48 @@ mod tests {
             ..Default::default()
         };
         assert!(quadtree_mesh(&grid, &opts, Point::new).is_err());
+    }
+
+    #[test]
+    fn a_halved_grid_meshes_as_its_blocks_written_out() {
+        // Seeded cells of every kind, at every largest leaf: the halved grid (one block per
+        // cell) and the same grid written out block by block give the same mesh, vertex
+        // for vertex and triangle for triangle.
+        let (w, h) = (37, 23);
+        let mut seed = 0x9e37_79b9_u64;
+        let mut cells = vec![Block::Free; w * h];
+        for c in cells.iter_mut() {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            if (seed >> 33).is_multiple_of(5) {
+                *c = Block::Blocked;
+            }
+        }
+        for k in [w + 5, 7 * w + 20, 18 * w + 30] {
+            cells[k] = Block::Goal;
+        }
+        let mut blocks = Vec::with_capacity(4 * w * h);
+        for row in cells.chunks_exact(w) {
+            let start = blocks.len();
+            blocks.extend(row.iter().flat_map(|&b| [b, b]));
+            blocks.extend_from_within(start..);
+        }
+        let written = BlockGrid::new(2 * w, 2 * h, blocks).expect("sizes match");
+        let halved = BlockGrid::halved(w, h, cells).expect("sizes match");
+        for max_level in 0..=4 {
+            for interior_vertices in [false, true] {
+                let opts = QuadtreeOptions {
+                    max_level,
+                    interior_vertices,
+                };
+                let a = quadtree_mesh(&written, &opts, Point::new).expect("meshes");
+                let b = quadtree_mesh(&halved, &opts, Point::new).expect("meshes");
+                assert_eq!(a.vertices(), b.vertices(), "max_level {max_level}");
+                assert_eq!(a.triangles(), b.triangles(), "max_level {max_level}");
+                assert_eq!(a.boundary_edges(), b.boundary_edges());
+            }
+        }
+        assert!(BlockGrid::halved(3, 3, vec![Block::Free; 8]).is_err());
     }
 }
