@@ -218,16 +218,31 @@ impl OccupancyMap {
         if width == 0 || height == 0 {
             return Err(MapError::EmptyMap { file: image_file });
         }
-        let rgb = img.to_rgb8();
-        let mut cells = vec![Cell::Unknown; width * height];
-        let mut costs = vec![0u8; width * height];
-        for (x, y, p) in rgb.enumerate_pixels() {
-            let avg = (f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2])) / 3.0;
-            let row = height - 1 - y as usize;
-            (
-                cells[row * width + x as usize],
-                costs[row * width + x as usize],
-            ) = classify(avg, header);
+        // The rule depends on a pixel only through the sum of its channels (0..=765): one
+        // table, then a look-up per pixel; a grey image (most maps) is read as it is.
+        let rule: Vec<(Cell, u8)> = (0..=765u16)
+            .map(|sum| classify(f64::from(sum) / 3.0, header))
+            .collect();
+        let sums: Vec<u16> = match &img {
+            image::DynamicImage::ImageLuma8(grey) => {
+                grey.as_raw().iter().map(|&v| 3 * u16::from(v)).collect()
+            }
+            _ => img
+                .to_rgb8()
+                .as_raw()
+                .chunks_exact(3)
+                .map(|p| u16::from(p[0]) + u16::from(p[1]) + u16::from(p[2]))
+                .collect(),
+        };
+        let mut cells = Vec::with_capacity(width * height);
+        let mut costs = Vec::with_capacity(width * height);
+        // Image rows run from the top; the map's row 0 is the bottom one.
+        for row in sums.chunks_exact(width).rev() {
+            for &sum in row {
+                let (cell, cost) = rule[usize::from(sum)];
+                cells.push(cell);
+                costs.push(cost);
+            }
         }
         let map = OccupancyMap::from_cells(width, height, header.resolution, header.origin, cells)?;
         if costs.iter().any(|&c| c > 0) {

@@ -315,13 +315,9 @@ pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<
     for j in 0..n {
         let start = row_idx.len();
         mark[j] = j;
-        for &old_i in w.column(perm[j]).0 {
-            let i = inv[old_i];
-            if i > j && mark[i] != j {
-                mark[i] = j;
-                row_idx.push(i as u32);
-            }
-        }
+        // The children's patterns first: with one child (a chain, most columns) and no
+        // entry of its own beyond them the column comes out sorted, which the sort below
+        // sees in one pass.
         let mut c = first_child[j];
         while c != NONE {
             for q in col_ptr[c]..col_ptr[c + 1] {
@@ -332,6 +328,13 @@ pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<
                 }
             }
             c = sibling[c];
+        }
+        for &old_i in w.column(perm[j]).0 {
+            let i = inv[old_i];
+            if i > j && mark[i] != j {
+                mark[i] = j;
+                row_idx.push(i as u32);
+            }
         }
         row_idx[start..].sort_unstable();
         col_ptr.push(row_idx.len());
