@@ -90,39 +90,13 @@ impl Meshed {
     /// ([`Domain::of_mesh`]).
     pub(crate) fn of_mesh(mesh: Mesh) -> Result<Meshed, PlanError> {
         let t = Instant::now();
-        let domain = Domain::of_mesh(&mesh)?;
-        // The largest area and smallest angle in one pass (each triangle's smallest angle is
-        // the one opposite its shortest side); the full quality report (Delaunay checks,
-        // boundary loops) is made when a report asks for it.
-        let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
-        // (|cross|, dot) of the smallest angle so far with a positive dot: tan θ = |cross| / dot
-        // orders the angles below 90° without an arctangent per triangle.
-        let mut best: Option<(f64, f64)> = None;
-        for t in mesh.triangles() {
-            let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
-            let sides = [(b, c, a), (c, a, b), (a, b, c)];
-            let (p, q, apex) = sides
-                .into_iter()
-                .min_by(|x, y| {
-                    (x.1 - x.0)
-                        .norm_squared()
-                        .total_cmp(&(y.1 - y.0).norm_squared())
-                })
-                .expect("three sides");
-            let (u, v) = (p - apex, q - apex);
-            let cross = u.x * v.y - u.y * v.x;
-            max_area = max_area.max(0.5 * cross.abs());
-            let (sine, cosine) = (cross.abs(), u.dot(&v));
-            if cosine <= 0.0 || best.is_none_or(|(bs, bc)| sine * bc <= bs * cosine) {
-                let angle = sine.atan2(cosine);
-                if angle < min_angle {
-                    min_angle = angle;
-                    if cosine > 0.0 {
-                        best = Some((sine, cosine));
-                    }
-                }
-            }
-        }
+        // The domain (boundary loops and their index) and the one pass over the triangles
+        // below read the mesh only: side by side on the pool.
+        let (domain, (max_area, min_angle)) = rayon::join(
+            || Domain::of_mesh(&mesh),
+            || largest_area_smallest_angle(&mesh),
+        );
+        let domain = domain?;
         let report = MeshReport {
             refinement_complete: true,
             seam: None,
@@ -135,8 +109,45 @@ impl Meshed {
             bridges_remaining: 0,
             seam_refinements: Default::default(),
         };
-        Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
+        let m = Meshed::of_parts(domain, mesh, report, millis(t));
+        Ok(m)
     }
+}
+
+/// The largest triangle area and the smallest angle (radians) of `mesh` in one pass (each
+/// triangle's smallest angle is the one opposite its shortest side); the full quality report
+/// (Delaunay checks, boundary loops) is made when a report asks for it.
+fn largest_area_smallest_angle(mesh: &Mesh) -> (f64, f64) {
+    let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
+    // (|cross|, dot) of the smallest angle so far with a positive dot: tan θ = |cross| / dot
+    // orders the angles below 90° without an arctangent per triangle.
+    let mut best: Option<(f64, f64)> = None;
+    for t in mesh.triangles() {
+        let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
+        let sides = [(b, c, a), (c, a, b), (a, b, c)];
+        let (p, q, apex) = sides
+            .into_iter()
+            .min_by(|x, y| {
+                (x.1 - x.0)
+                    .norm_squared()
+                    .total_cmp(&(y.1 - y.0).norm_squared())
+            })
+            .expect("three sides");
+        let (u, v) = (p - apex, q - apex);
+        let cross = u.x * v.y - u.y * v.x;
+        max_area = max_area.max(0.5 * cross.abs());
+        let (sine, cosine) = (cross.abs(), u.dot(&v));
+        if cosine <= 0.0 || best.is_none_or(|(bs, bc)| sine * bc <= bs * cosine) {
+            let angle = sine.atan2(cosine);
+            if angle < min_angle {
+                min_angle = angle;
+                if cosine > 0.0 {
+                    best = Some((sine, cosine));
+                }
+            }
+        }
+    }
+    (max_area, min_angle)
 }
 
 /// The uniform refinements [`PlannerOptions::multigrid`]'s automatic choice makes:

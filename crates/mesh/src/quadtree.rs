@@ -50,6 +50,8 @@
 //! # Ok::<(), harmonic_mesh::MeshError>(())
 //! ```
 
+use rayon::prelude::*;
+
 use crate::{BoundaryTag, Mesh, MeshError, Point};
 
 /// One block of a [`BlockGrid`].
@@ -330,6 +332,9 @@ struct Leaves<'a> {
 
 impl<'a> Leaves<'a> {
     /// The largest eligible nodes, top-down from `max_level`; every leaf is pushed on `todo`.
+    /// Each row of top-level nodes covers its own rows of blocks, so the rows are walked on
+    /// rayon's pool and their leaves joined in row order: the same leaves, in the same
+    /// order, at any thread count.
     fn new(
         grid: &'a BlockGrid,
         pyramid: &Pyramid,
@@ -337,50 +342,61 @@ impl<'a> Leaves<'a> {
         todo: &mut Vec<Node>,
     ) -> Self {
         let max_level = opts.max_level;
-        let mut leaves = Leaves {
-            grid,
-            level: vec![NOT_FREE; grid.width * grid.height],
-            made: Vec::new(),
-        };
-        let (tw, th) = (
-            grid.width.div_ceil(1 << max_level),
-            grid.height.div_ceil(1 << max_level),
-        );
-        let mut stack: Vec<Node> = Vec::new();
-        for j in 0..th {
-            for i in 0..tw {
-                stack.push(Node {
-                    k: max_level,
-                    i: i as u32,
-                    j: j as u32,
-                });
-                while let Some(n) = stack.pop() {
+        let w = grid.width;
+        let band = (1usize << max_level) * w;
+        let mut level = vec![NOT_FREE; w * grid.height];
+        let tw = w.div_ceil(1 << max_level);
+        let made: Vec<Vec<Node>> = level
+            .par_chunks_mut(band)
+            .enumerate()
+            .map(|(j, rows)| {
+                // `rows` holds the blocks of rows j·2^max_level onwards.
+                let first_row = j << max_level;
+                let mut fill = |n: Node| {
                     let (bi, bj) = n.origin();
-                    // Nothing to mesh below a node with no free block (wide blocked or
-                    // unknown areas are skipped whole, not visited block by block).
-                    if bi >= grid.width
-                        || bj >= grid.height
-                        || !pyramid.any_free(n.k, n.i as usize, n.j as usize)
-                    {
-                        continue;
+                    let s = 1usize << n.k;
+                    for y in bj..(bj + s).min(grid.height) {
+                        let at = (y - first_row) * w;
+                        rows[at + bi..at + (bi + s).min(w)].fill(n.k);
                     }
-                    if n.k == 0 {
-                        if grid.block(bi, bj) == Block::Free {
-                            leaves.level[bj * grid.width + bi] = 0;
-                            leaves.made.push(n);
-                            todo.push(n);
+                };
+                let mut made = Vec::new();
+                let mut stack: Vec<Node> = Vec::new();
+                for i in 0..tw {
+                    stack.push(Node {
+                        k: max_level,
+                        i: i as u32,
+                        j: j as u32,
+                    });
+                    while let Some(n) = stack.pop() {
+                        let (bi, bj) = n.origin();
+                        // Nothing to mesh below a node with no free block (wide blocked or
+                        // unknown areas are skipped whole, not visited block by block).
+                        if bi >= w
+                            || bj >= grid.height
+                            || !pyramid.any_free(n.k, n.i as usize, n.j as usize)
+                        {
+                            continue;
                         }
-                    } else if eligible(grid, pyramid, n, opts.interior_vertices) {
-                        leaves.fill(n, n.k);
-                        leaves.made.push(n);
-                        todo.push(n);
-                    } else {
-                        stack.extend(n.children());
+                        let leaf = if n.k == 0 {
+                            grid.block(bi, bj) == Block::Free
+                        } else {
+                            eligible(grid, pyramid, n, opts.interior_vertices)
+                        };
+                        if leaf {
+                            fill(n);
+                            made.push(n);
+                        } else if n.k > 0 {
+                            stack.extend(n.children());
+                        }
                     }
                 }
-            }
-        }
-        leaves
+                made
+            })
+            .collect();
+        let made = made.concat();
+        todo.extend_from_slice(&made);
+        Leaves { grid, level, made }
     }
 
     fn fill(&mut self, n: Node, k: u8) {

@@ -55,20 +55,36 @@ pub(crate) fn nested_dissection(
     }
     let nd = Dissector {
         a,
-        coords,
         stamp: (0..n).map(|_| AtomicU32::new(0)).collect(),
         next_stamp: AtomicU32::new(0),
         parallel_piece: parallelism.nd_piece(n),
     };
-    let mut all: Vec<usize> = (0..n).collect();
+    let mut all: Vec<Item> = coords
+        .iter()
+        .enumerate()
+        .map(|(v, &at)| Item {
+            at,
+            v,
+            touches: false,
+        })
+        .collect();
     let mut perm = vec![0; n];
     nd.dissect(&mut all, &mut perm);
     Ok(perm)
 }
 
+/// An unknown of a piece being dissected, its position beside it (the median split reads
+/// positions many times; kept here they are not fetched through the unknown's number).
+#[derive(Clone, Copy)]
+struct Item {
+    at: [f64; 2],
+    v: usize,
+    /// Whether it touches the other half of its piece's latest cut.
+    touches: bool,
+}
+
 struct Dissector<'a> {
     a: &'a SymmetricCsc,
-    coords: &'a [[f64; 2]],
     /// `stamp[v] == a piece's stamp` marks the half of that piece `v` is in. Pieces dissected
     /// at the same time hold disjoint vertices and draw distinct stamps, so a stamp read
     /// across a piece's border (relaxed: any value is fine there) never matches this piece's.
@@ -83,66 +99,71 @@ impl Dissector<'_> {
         self.stamp[v].load(Relaxed)
     }
 
+    /// Numbers `piece` into `perm` in increasing order of the unknowns (a piece too small
+    /// or too dense to cut).
+    fn number_as_they_come(piece: &mut [Item], perm: &mut [usize]) {
+        piece.sort_unstable_by_key(|item| item.v);
+        for (p, item) in perm.iter_mut().zip(piece.iter()) {
+            *p = item.v;
+        }
+    }
+
     /// Numbers the unknowns of `piece` into `perm` (of the same length): the positions
     /// `start..start + piece.len()` of the whole permutation.
-    fn dissect(&self, piece: &mut [usize], perm: &mut [usize]) {
+    fn dissect(&self, piece: &mut [Item], perm: &mut [usize]) {
         let len = piece.len();
         if len <= ND_LEAF {
-            piece.sort_unstable();
-            perm.copy_from_slice(piece);
+            Self::number_as_they_come(piece, perm);
             return;
         }
         // Median split along the longer side of the bounding box.
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for &v in piece.iter() {
+        for item in piece.iter() {
             for d in 0..2 {
-                lo[d] = lo[d].min(self.coords[v][d]);
-                hi[d] = hi[d].max(self.coords[v][d]);
+                lo[d] = lo[d].min(item.at[d]);
+                hi[d] = hi[d].max(item.at[d]);
             }
         }
         let axis = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
         let half = len / 2;
-        let coords = self.coords;
-        piece.select_nth_unstable_by(half, |&u, &v| {
-            coords[u][axis].total_cmp(&coords[v][axis]).then(u.cmp(&v))
+        piece.select_nth_unstable_by(half, |p, q| {
+            p.at[axis].total_cmp(&q.at[axis]).then(p.v.cmp(&q.v))
         });
         // Mark the halves, then take as separator the smaller of the two one-sided boundaries
         // (vertices of one half that touch the other), which is a vertex separator either way.
         let stamp_a = self.next_stamp.fetch_add(2, Relaxed) + 1;
         let stamp_b = stamp_a + 1;
-        for &v in &piece[..half] {
-            self.stamp[v].store(stamp_a, Relaxed);
+        for item in &piece[..half] {
+            self.stamp[item.v].store(stamp_a, Relaxed);
         }
-        for &v in &piece[half..] {
-            self.stamp[v].store(stamp_b, Relaxed);
+        for item in &piece[half..] {
+            self.stamp[item.v].store(stamp_b, Relaxed);
         }
-        let touches = |v: usize, other: u32| {
-            self.a
-                .column(v)
-                .0
-                .iter()
-                .any(|&u| self.stamp_of(u) == other)
+        let count = |items: &mut [Item], other: u32| {
+            let mut count = 0;
+            for item in items {
+                item.touches = self
+                    .a
+                    .column(item.v)
+                    .0
+                    .iter()
+                    .any(|&u| self.stamp_of(u) == other);
+                count += usize::from(item.touches);
+            }
+            count
         };
-        let count_a = piece[..half]
-            .iter()
-            .filter(|&&v| touches(v, stamp_b))
-            .count();
-        let count_b = piece[half..]
-            .iter()
-            .filter(|&&v| touches(v, stamp_a))
-            .count();
+        let count_a = count(&mut piece[..half], stamp_b);
+        let count_b = count(&mut piece[half..], stamp_a);
         // Move the separator to the end of its half (stable for the rest), then, if it is in the
         // first half, rotate it past the second half to the end of the piece.
-        let (lo_end, other) = if count_a <= count_b {
-            (half, stamp_b)
+        let (lo_start, lo_end) = if count_a <= count_b {
+            (0, half)
         } else {
-            (len, stamp_a)
+            (half, len)
         };
-        let lo_start = if count_a <= count_b { 0 } else { half };
         let mut keep = lo_start;
         for k in lo_start..lo_end {
-            let v = piece[k];
-            if !touches(v, other) {
+            if !piece[k].touches {
                 piece.swap(keep, k);
                 keep += 1;
             }
@@ -156,14 +177,12 @@ impl Dissector<'_> {
         let (b_part, separator) = rest.split_at_mut(len - a_len - sep);
         if a_part.is_empty() || b_part.is_empty() {
             // Degenerate cut (e.g. a dense block): stop dissecting this piece.
-            piece.sort_unstable();
-            perm.copy_from_slice(piece);
+            Self::number_as_they_come(piece, perm);
             return;
         }
-        separator.sort_unstable();
         let (perm_a, perm_rest) = perm.split_at_mut(a_part.len());
         let (perm_b, perm_sep) = perm_rest.split_at_mut(b_part.len());
-        perm_sep.copy_from_slice(separator);
+        Self::number_as_they_come(separator, perm_sep);
         if self.parallel_piece.is_some_and(|min| len >= min) {
             rayon::join(
                 || self.dissect(a_part, perm_a),
