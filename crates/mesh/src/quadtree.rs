@@ -927,4 +927,41 @@ mod tests {
         }
         assert!(BlockGrid::halved(3, 3, vec![Block::Free; 8]).is_err());
     }
+
+    #[test]
+    fn the_mesh_is_the_same_at_any_thread_count() {
+        // Rows of top-level nodes are walked on the pool; their leaves are joined in row
+        // order, so the mesh is the same whatever the pool.
+        let (w, h) = (90, 70);
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut cells = vec![Block::Free; w * h];
+        for c in cells.iter_mut() {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            if seed.is_multiple_of(7) {
+                *c = Block::Blocked;
+            }
+        }
+        cells[35 * w + 40] = Block::Goal;
+        let grid = BlockGrid::halved(w, h, cells).expect("sizes match");
+        let opts = QuadtreeOptions {
+            max_level: 3,
+            interior_vertices: true,
+        };
+        let mesh_with = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("a pool")
+                .install(|| quadtree_mesh(&grid, &opts, Point::new).expect("meshes"))
+        };
+        let one = mesh_with(1);
+        for threads in [2, 3, 4] {
+            let other = mesh_with(threads);
+            assert_eq!(one.vertices(), other.vertices(), "{threads} threads");
+            assert_eq!(one.triangles(), other.triangles(), "{threads} threads");
+            assert_eq!(one.boundary_edges(), other.boundary_edges());
+        }
+    }
 }
