@@ -660,6 +660,22 @@ mod tests {
         BlockGrid::new(w, h, blocks).expect("sizes match")
     }
 
+    /// `w × h` cells, about one in `one_in` blocked (xorshift from `seed`), the rest free.
+    fn seeded_cells(w: usize, h: usize, mut seed: u64, one_in: u64) -> Vec<Block> {
+        (0..w * h)
+            .map(|_| {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                if seed.is_multiple_of(one_in) {
+                    Block::Blocked
+                } else {
+                    Block::Free
+                }
+            })
+            .collect()
+    }
+
     #[test]
     fn leaves_are_balanced_and_cover_the_free_blocks() {
         let grid = room(77, 53, &[(10, 10), (11, 10), (30, 2)], (3, 20));
@@ -891,16 +907,7 @@ mod tests {
         // cell) and the same grid written out block by block give the same mesh, vertex
         // for vertex and triangle for triangle.
         let (w, h) = (37, 23);
-        let mut seed = 0x9e37_79b9_u64;
-        let mut cells = vec![Block::Free; w * h];
-        for c in cells.iter_mut() {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            if (seed >> 33).is_multiple_of(5) {
-                *c = Block::Blocked;
-            }
-        }
+        let mut cells = seeded_cells(w, h, 0x9e37_79b9, 5);
         for k in [w + 5, 7 * w + 20, 18 * w + 30] {
             cells[k] = Block::Goal;
         }
@@ -933,16 +940,7 @@ mod tests {
         // Rows of top-level nodes are walked on the pool; their leaves are joined in row
         // order, so the mesh is the same whatever the pool.
         let (w, h) = (90, 70);
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut cells = vec![Block::Free; w * h];
-        for c in cells.iter_mut() {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            if seed.is_multiple_of(7) {
-                *c = Block::Blocked;
-            }
-        }
+        let mut cells = seeded_cells(w, h, 0x2545_f491_4f6c_dd1d, 7);
         cells[35 * w + 40] = Block::Goal;
         let grid = BlockGrid::halved(w, h, cells).expect("sizes match");
         let opts = QuadtreeOptions {
