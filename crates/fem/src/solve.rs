@@ -3,7 +3,9 @@
 
 use std::sync::{Arc, Mutex};
 
-use harmonic_solver::{AccurateLdlt, Ordering, Parallelism, SymbolicCholesky, Wide, WideLdlt};
+use harmonic_solver::{
+    AccurateLdlt, LdltAnalysis, Ordering, Parallelism, SymbolicCholesky, Wide, WideLdlt,
+};
 use harmonic_types::Mesh;
 
 use crate::FemError;
@@ -271,16 +273,29 @@ impl Solver {
     }
 
     fn accurate(&self, system: &LinearSystem) -> Result<Unknowns, FemError> {
-        let m = system.m_matrix()?;
         // A poisoned lock only means another solve panicked; the factor is refactored anyway.
         let mut guard = self
             .accurate
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
-        match guard.as_mut() {
-            Some(factor) => factor.refactor(&m)?,
-            None => *guard = Some(AccurateLdlt::factor(&m, self.ordering.clone())?),
-        }
+        let m = match guard.as_mut() {
+            Some(factor) => {
+                let m = system.m_matrix()?;
+                factor.refactor(&m)?;
+                m
+            }
+            None => {
+                // The order and L's pattern need only the matrix's pattern: found while the
+                // M-matrix (the off-diagonal magnitudes and the excess) is copied out.
+                let (m, analysis) = rayon::join(
+                    || system.m_matrix(),
+                    || LdltAnalysis::of(system.matrix(), self.ordering.clone()),
+                );
+                let m = m?;
+                *guard = Some(analysis?.factor(&m)?);
+                m
+            }
+        };
         let factor = guard.as_ref().expect("factored just above");
         let x = factor.solve(system.rhs())?;
         if !may_have_underflowed(system, &x) {

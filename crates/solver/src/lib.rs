@@ -88,7 +88,7 @@ pub use csc::SymmetricCsc;
 pub use direct::{Cholesky, SymbolicCholesky, solve_direct};
 pub use error::{SolverError, StructureIssue};
 pub use kept_order::KeptOrder;
-pub use mmatrix::{AccurateLdlt, MMatrix};
+pub use mmatrix::{AccurateLdlt, LdltAnalysis, MMatrix};
 pub use multigrid::{Multigrid, MultigridOptions, Prolongation};
 pub use ordering::Ordering;
 pub use parallel::{PARALLEL_MIN_UNKNOWNS, Parallelism};

@@ -146,6 +146,101 @@ impl MMatrix {
     }
 }
 
+/// The symbolic half of an [`AccurateLdlt`]: the fill-reducing order and the pattern of `L`,
+/// from a matrix's pattern alone (its diagonal, stored or not, plays no part). Made from the
+/// assembled matrix, it can run while the [`MMatrix`] is being built from that matrix, then
+/// [`LdltAnalysis::factor`] eliminates; [`AccurateLdlt::factor`] does both in turn.
+///
+/// ```
+/// use harmonic_solver::{AccurateLdlt, LdltAnalysis, MMatrix, Ordering, SymmetricCsc};
+/// // The path graph 0 - 1 - 2 with the ends tied to the boundary.
+/// let a = SymmetricCsc::try_new(3, vec![0, 2, 5, 7], vec![0, 1, 0, 1, 2, 1, 2],
+///     vec![2.0, -1.0, -1.0, 2.0, -1.0, -1.0, 2.0])?;
+/// let w = SymmetricCsc::try_new(3, vec![0, 1, 3, 4], vec![1, 0, 2, 1], vec![1.0; 4])?;
+/// let m = MMatrix::try_new(w, vec![1.0, 0.0, 1.0])?;
+/// let f = LdltAnalysis::of(&a, Ordering::Amd)?.factor(&m)?;
+/// let g = AccurateLdlt::factor(&m, Ordering::Amd)?;
+/// assert_eq!(f.solve(&[1.0, 0.0, 1.0])?, g.solve(&[1.0, 0.0, 1.0])?);
+/// # Ok::<(), harmonic_solver::SolverError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct LdltAnalysis {
+    /// The analysed pattern (shared), to check the matrix eliminated.
+    analysed: Arc<Pattern>,
+    perm: Vec<usize>,
+    inv: Vec<usize>,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<u32>,
+}
+
+impl LdltAnalysis {
+    /// Orders `pattern_of`'s unknowns and finds the pattern of `L`.
+    pub fn of(pattern_of: &SymmetricCsc, ordering: Ordering) -> Result<Self, SolverError> {
+        let n = pattern_of.n();
+        if u32::try_from(n).is_err() {
+            return Err(SolverError::Backend(format!(
+                "{n} unknowns: the accurate LDLᵀ numbers rows with 32 bits"
+            )));
+        }
+        let perm = permutation(pattern_of, &ordering)?;
+        let mut inv = vec![0; n];
+        for (new, &old) in perm.iter().enumerate() {
+            inv[old] = new;
+        }
+        let (col_ptr, row_idx) = symbolic(pattern_of, &perm, &inv);
+        Ok(LdltAnalysis {
+            analysed: Arc::clone(pattern_of.pattern()),
+            perm,
+            inv,
+            col_ptr,
+            row_idx,
+        })
+    }
+
+    /// Eliminates `m`, whose off-diagonal pattern must be the analysed one less its
+    /// diagonal (checked).
+    ///
+    /// Fails with [`SolverError::Singular`] as [`AccurateLdlt::factor`] does, with
+    /// [`SolverError::DimensionMismatch`] for a matrix of another size and with
+    /// [`SolverError::PatternMismatch`] (the first column that differs) for another pattern.
+    pub fn factor(self, m: &MMatrix) -> Result<AccurateLdlt, SolverError> {
+        if m.n() != self.perm.len() {
+            return Err(SolverError::DimensionMismatch {
+                what: "M-matrix of an analysed pattern",
+                expected: self.perm.len(),
+                found: m.n(),
+            });
+        }
+        let w = m.offdiag.pattern();
+        if !Arc::ptr_eq(w, &self.analysed) {
+            let a = &self.analysed;
+            let differs = |j: usize| {
+                let own = &a.row_idx[a.col_ptr[j]..a.col_ptr[j + 1]];
+                let theirs = &w.row_idx[w.col_ptr[j]..w.col_ptr[j + 1]];
+                !own.iter()
+                    .copied()
+                    .filter(|&i| i != j)
+                    .eq(theirs.iter().copied())
+            };
+            if let Some(column) = (0..m.n()).find(|&j| differs(j)) {
+                return Err(SolverError::PatternMismatch { column });
+            }
+        }
+        let mut f = AccurateLdlt {
+            perm: self.perm,
+            inv: self.inv,
+            w_pattern: Arc::clone(m.offdiag.pattern()),
+            col_ptr: self.col_ptr,
+            row_idx: self.row_idx,
+            l: Vec::new(),
+            d: Vec::new(),
+        };
+        let (l, d) = f.numeric(m)?;
+        (f.l, f.d) = (l, d);
+        Ok(f)
+    }
+}
+
 /// An [`AccurateLdlt`]'s `perm`, `inv`, factored pattern, and column pointers and rows of `L`.
 pub(crate) type Structure<'a> = (
     &'a [usize],
@@ -182,30 +277,7 @@ impl AccurateLdlt {
     /// Fails with [`SolverError::Singular`] when a pivot is zero: a connected block of unknowns
     /// with no excess anywhere (no Dirichlet or Robin contact) — the column named belongs to it.
     pub fn factor(m: &MMatrix, ordering: Ordering) -> Result<Self, SolverError> {
-        let n = m.n();
-        if u32::try_from(n).is_err() {
-            return Err(SolverError::Backend(format!(
-                "{n} unknowns: the accurate LDLᵀ numbers rows with 32 bits"
-            )));
-        }
-        let perm = permutation(&m.offdiag, &ordering)?;
-        let mut inv = vec![0; n];
-        for (new, &old) in perm.iter().enumerate() {
-            inv[old] = new;
-        }
-        let (col_ptr, row_idx) = symbolic(&m.offdiag, &perm, &inv);
-        let mut f = Self {
-            perm,
-            inv,
-            w_pattern: Arc::clone(m.offdiag.pattern()),
-            col_ptr,
-            row_idx,
-            l: Vec::new(),
-            d: Vec::new(),
-        };
-        let (l, d) = f.numeric(m)?;
-        (f.l, f.d) = (l, d);
-        Ok(f)
+        LdltAnalysis::of(&m.offdiag, ordering)?.factor(m)
     }
 
     /// Refactors for new values of an M-matrix with the same off-diagonal pattern, reusing the

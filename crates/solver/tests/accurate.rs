@@ -5,7 +5,8 @@ mod common;
 
 use common::*;
 use harmonic_solver::{
-    AccurateLdlt, MMatrix, Ordering, SolverError, StructureIssue, SymmetricCsc, solve_direct,
+    AccurateLdlt, LdltAnalysis, MMatrix, Ordering, SolverError, StructureIssue, SymmetricCsc,
+    solve_direct,
 };
 
 /// Off-diagonal magnitudes from (i, j, w) pairs (i != j), mirrored.
@@ -279,6 +280,49 @@ fn refactor_reuses_the_analysis_and_checks_the_pattern() {
         Err(SolverError::PatternMismatch { .. })
     ));
     assert!(entrywise(&f.solve(&b).unwrap(), &half) < 1e-10);
+}
+
+#[test]
+fn an_analysis_of_the_assembled_pattern_factors_as_the_m_matrix_does() {
+    // The analysis reads only a pattern, with the diagonal stored or not: made from the
+    // assembled matrix (diagonal included) it gives the factor of the M-matrix bit for bit.
+    let (m, b, exact, coords) = corridor(120, 40);
+    let assembled = m.to_csc();
+    let ordering = Ordering::NestedDissection { coords };
+    let direct = AccurateLdlt::factor(&m, ordering.clone()).unwrap();
+    let analysed = LdltAnalysis::of(&assembled, ordering.clone())
+        .unwrap()
+        .factor(&m)
+        .unwrap();
+    let (x, y) = (direct.solve(&b).unwrap(), analysed.solve(&b).unwrap());
+    assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+    assert!(entrywise(&y, &exact) < 1e-10);
+    // Another pattern, or another size, is refused by name.
+    let (other, ..) = corridor(120, 39);
+    let analysis = LdltAnalysis::of(&assembled, ordering).unwrap();
+    assert!(matches!(
+        analysis.clone().factor(&other),
+        Err(SolverError::DimensionMismatch { .. })
+    ));
+    let mut w = m.offdiag().clone();
+    let (n, mut col_ptr, mut rows, mut vals) = (w.n(), vec![0], vec![], vec![]);
+    // The same size without the edge between unknowns 0 and 1.
+    for j in 0..n {
+        let (r, v) = w.column(j);
+        for (&i, &x) in r.iter().zip(v) {
+            if (i.min(j), i.max(j)) != (0, 1) {
+                rows.push(i);
+                vals.push(x);
+            }
+        }
+        col_ptr.push(rows.len());
+    }
+    w = SymmetricCsc::try_new(n, col_ptr, rows, vals).unwrap();
+    let cut = MMatrix::try_new(w, m.excess().to_vec()).unwrap();
+    assert!(matches!(
+        analysis.factor(&cut),
+        Err(SolverError::PatternMismatch { column: 0 })
+    ));
 }
 
 #[test]

@@ -361,11 +361,26 @@ pub(crate) fn numeric<T: Magnitude>(
     };
     let tree = Tree::new(col_ptr, row_idx);
     let tasks = tree.tasks(rayon::current_num_threads());
+    // One scratch per worker thread, made when first needed (its row map is n entries: made
+    // per rayon split, as `map_init` does, it was filled a dozen times on a large map). A
+    // task that a thread takes up while its own is waiting in a join finds the slot busy
+    // and makes its own. Which scratch a front uses changes no number: a front reads only
+    // the positions it has just written.
+    let slots: Vec<std::sync::Mutex<Option<Scratch<T>>>> = (0..rayon::current_num_threads())
+        .map(|_| std::sync::Mutex::new(None))
+        .collect();
     let factored: Vec<Result<Factored<T>, SolverError>> = tasks
         .par_iter()
-        .map_init(
-            || Scratch::new(n),
-            |scratch, &root| {
+        .map(|&root| {
+            let mut slot = rayon::current_thread_index()
+                .and_then(|i| slots.get(i))
+                .and_then(|m| m.try_lock().ok());
+            let mut own = None;
+            let scratch = match slot.as_deref_mut() {
+                Some(kept) => kept.get_or_insert_with(|| Scratch::new(n)),
+                None => own.insert(Scratch::new(n)),
+            };
+            {
                 let mut out = Factored {
                     l: Vec::new(),
                     d: Vec::new(),
@@ -390,8 +405,8 @@ pub(crate) fn numeric<T: Magnitude>(
                 }
                 out.update = stack.pop();
                 Ok(out)
-            },
-        )
+            }
+        })
         .collect();
     let mut task_at = vec![NONE; tree.post.len()];
     for (t, &root) in tasks.iter().enumerate() {
