@@ -579,72 +579,68 @@ pub fn quadtree_mesh(
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut boundary: Vec<(u32, u32, BoundaryTag)> = Vec::new();
     for leaf in leaves.leaves() {
-        {
-            let ((x, y), k) = (leaf.origin(), leaf.k);
-            lattice.advance(y);
-            let s = 1usize << k;
-            let corners = [(x, y), (x + s, y), (x + s, y + s), (x, y + s)];
-            let c = corners.map(|(a, b)| lattice.vertex(a, b));
-            // A side facing the boundary faces one kind of block all along (eligibility).
-            let node = leaf;
-            for (q, mut strip) in strips(node).into_iter().enumerate() {
-                let (ox, oy) = strip.next().expect("a strip has at least one block");
-                let tag = match grid.outside(ox, oy) {
-                    Block::Free => continue,
-                    Block::Blocked => BoundaryTag::Wall,
-                    Block::Goal => BoundaryTag::Goal(0),
-                };
-                boundary.push((c[q], c[(q + 1) % 4], tag));
+        let ((x, y), k) = (leaf.origin(), leaf.k);
+        lattice.advance(y);
+        let s = 1usize << k;
+        let corners = [(x, y), (x + s, y), (x + s, y + s), (x, y + s)];
+        let c = corners.map(|(a, b)| lattice.vertex(a, b));
+        // A side facing the boundary faces one kind of block all along (eligibility).
+        for (q, mut strip) in strips(leaf).into_iter().enumerate() {
+            let (ox, oy) = strip.next().expect("a strip has at least one block");
+            let tag = match grid.outside(ox, oy) {
+                Block::Free => continue,
+                Block::Blocked => BoundaryTag::Wall,
+                Block::Goal => BoundaryTag::Goal(0),
+            };
+            boundary.push((c[q], c[(q + 1) % 4], tag));
+        }
+        // A side has a midpoint vertex when a leaf one level finer lies across it.
+        let finer = |ox: isize, oy: isize| k > 0 && leaves.at(ox, oy) == k - 1;
+        let (xi, yi, si, hi) = (x as isize, y as isize, s as isize, (s / 2) as isize);
+        let mid_at = [
+            finer(xi, yi - 1) || finer(xi + hi, yi - 1),
+            finer(xi + si, yi) || finer(xi + si, yi + hi),
+            finer(xi, yi + si) || finer(xi + hi, yi + si),
+            finer(xi - 1, yi) || finer(xi - 1, yi + hi),
+        ];
+        if !mid_at.contains(&true) {
+            // Alternate the diagonal so open floor is cut symmetrically; with interior
+            // vertices kept, a leaf with one corner off the boundary is cut through it,
+            // so neither triangle has all its vertices on the boundary.
+            let inner = corners.map(|(a, b)| grid.interior_corner(a, b));
+            let through_02 = match (opts.interior_vertices, inner) {
+                (true, [true, false, false, false] | [false, false, true, false]) => true,
+                (true, [false, true, false, false] | [false, false, false, true]) => false,
+                _ => ((x >> k) + (y >> k)).is_multiple_of(2),
+            };
+            if through_02 {
+                triangles.push([c[0], c[1], c[2]]);
+                triangles.push([c[0], c[2], c[3]]);
+            } else {
+                triangles.push([c[0], c[1], c[3]]);
+                triangles.push([c[1], c[2], c[3]]);
             }
-            // A side has a midpoint vertex when a leaf one level finer lies across it.
-            let finer = |ox: isize, oy: isize| k > 0 && leaves.at(ox, oy) == k - 1;
-            let (xi, yi, si, hi) = (x as isize, y as isize, s as isize, (s / 2) as isize);
-            let mid_at = [
-                finer(xi, yi - 1) || finer(xi + hi, yi - 1),
-                finer(xi + si, yi) || finer(xi + si, yi + hi),
-                finer(xi, yi + si) || finer(xi + hi, yi + si),
-                finer(xi - 1, yi) || finer(xi - 1, yi + hi),
-            ];
-            if !mid_at.contains(&true) {
-                // Alternate the diagonal so open floor is cut symmetrically; with interior
-                // vertices kept, a leaf with one corner off the boundary is cut through it,
-                // so neither triangle has all its vertices on the boundary.
-                let inner = corners.map(|(a, b)| grid.interior_corner(a, b));
-                let through_02 = match (opts.interior_vertices, inner) {
-                    (true, [true, false, false, false] | [false, false, true, false]) => true,
-                    (true, [false, true, false, false] | [false, false, false, true]) => false,
-                    _ => ((x >> k) + (y >> k)).is_multiple_of(2),
-                };
-                if through_02 {
-                    triangles.push([c[0], c[1], c[2]]);
-                    triangles.push([c[0], c[2], c[3]]);
-                } else {
-                    triangles.push([c[0], c[1], c[3]]);
-                    triangles.push([c[1], c[2], c[3]]);
-                }
-                continue;
-            }
-            let centre = lattice.vertex(x + s / 2, y + s / 2);
-            let mids = [
-                (x + s / 2, y),
-                (x + s, y + s / 2),
-                (x + s / 2, y + s),
-                (x, y + s / 2),
-            ];
-            for q in 0..4 {
-                let (a, b) = (c[q], c[(q + 1) % 4]);
-                if mid_at[q] {
-                    let m = lattice.vertex(mids[q].0, mids[q].1);
-                    triangles.push([centre, a, m]);
-                    triangles.push([centre, m, b]);
-                } else {
-                    triangles.push([centre, a, b]);
-                }
+            continue;
+        }
+        let centre = lattice.vertex(x + s / 2, y + s / 2);
+        let mids = [
+            (x + s / 2, y),
+            (x + s, y + s / 2),
+            (x + s / 2, y + s),
+            (x, y + s / 2),
+        ];
+        for q in 0..4 {
+            let (a, b) = (c[q], c[(q + 1) % 4]);
+            if mid_at[q] {
+                let m = lattice.vertex(mids[q].0, mids[q].1);
+                triangles.push([centre, a, m]);
+                triangles.push([centre, m, b]);
+            } else {
+                triangles.push([centre, a, b]);
             }
         }
     }
-    let m = Mesh::from_parts(lattice.points, triangles, &boundary)?;
-    Ok(m)
+    Ok(Mesh::from_parts(lattice.points, triangles, &boundary)?)
 }
 
 #[cfg(test)]
