@@ -167,10 +167,10 @@ impl MMatrix {
 pub struct LdltAnalysis {
     /// The analysed pattern (shared), to check the matrix eliminated.
     analysed: Arc<Pattern>,
-    perm: Vec<usize>,
-    inv: Vec<usize>,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<u32>,
+    pub(crate) perm: Vec<usize>,
+    pub(crate) inv: Vec<usize>,
+    pub(crate) col_ptr: Vec<usize>,
+    pub(crate) row_idx: Vec<u32>,
 }
 
 impl LdltAnalysis {

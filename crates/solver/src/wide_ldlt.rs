@@ -15,8 +15,8 @@ use std::sync::Arc;
 
 use crate::csc::Pattern;
 use crate::error::SolverError;
-use crate::mmatrix::{AccurateLdlt, MMatrix, numeric, symbolic};
-use crate::ordering::{Ordering, permutation};
+use crate::mmatrix::{AccurateLdlt, LdltAnalysis, MMatrix, numeric};
+use crate::ordering::Ordering;
 use crate::wide::Wide;
 
 /// Entrywise-accurate `A = L D Lᵀ` of an [`MMatrix`] in extended-exponent arithmetic.
@@ -62,25 +62,14 @@ impl WideLdlt {
     /// Fails with [`SolverError::Singular`] when a pivot is zero (a connected block of
     /// unknowns with no excess anywhere; the column named belongs to it).
     pub fn factor(m: &MMatrix, ordering: Ordering) -> Result<Self, SolverError> {
-        let n = m.n();
-        if u32::try_from(n).is_err() {
-            return Err(SolverError::Backend(format!(
-                "{n} unknowns: the accurate LDLᵀ numbers rows with 32 bits"
-            )));
-        }
-        let perm = permutation(m.offdiag(), &ordering)?;
-        let mut inv = vec![0; n];
-        for (new, &old) in perm.iter().enumerate() {
-            inv[old] = new;
-        }
-        let (col_ptr, row_idx) = symbolic(m.offdiag(), &perm, &inv);
+        let a = LdltAnalysis::of(m.offdiag(), ordering)?;
         Self::numeric(
             m,
-            perm,
-            inv,
+            a.perm,
+            a.inv,
             Arc::clone(m.offdiag().pattern()),
-            col_ptr,
-            row_idx,
+            a.col_ptr,
+            a.row_idx,
         )
     }
 
