@@ -320,6 +320,17 @@ fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node, interior_vertices: boo
     joined && !sealed_side
 }
 
+/// Writes level `k` into the blocks node `n` covers, in `rows`: the grid's rows from
+/// `first_row` on, `w` blocks each (clipped to the grid's `w` × `height`).
+fn paint(rows: &mut [u8], first_row: usize, w: usize, height: usize, n: Node, k: u8) {
+    let (bi, bj) = n.origin();
+    let s = 1usize << n.k;
+    for y in bj..(bj + s).min(height) {
+        let at = (y - first_row) * w;
+        rows[at + bi..at + (bi + s).min(w)].fill(k);
+    }
+}
+
 /// The leaves: the level of the leaf holding each block ([`NOT_FREE`] for blocks that are
 /// not free).
 struct Leaves<'a> {
@@ -352,14 +363,6 @@ impl<'a> Leaves<'a> {
             .map(|(j, rows)| {
                 // `rows` holds the blocks of rows j·2^max_level onwards.
                 let first_row = j << max_level;
-                let mut fill = |n: Node| {
-                    let (bi, bj) = n.origin();
-                    let s = 1usize << n.k;
-                    for y in bj..(bj + s).min(grid.height) {
-                        let at = (y - first_row) * w;
-                        rows[at + bi..at + (bi + s).min(w)].fill(n.k);
-                    }
-                };
                 let mut made = Vec::new();
                 let mut stack: Vec<Node> = Vec::new();
                 for i in 0..tw {
@@ -384,7 +387,7 @@ impl<'a> Leaves<'a> {
                             eligible(grid, pyramid, n, opts.interior_vertices)
                         };
                         if leaf {
-                            fill(n);
+                            paint(rows, first_row, w, grid.height, n, n.k);
                             made.push(n);
                         } else if n.k > 0 {
                             stack.extend(n.children());
@@ -400,12 +403,7 @@ impl<'a> Leaves<'a> {
     }
 
     fn fill(&mut self, n: Node, k: u8) {
-        let (bi, bj) = n.origin();
-        let s = 1usize << n.k;
-        let w = self.grid.width;
-        for y in bj..(bj + s).min(self.grid.height) {
-            self.level[y * w + bi..y * w + (bi + s).min(w)].fill(k);
-        }
+        paint(&mut self.level, 0, self.grid.width, self.grid.height, n, k);
     }
 
     fn at(&self, i: isize, j: isize) -> u8 {

@@ -380,32 +380,30 @@ pub(crate) fn numeric<T: Magnitude>(
                 Some(kept) => kept.get_or_insert_with(|| Scratch::new(n)),
                 None => own.insert(Scratch::new(n)),
             };
-            {
-                let mut out = Factored {
-                    l: Vec::new(),
-                    d: Vec::new(),
-                    update: None,
-                };
-                let mut stack = Updates::new();
-                for p in tree.range(root) {
-                    let s = tree.post[p];
-                    let (cols, entries) = tree.columns(s, col_ptr);
-                    let (lo, dl) = (out.l.len(), out.d.len());
-                    out.l.resize(lo + entries.len(), T::ZERO);
-                    out.d.resize(dl + cols.len(), T::ZERO);
-                    front(
-                        &input,
-                        &tree,
-                        s,
-                        &mut stack,
-                        scratch,
-                        &mut out.l[lo..],
-                        &mut out.d[dl..],
-                    )?;
-                }
-                out.update = stack.pop();
-                Ok(out)
+            let mut out = Factored {
+                l: Vec::new(),
+                d: Vec::new(),
+                update: None,
+            };
+            let mut stack = Updates::new();
+            for p in tree.range(root) {
+                let s = tree.post[p];
+                let (cols, entries) = tree.columns(s, col_ptr);
+                let (lo, dl) = (out.l.len(), out.d.len());
+                out.l.resize(lo + entries.len(), T::ZERO);
+                out.d.resize(dl + cols.len(), T::ZERO);
+                front(
+                    &input,
+                    &tree,
+                    s,
+                    &mut stack,
+                    scratch,
+                    &mut out.l[lo..],
+                    &mut out.d[dl..],
+                )?;
             }
+            out.update = stack.pop();
+            Ok(out)
         })
         .collect();
     let mut task_at = vec![NONE; tree.post.len()];
