@@ -529,6 +529,18 @@ impl ConfigPlanner {
         if let Some(first) = out.joints.as_mut().and_then(|p| p.first_mut()) {
             first.copy_from_slice(start);
         }
+        // A descent that stops short of the goal's faces but inside its tolerance has
+        // arrived: the tolerance is what was asked; the faces are only where the field ends.
+        if matches!(
+            out.status,
+            TraceStatus::Stalled { .. } | TraceStatus::MaxSteps
+        ) && out
+            .configurations()
+            .last()
+            .is_some_and(|q| self.space.classify(q) == ConfigClass::Goal)
+        {
+            out.status = TraceStatus::ReachedGoal(0);
+        }
         // A path that reached the goal but touches an obstacle on the way is not reached.
         if let Some(q) = collision.filter(|_| out.status.reached_goal()) {
             out.status = TraceStatus::Collision { at: None };

@@ -47,7 +47,8 @@ mod potential;
 mod solve;
 
 pub use assemble::{
-    NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeBoundaryData, VolumeSystem,
+    CLAMP_KEEP, NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeBoundaryData,
+    VolumeSystem,
 };
 pub use periodic::{
     PeriodicSolveReport, identify_periodic, periodic_conditions, solve_periodic_for_planning,
