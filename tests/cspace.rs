@@ -362,3 +362,43 @@ fn a_bar_through_a_slot_plans_where_psi_falls_far_below_the_residual() {
         assert!((end[0] - 8.0).hypot(end[1] - 5.0) <= 0.2 + 1e-9, "{end:?}");
     }
 }
+
+/// A 2 × 0.3 bar through a slot in a 0.4-thick wall, at the default spacing (0.42; nine
+/// heading cells): after the 0.05 margin, a 0.8 slot leaves the bar's centre 0.2 of play
+/// across it at heading 0 and less when tilted, a 1.0 slot 0.4: passages thinner than the
+/// lattice, between two different contacts (the wall above and the wall below). Graded
+/// where lattice edges join the two contacts over free space, and with no edge's coupling
+/// lost to the clamping, both plan; before, the 0.8 slot was `unreachable` and the 1.0
+/// slot's starts stalled in a flat field (ψ = 0 behind the passage).
+#[test]
+fn a_bar_through_a_slot_a_few_times_its_thickness_plans_at_the_default_spacing() {
+    for slot in [0.8, 1.0] {
+        let (lo, hi) = (5.0 - slot / 2.0, 5.0 + slot / 2.0);
+        let scene = parse_config_scene(&format!(
+            r#"{{"workspace": [[0, 0], [10, 0], [10, 10], [0, 10]],
+            "obstacles": [{{"polygon": [[4.8, 0], [5.2, 0], [5.2, {lo}], [4.8, {lo}]]}},
+                          {{"polygon": [[4.8, {hi}], [5.2, {hi}], [5.2, 10], [4.8, 10]]}}],
+            "robot": {{"polygon": [[-1.0, -0.15], [1.0, -0.15], [1.0, 0.15], [-1.0, 0.15]]}},
+            "goal": {{"pose": [8.0, 5.0, 0.0], "tolerance": {{"position": 0.2, "angle": 0.2}}}},
+            "starts": [[2.0, 5.0, 0.0], [2.0, 3.0, 1.0], [1.5, 8.0, 2.5]]}}"#
+        ))
+        .expect("parses");
+        let planner = ConfigPlanner::new(&scene).expect("plannable");
+        let report = planner.plan_report(&scene.starts);
+        assert_eq!(report.potential.interior_local_minima, 0, "slot {slot}");
+        for p in &report.paths {
+            assert!(
+                p.status.reached_goal(),
+                "slot {slot}, {:?}: {:?}",
+                p.start,
+                p.status
+            );
+            assert!(planner.check(p) > 0.0, "slot {slot}: a motion collides");
+            let end = p.poses.as_ref().and_then(|q| q.last()).expect("poses");
+            assert!(
+                planner.space().goal_value(&end[..]) <= 1e-6,
+                "slot {slot}: ends outside the goal at {end:?}"
+            );
+        }
+    }
+}

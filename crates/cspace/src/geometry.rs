@@ -143,6 +143,24 @@ pub enum Nearest {
     Links(u32, u32),
 }
 
+/// Which two convex pieces are nearest each other: one of the robot's parts and one piece of
+/// the world (a workspace edge, an obstacle's convex part), or two of an arm's links. Two
+/// configurations in collision through different pairs are blocked by different things, so
+/// free space may lie between them however close they are; the same pair says nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Pair {
+    /// The robot's part (an arm's link), or the first of two links.
+    pub robot: u32,
+    /// The world's piece: workspace edges first, then every obstacle's convex parts in
+    /// order; for two links, [`Pair::LINKS`] plus the second link.
+    pub world: u32,
+}
+
+impl Pair {
+    /// Added to [`Pair::world`] for the second of two links.
+    pub const LINKS: u32 = 1 << 31;
+}
+
 impl World {
     /// A validated world: the workspace a simple polygon, obstacles polygons or discs
     /// (`obstacles[i]` named in errors).
@@ -231,20 +249,28 @@ impl World {
     /// touching one: 0. Outside the workspace the distance is returned negated (so that
     /// `margin − d` stays continuous and positive there).
     pub fn clearance(&self, robot: &[(Pose, &Part)], point: [f64; 2]) -> (f64, Nearest) {
+        let (d, nearest, _) = self.nearest_pair(robot, point);
+        (d, nearest)
+    }
+
+    /// [`World::clearance`], and the [`Pair`] it was measured between (in collision: the
+    /// first pair found touching).
+    pub fn nearest_pair(&self, robot: &[(Pose, &Part)], point: [f64; 2]) -> (f64, Nearest, Pair) {
         let placed: Vec<(Pose, &dyn Shape, Aabb)> = robot
             .iter()
             .map(|(pose, part)| (*pose, part.shape(), part.shape().compute_aabb(pose)))
             .collect();
         let mut best = f64::INFINITY;
-        let mut nearest = Nearest::Wall;
+        let mut nearest = (Nearest::Wall, Pair::default());
         let gap = |a: &Aabb, b: &Aabb| {
             let dx = (b.mins.x - a.maxs.x).max(a.mins.x - b.maxs.x).max(0.0);
             let dy = (b.mins.y - a.maxs.y).max(a.mins.y - b.maxs.y).max(0.0);
             dx.hypot(dy)
         };
+        let mut piece = 0u32;
         let mut measure =
             |shape: &dyn Shape, pose: &Pose, bb: &Aabb, what: Nearest, best: &mut f64| {
-                for (rp, rs, rb) in &placed {
+                for (r, (rp, rs, rb)) in placed.iter().enumerate() {
                     if gap(rb, bb) >= *best {
                         continue;
                     }
@@ -253,9 +279,14 @@ impl World {
                         .unwrap_or(0.0);
                     if d < *best {
                         *best = d;
-                        nearest = what;
+                        let pair = Pair {
+                            robot: r as u32,
+                            world: piece,
+                        };
+                        nearest = (what, pair);
                     }
                 }
+                piece += 1;
             };
         for (s, bb) in &self.walls {
             measure(s, &Pose::IDENTITY, bb, Nearest::Wall, &mut best);
@@ -271,9 +302,9 @@ impl World {
         }
         let best = best.max(0.0);
         if !self.contains(point) {
-            return (-best, Nearest::Wall);
+            return (-best, Nearest::Wall, nearest.1);
         }
-        (best, nearest)
+        (best, nearest.0, nearest.1)
     }
 }
 

@@ -44,7 +44,7 @@ pub mod svg;
 
 pub use error::CspaceError;
 pub use geometry::{
-    Nearest, Obstacle, ObstacleInput, Part, World, checked_ring, convex_parts, self_clearance,
+    Nearest, Obstacle, ObstacleInput, Pair, Part, World, checked_ring, convex_parts, self_clearance,
 };
 pub use robot::{Arm, RigidRobot, Robot};
 pub use space::{

@@ -32,13 +32,13 @@ use std::f64::consts::{PI, TAU};
 
 use harmonic_mesh::BoundaryTag;
 use harmonic_volume::{
-    CarveReport, GoalHole, Grading, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point,
+    CarveReport, EDGES, GoalHole, Grading, ImplicitDomain, PeriodicMesh, PeriodicStuffed, Point,
     SEAM_PART, StuffingOptions, carve_goals, longest_edge, periodic_lattice_tetrahedra,
     stuff_periodic,
 };
 
 use crate::error::CspaceError;
-use crate::geometry::{Nearest, World, self_clearance};
+use crate::geometry::{Nearest, Pair, World, self_clearance};
 use crate::robot::Robot;
 
 /// The obstacle index of a two-link arm's slab faces (natural condition).
@@ -427,19 +427,31 @@ impl ConfigSpace {
     /// workspace), or between two of an arm's links that are not neighbours, and which that
     /// is.
     pub fn clearance(&self, q: &[f64]) -> (f64, Nearest) {
+        let (d, nearest, _) = self.nearest_pair(q);
+        (d, nearest)
+    }
+
+    /// [`ConfigSpace::clearance`] and the pair of pieces it was measured between.
+    fn nearest_pair(&self, q: &[f64]) -> (f64, Nearest, Pair) {
         match &self.robot {
             Robot::Rigid(r) => {
                 let placed = r.placed(q);
                 let outline = r.outline(&q[..3]);
-                self.world.clearance(&placed, outline[0])
+                self.world.nearest_pair(&placed, outline[0])
             }
             Robot::Arm(arm) => {
                 let parts = arm.placed_parts(q);
                 let placed: Vec<_> = parts.iter().map(|(pose, p)| (*pose, p)).collect();
-                let world = self.world.clearance(&placed, arm.base);
+                let world = self.world.nearest_pair(&placed, arm.base);
                 // Links that are not neighbours must not touch each other either.
                 match self_clearance(&placed) {
-                    Some(own) if own.0 < world.0 => own,
+                    Some((d, own @ Nearest::Links(i, j))) if d < world.0 => {
+                        let pair = Pair {
+                            robot: i,
+                            world: Pair::LINKS + j,
+                        };
+                        (d, own, pair)
+                    }
                     _ => world,
                 }
             }
@@ -448,40 +460,48 @@ impl ConfigSpace {
 
     /// The terms of the value and the boundary part of the largest; the goal's term only
     /// `with_goal` (the goal is carved from the mesh, not stuffed, but names its faces).
-    fn terms(&self, p: &Point, with_goal: bool) -> (f64, BoundaryTag) {
+    fn terms(&self, p: &Point, with_goal: bool) -> Term {
         let q = self.config(p);
-        let (d, nearest) = self.clearance(&q);
-        let mut best = (
-            self.margin - d,
-            match nearest {
+        let (d, nearest, pair) = self.nearest_pair(&q);
+        let mut best = Term {
+            value: self.margin - d,
+            tag: match nearest {
                 Nearest::Wall | Nearest::Links(..) => BoundaryTag::Wall,
                 Nearest::Obstacle(i) => BoundaryTag::Obstacle(i),
             },
-        );
-        let mut raise = |v: f64, tag: BoundaryTag| {
-            if v > best.0 {
-                best = (v, tag);
+            pair,
+        };
+        // The terms that are not the robot's clearance: pairs of their own.
+        let mut raise = |value: f64, tag: BoundaryTag, which: u32| {
+            if value > best.value {
+                let pair = Pair {
+                    robot: u32::MAX,
+                    world: which,
+                };
+                best = Term { value, tag, pair };
             }
         };
         for a in 0..3 {
+            let side = 4 * a as u32;
             match self.axes[a] {
                 Axis::Limited { lo, hi } => {
-                    raise((lo - q[a]) * self.scale[a], BoundaryTag::Wall);
-                    raise((q[a] - hi) * self.scale[a], BoundaryTag::Wall);
+                    raise((lo - q[a]) * self.scale[a], BoundaryTag::Wall, side);
+                    raise((q[a] - hi) * self.scale[a], BoundaryTag::Wall, side + 1);
                 }
                 Axis::Extruded { thickness } => {
-                    raise(-p[a], BoundaryTag::Obstacle(EXTRUDE_PART));
-                    raise(p[a] - thickness, BoundaryTag::Obstacle(EXTRUDE_PART));
+                    let tag = BoundaryTag::Obstacle(EXTRUDE_PART);
+                    raise(-p[a], tag, side + 2);
+                    raise(p[a] - thickness, tag, side + 3);
                 }
                 _ => {}
             }
         }
         if with_goal {
-            raise(-self.goal_value(&q), BoundaryTag::Goal(0));
+            raise(-self.goal_value(&q), BoundaryTag::Goal(0), 12);
         }
         if let Some((d, r)) = self.anti_goal_offset(p) {
             let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-            raise(r - n, BoundaryTag::Obstacle(ANTIGOAL_PART));
+            raise(r - n, BoundaryTag::Obstacle(ANTIGOAL_PART), 13);
         }
         best
     }
@@ -757,7 +777,7 @@ impl ConfigSpace {
                 return tag;
             }
             let centroid = Point::from((c[0].coords + c[1].coords + c[2].coords) / 3.0);
-            self.terms(&centroid, false).1
+            self.terms(&centroid, false).tag
         };
         mesh.retag(&fix);
     }
@@ -785,26 +805,35 @@ impl ConfigSpace {
     }
 }
 
-/// Values of the space at points, each computed once, shared by every core: tables keyed
+/// The largest term of the space's value at a point ([`ConfigSpace::terms`]): the value,
+/// the boundary part it names, and the pair of pieces it was measured between.
+#[derive(Clone, Copy, Debug)]
+struct Term {
+    value: f64,
+    tag: BoundaryTag,
+    pair: Pair,
+}
+
+/// Terms of the space at points, each computed once, shared by every core: tables keyed
 /// by the point's bits, in shards so that cores seldom wait for each other.
-struct ValueTable(Vec<std::sync::RwLock<HashMap<[u64; 3], f64, BuildBitsHasher>>>);
+struct ValueTable(Vec<std::sync::RwLock<HashMap<[u64; 3], Term, BuildBitsHasher>>>);
 
 impl ValueTable {
     fn new() -> Self {
         ValueTable((0..64).map(|_| Default::default()).collect())
     }
 
-    fn shard(&self, k: &[u64; 3]) -> &std::sync::RwLock<HashMap<[u64; 3], f64, BuildBitsHasher>> {
+    fn shard(&self, k: &[u64; 3]) -> &std::sync::RwLock<HashMap<[u64; 3], Term, BuildBitsHasher>> {
         use std::hash::BuildHasher;
         &self.0[(BuildBitsHasher.hash_one(k) >> 58) as usize]
     }
 
-    fn get(&self, p: &Point) -> Option<f64> {
+    fn get(&self, p: &Point) -> Option<Term> {
         let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
         self.shard(&k).read().ok()?.get(&k).copied()
     }
 
-    fn insert(&self, p: &Point, v: f64) {
+    fn insert(&self, p: &Point, v: Term) {
         let k = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
         if let Ok(mut shard) = self.shard(&k).write() {
             shard.insert(k, v);
@@ -856,7 +885,7 @@ struct WithGoal<'a>(&'a ConfigSpace);
 
 impl ImplicitDomain for WithGoal<'_> {
     fn value(&self, p: &Point) -> f64 {
-        self.0.terms(p, true).0
+        self.0.terms(p, true).value
     }
     /// The space's grading, without its stored values: they leave the goal out.
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
@@ -874,59 +903,75 @@ impl ImplicitDomain for WithGoal<'_> {
 
 impl ImplicitDomain for ConfigSpace {
     fn value(&self, p: &Point) -> f64 {
-        self.terms(p, false).0
+        self.terms(p, false).value
     }
-    /// Grades the lattice (periodic or not) where its vertices miss a sliver of collision: a
-    /// tetrahedron whose four corners are free and whose centroid collides is bisected, down
-    /// to a quarter of the spacing. Such slivers are where the configuration-space image of
-    /// an obstacle is thinner than the lattice: a small obstacle, or the tip of an arm at full
-    /// reach grazing one. The centroid is looked at only where every corner is free by less
-    /// than the robot moves from that corner to the centroid ([`Robot::sweep_bound`]):
-    /// elsewhere it is free for certain.
+    /// Grades the lattice (periodic or not) where its vertices miss what lies between them:
+    /// - a sliver of collision, down to a quarter of the spacing: a tetrahedron whose four
+    ///   corners are free and whose centroid collides. Such slivers are where the
+    ///   configuration-space image of an obstacle is thinner than the lattice: a small
+    ///   obstacle, or the tip of an arm at full reach grazing one. The centroid is looked at
+    ///   only where every corner is free by less than the robot moves from that corner to
+    ///   the centroid ([`Robot::sweep_bound`]): elsewhere it is free for certain.
+    /// - a narrow passage, down to half the spacing: a tetrahedron with an edge whose two
+    ///   ends collide through different [`Pair`]s of pieces while its middle is free. A door
+    ///   barely wider than the robot, or the heading range a long robot must keep through a
+    ///   slot, is such a passage: free configurations between two different contacts,
+    ///   thinner than the lattice (a 2 × 0.3 bar through a 0.4-thick wall: a 0.8 slot is
+    ///   planned at the default spacing, where 1.2 was needed before). Ends that touch
+    ///   through one pair are not probed: between them lies one piece's image, not a gap.
     fn grading(&self, spacing: f64) -> Option<Grading<'_>> {
         use std::sync::Arc;
         let floor = spacing / 4.0;
         let table = Arc::new(ValueTable::new());
         let stored = Arc::clone(&table);
-        let value = move |p: &Point| -> f64 {
+        let term = move |p: &Point| -> Term {
             table.get(p).unwrap_or_else(|| {
-                let v = self.terms(p, false).0;
-                table.insert(p, v);
-                v
+                let t = self.terms(p, false);
+                table.insert(p, t);
+                t
             })
         };
-        let value = Arc::new(value);
+        let term = Arc::new(term);
         let dof = self.dof();
         let want = {
-            let value = Arc::clone(&value);
+            let term = Arc::clone(&term);
             move |p: &[Point; 4]| -> bool {
-                let mut f = [0.0; 4];
-                for (fk, x) in f.iter_mut().zip(p) {
-                    *fk = value(x);
-                    if *fk >= 0.0 {
-                        return false;
-                    }
-                }
+                let t = [term(&p[0]), term(&p[1]), term(&p[2]), term(&p[3])];
+                let free = t.iter().filter(|t| t.value < 0.0).count();
                 if longest_edge(p) <= floor {
                     return false;
                 }
+                if free < 4 {
+                    // A gap between two contacts: an edge whose ends collide through
+                    // different pairs, with its middle free; down to half the spacing
+                    // (a quarter as for slivers doubled the mesh time of polygon robots
+                    // among clutter, where such gaps line every junction of two obstacles'
+                    // images, for no passage more found).
+                    return longest_edge(p) > 2.0 * floor
+                        && EDGES.iter().any(|&[a, b]| {
+                            t[a].value >= 0.0
+                                && t[b].value >= 0.0
+                                && t[a].pair != t[b].pair
+                                && term(&Point::from((p[a].coords + p[b].coords) / 2.0)).value < 0.0
+                        });
+                }
+                let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
                 // The centroid can collide only if every corner is free by less than the
                 // robot moves from that corner to the centroid.
-                let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
                 let qc = self.config_array(&c);
                 if (0..4).any(|k| {
-                    -f[k]
+                    -t[k].value
                         >= self
                             .robot
                             .sweep_bound(&self.config_array(&p[k])[..dof], &qc[..dof])
                 }) {
                     return false;
                 }
-                self.terms(&c, false).0 > 0.0
+                self.terms(&c, false).value > 0.0
             }
         };
-        let known = move |p: &Point| stored.get(p);
-        let rank = move |c: &Point| value(c).abs();
+        let known = move |p: &Point| stored.get(p).map(|t| t.value);
+        let rank = move |c: &Point| term(c).value.abs();
         Some(Grading {
             want: Box::new(want),
             rank: Box::new(rank),
@@ -936,7 +981,7 @@ impl ImplicitDomain for ConfigSpace {
     /// The part whose term is largest, the goal's included (the goal's faces are then
     /// settled by their corners: `ConfigSpace::goal_faces_by_corners`).
     fn tag(&self, p: &Point) -> BoundaryTag {
-        self.terms(p, true).1
+        self.terms(p, true).tag
     }
     fn bounds(&self) -> (Point, Point) {
         let mut lo = Point::origin();
