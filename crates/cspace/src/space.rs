@@ -943,16 +943,18 @@ impl ImplicitDomain for ConfigSpace {
                 }
                 if free < 4 {
                     // A gap between two contacts: an edge whose ends collide through
-                    // different pairs, with its middle free; down to half the spacing
-                    // (a quarter as for slivers doubled the mesh time of polygon robots
-                    // among clutter, where such gaps line every junction of two obstacles'
-                    // images, for no passage more found).
+                    // different pairs, with its middle clearly free (by a twentieth of the
+                    // edge: not the tip of the wedge where two images meet). Down to half
+                    // the spacing: a quarter, as for slivers, doubled the mesh time of
+                    // polygon robots among clutter, where such wedges line every junction
+                    // of two obstacles' images, and found no passage more.
                     return longest_edge(p) > 2.0 * floor
                         && EDGES.iter().any(|&[a, b]| {
                             t[a].value >= 0.0
                                 && t[b].value >= 0.0
                                 && t[a].pair != t[b].pair
-                                && term(&Point::from((p[a].coords + p[b].coords) / 2.0)).value < 0.0
+                                && term(&Point::from((p[a].coords + p[b].coords) / 2.0)).value
+                                    < -0.05 * (p[a] - p[b]).norm()
                         });
                 }
                 let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
