@@ -1,6 +1,6 @@
 //! The configuration-space geometry: parry2d's convex-part distances agree with the exact
-//! polygon kernels of `harmonic_mesh::geom`, the radius of gyration is the textbook one, and
-//! the periodic mesh's two ends match face for face.
+//! polygon kernels of `harmonic_mesh::geom`, the radius of gyration is the textbook one,
+//! the periodic mesh's two ends match face for face, and contacts name their pair of pieces.
 
 use std::collections::HashMap;
 
@@ -135,5 +135,48 @@ fn the_two_ends_of_the_period_match_face_for_face() {
     assert_eq!(
         mesh.covering.boundary_faces().len(),
         3 * real + report.seam_faces
+    );
+}
+
+/// A contact names the two convex pieces it is measured between: a bar pushed into the wall
+/// below a slot and one pushed into the wall above it are blocked through different pairs
+/// (the configurations between them may be free), two bars in the same wall through the
+/// same one; workspace edges are numbered before the obstacles' parts.
+#[test]
+fn contacts_name_the_pair_of_pieces_they_are_measured_between() {
+    use harmonic_cspace::{Nearest, Pair};
+    let world = World::new(
+        &[[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+        &[
+            ObstacleInput::Polygon(vec![[4.8, 0.0], [5.2, 0.0], [5.2, 4.6], [4.8, 4.6]]),
+            ObstacleInput::Polygon(vec![[4.8, 5.4], [5.2, 5.4], [5.2, 10.0], [4.8, 10.0]]),
+        ],
+    )
+    .expect("valid world");
+    let bar = RigidRobot::new(&[[-1.0, -0.15], [1.0, -0.15], [1.0, 0.15], [-1.0, 0.15]])
+        .expect("valid bar");
+    let at = |q: [f64; 3]| world.nearest_pair(&bar.placed(&q), bar.outline(&q)[0]);
+    let below = at([5.0, 4.55, 0.0]);
+    let above = at([5.0, 5.45, 0.0]);
+    let below_too = at([4.5, 4.5, 0.0]);
+    assert_eq!((below.0, below.1), (0.0, Nearest::Obstacle(0)));
+    assert_eq!((above.0, above.1), (0.0, Nearest::Obstacle(1)));
+    assert_eq!(below.2, Pair { robot: 0, world: 4 });
+    assert_eq!(above.2, Pair { robot: 0, world: 5 });
+    assert_eq!(below_too.2, below.2);
+    // In the middle of the slot the bar is free by 0.25 to either wall.
+    let middle = at([5.0, 5.0, 0.0]);
+    assert!((middle.0 - 0.25).abs() < 1e-12, "{middle:?}");
+    // Against the workspace's left edge (the fourth): a pair of its own.
+    let left = at([0.9, 2.0, 0.0]);
+    assert_eq!(
+        (left.0, left.1, left.2),
+        (0.0, Nearest::Wall, Pair { robot: 0, world: 3 })
+    );
+    // The pair does not change the clearance `clearance` reports.
+    let q = [5.0, 4.55, 0.0];
+    assert_eq!(
+        world.clearance(&bar.placed(&q), bar.outline(&q)[0]),
+        (below.0, below.1)
     );
 }
