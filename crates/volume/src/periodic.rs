@@ -267,6 +267,18 @@ type Known<'a> = crate::implicit::KnownValues<'a>;
 /// offset in periods relative to the vertex's frame).
 type QuotientNeighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64, [i32; 3])) + 'a;
 
+/// A free lattice vertex whose edges are cut on opposite sides (two cut points more than
+/// 120° apart as seen from it) lies in a passage thinner than the lattice; warped onto one
+/// wall, it leaves the passage with no vertex inside, and tetrahedra whose four vertices all
+/// lie on the walls carry no flow (a 2 × 0.3 bar through a 0.85 slot in a 0.4 wall, at the
+/// default spacing of a configuration space: ψ = 0 behind the slot, every start stalled). Such
+/// a vertex is not warped when it is free by more than this fraction of the spacing; the
+/// tetrahedra around it keep a short edge to the cut point instead (their angles are
+/// measured, and the planning solve clamps). Kept for every such vertex, shallower ones
+/// included, the rule opened passages so thin that the mesh's chords cut across their walls:
+/// two seeded 3-link arms' paths came back `collision`.
+pub(crate) const THIN_FREE_DEPTH: f64 = 0.2;
+
 /// Steps 1 and 2 of stuffing on the canonical vertices `active` of a periodic background
 /// (positions `positions`, edges `neighbours`; values from `known` where it has them, else
 /// from the domain): the vertices after warping, their signs, the
@@ -327,9 +339,18 @@ fn cut_and_warp_quotient(
             continue;
         }
         let mut best: Option<(f64, Point)> = None;
+        // Whether two cut points lie on opposite sides of `v` (more than 120° apart).
+        let mut seen: Vec<crate::solid::Vector> = Vec::new();
+        let mut thin = false;
         neighbours(v, &mut |w, alpha, s| {
             if let Some(c) = cuts.get(&key(v, w)) {
                 let c = if v < w { *c } else { c + offset(period, s) };
+                let d = c - pos[v as usize];
+                if d.norm() > 0.0 {
+                    let d = d / d.norm();
+                    thin |= seen.iter().any(|e| e.dot(&d) < -0.5);
+                    seen.push(d);
+                }
                 let dist = (c - pos[v as usize]).norm();
                 let len =
                     (positions[w as usize] + offset(period, s) - positions[v as usize]).norm();
@@ -338,7 +359,10 @@ fn cut_and_warp_quotient(
                 }
             }
         });
-        if let Some((_, c)) = best {
+        // A free vertex inside a passage thinner than the lattice stays where it is (see
+        // `THIN_FREE_DEPTH`).
+        let keep = thin && f[v as usize] < -THIN_FREE_DEPTH * h;
+        if let Some((_, c)) = best.filter(|_| !keep) {
             pos[v as usize] = c;
             f[v as usize] = 0.0;
             warped += 1;
