@@ -334,24 +334,25 @@ fn cut_and_warp_quotient(
 
     // 2. Warping: the threshold is α times the edge's length before any warping.
     let mut warped = 0;
+    let mut seen: Vec<crate::solid::Vector> = Vec::new();
     for &v in active {
         if f[v as usize] == 0.0 {
             continue;
         }
         let mut best: Option<(f64, Point)> = None;
-        // Whether two cut points lie on opposite sides of `v` (more than 120° apart).
-        let mut seen: Vec<crate::solid::Vector> = Vec::new();
+        // Whether two cut points lie on opposite sides of a free `v` (more than 120° apart).
+        let free = f[v as usize] < 0.0;
+        seen.clear();
         let mut thin = false;
         neighbours(v, &mut |w, alpha, s| {
             if let Some(c) = cuts.get(&key(v, w)) {
                 let c = if v < w { *c } else { c + offset(period, s) };
-                let d = c - pos[v as usize];
-                if d.norm() > 0.0 {
-                    let d = d / d.norm();
+                let dist = (c - pos[v as usize]).norm();
+                if free && dist > 0.0 {
+                    let d = (c - pos[v as usize]) / dist;
                     thin |= seen.iter().any(|e| e.dot(&d) < -0.5);
                     seen.push(d);
                 }
-                let dist = (c - pos[v as usize]).norm();
                 let len =
                     (positions[w as usize] + offset(period, s) - positions[v as usize]).norm();
                 if dist < alpha * len && best.is_none_or(|(b, _)| dist < b) {
