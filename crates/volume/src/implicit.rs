@@ -26,7 +26,8 @@ use crate::solid::Point;
 ///         (Point::new(-1.0, -1.0, -1.0), Point::new(1.0, 1.0, 1.0))
 ///     }
 /// }
-/// let c = Ball.cut(&Point::origin(), &Point::new(2.0, 0.0, 0.0));
+/// let (a, b) = (Point::origin(), Point::new(2.0, 0.0, 0.0));
+/// let c = Ball.cut(&a, Ball.value(&a), &b, Ball.value(&b));
 /// assert!((c.x - 1.0).abs() < 1e-9);
 /// ```
 pub trait ImplicitDomain: Sync {
@@ -40,13 +41,14 @@ pub trait ImplicitDomain: Sync {
         self.value(p) < 0.0
     }
 
-    /// The point where the segment from `a` (inside) to `b` (outside) meets the boundary.
-    /// The default brackets the sign change of [`value`](Self::value) by the Illinois
-    /// variant of regula falsi (bisection when the values carry no slope information),
-    /// to 1e-13 of the segment's length.
-    fn cut(&self, a: &Point, b: &Point) -> Point {
+    /// The point where the segment from `a` (inside) to `b` (outside) meets the boundary,
+    /// given the [`value`](Self::value)s `fa` and `fb` there (the stuffing has them: they
+    /// decided that the edge is cut). The default brackets the sign change by the Illinois
+    /// variant of regula falsi (bisection when the values carry no slope information), to
+    /// 1e-13 of the segment's length.
+    fn cut(&self, a: &Point, fa: f64, b: &Point, fb: f64) -> Point {
         let (mut s0, mut s1) = (0.0f64, 1.0f64);
-        let (mut f0, mut f1) = (self.value(a), self.value(b));
+        let (mut f0, mut f1) = (fa, fb);
         if f0 >= 0.0 {
             return *a;
         }

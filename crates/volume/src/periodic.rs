@@ -325,7 +325,8 @@ fn cut_and_warp_quotient(
     let found: Vec<((u32, u32), Point)> = edges
         .par_iter()
         .map(|&(v, w, s)| {
-            let c = domain.cut(&pos[v as usize], &(pos[w as usize] + offset(period, s)));
+            let (a, b) = (pos[v as usize], pos[w as usize] + offset(period, s));
+            let c = domain.cut(&a, f[v as usize], &b, f[w as usize]);
             let c = if v < w { c } else { c - offset(period, s) };
             (key(v, w), c)
         })

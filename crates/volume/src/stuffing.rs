@@ -283,7 +283,9 @@ fn cut_and_warp(
             let mut here = Vec::new();
             neighbours(v, &mut |w, _| {
                 if f[w as usize] > 0.0 {
-                    here.push((key(v, w), domain.cut(&pos[v as usize], &pos[w as usize])));
+                    let (a, b) = (&pos[v as usize], &pos[w as usize]);
+                    let c = domain.cut(a, f[v as usize], b, f[w as usize]);
+                    here.push((key(v, w), c));
                 }
             });
             here
