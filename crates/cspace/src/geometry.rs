@@ -7,7 +7,7 @@
 use parry2d_f64::bounding_volume::Aabb;
 use parry2d_f64::math::{Pose, Vector};
 use parry2d_f64::query;
-use parry2d_f64::shape::{Ball, ConvexPolygon, Cuboid, Segment, Shape, TriMesh};
+use parry2d_f64::shape::{Ball, ConvexPolygon, Cuboid, HalfSpace, Segment, Shape, TriMesh};
 use parry2d_f64::transformation::hertel_mehlhorn;
 
 use crate::error::CspaceError;
@@ -126,10 +126,54 @@ pub struct Obstacle {
 pub struct World {
     /// The workspace outline, counter-clockwise.
     pub workspace: Vec<[f64; 2]>,
-    /// Its edges as segments with their boxes.
-    walls: Vec<(Segment, Aabb)>,
+    /// Its edges with their boxes.
+    walls: Vec<(Wall, Aabb)>,
     /// The obstacles.
     pub obstacles: Vec<Obstacle>,
+}
+
+/// A workspace edge as the distance queries see it. An edge whose line has the whole
+/// workspace on one side is the solid half-plane beyond it: for a robot part inside the
+/// workspace its distance to that half-plane is its distance to the edge whenever the edge
+/// is the nearest boundary (the line's points off the edge lie outside the workspace, so no
+/// nearer to an inside point than the boundary is), and parry measures it with one support
+/// point where a segment takes a GJK run. Every edge of a convex workspace is such a line;
+/// the others (at a reflex corner) stay segments.
+#[derive(Clone, Debug)]
+enum Wall {
+    /// The solid half-plane beyond the edge, placed at the edge's first end.
+    Line(HalfSpace, Pose),
+    /// The edge itself.
+    Segment(Segment),
+}
+
+impl Wall {
+    /// The edge from `a` to `b` of the counter-clockwise `workspace`.
+    fn new(a: [f64; 2], b: [f64; 2], workspace: &[[f64; 2]]) -> Wall {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = dx.hypot(dy);
+        // The inward normal (left of a → b); the solid lies on its negative side.
+        let inward = Vector::new(-dy / len, dx / len);
+        let tol = 1e-12 * bbox_size(workspace);
+        let supporting = workspace
+            .iter()
+            .all(|p| inward.dot(Vector::new(p[0] - a[0], p[1] - a[1])) >= -tol);
+        if supporting && len > 0.0 {
+            Wall::Line(HalfSpace::new(inward), Pose::translation(a[0], a[1]))
+        } else {
+            Wall::Segment(Segment::new(
+                Vector::new(a[0], a[1]),
+                Vector::new(b[0], b[1]),
+            ))
+        }
+    }
+
+    fn shape(&self) -> (&dyn Shape, Pose) {
+        match self {
+            Wall::Line(h, pose) => (h, *pose),
+            Wall::Segment(s) => (s, Pose::IDENTITY),
+        }
+    }
 }
 
 /// What a robot's nearest thing is.
@@ -169,9 +213,16 @@ impl World {
         let walls = (0..workspace.len())
             .map(|i| {
                 let (a, b) = (workspace[i], workspace[(i + 1) % workspace.len()]);
-                let s = Segment::new(Vector::new(a[0], a[1]), Vector::new(b[0], b[1]));
-                let bb = s.compute_aabb(&Pose::IDENTITY);
-                (s, bb)
+                let wall = Wall::new(a, b, &workspace);
+                // The box is a lower bound of a part's distance: a line's is the plane.
+                let bb = match &wall {
+                    Wall::Line(..) => Aabb::new(
+                        Vector::splat(f64::NEG_INFINITY),
+                        Vector::splat(f64::INFINITY),
+                    ),
+                    Wall::Segment(s) => s.compute_aabb(&Pose::IDENTITY),
+                };
+                (wall, bb)
             })
             .collect();
         let mut out = Vec::new();
@@ -262,16 +313,18 @@ impl World {
             .collect();
         let mut best = f64::INFINITY;
         let mut nearest = (Nearest::Wall, Pair::default());
-        let gap = |a: &Aabb, b: &Aabb| {
+        // Whether two boxes are at least `d` apart (a part in the one at least that far
+        // from a piece in the other), compared squared.
+        let apart = |a: &Aabb, b: &Aabb, d: f64| {
             let dx = (b.mins.x - a.maxs.x).max(a.mins.x - b.maxs.x).max(0.0);
             let dy = (b.mins.y - a.maxs.y).max(a.mins.y - b.maxs.y).max(0.0);
-            dx.hypot(dy)
+            dx * dx + dy * dy >= d * d
         };
         let mut piece = 0u32;
         let mut measure =
             |shape: &dyn Shape, pose: &Pose, bb: &Aabb, what: Nearest, best: &mut f64| {
                 for (r, (rp, rs, rb)) in placed.iter().enumerate() {
-                    if gap(rb, bb) >= *best {
+                    if apart(rb, bb, *best) {
                         continue;
                     }
                     let d = query::distance(rp, *rs, pose, shape)
@@ -288,8 +341,9 @@ impl World {
                 }
                 piece += 1;
             };
-        for (s, bb) in &self.walls {
-            measure(s, &Pose::IDENTITY, bb, Nearest::Wall, &mut best);
+        for (wall, bb) in &self.walls {
+            let (shape, pose) = wall.shape();
+            measure(shape, &pose, bb, Nearest::Wall, &mut best);
         }
         for (i, o) in self.obstacles.iter().enumerate() {
             for (p, bb) in &o.parts {

@@ -11,24 +11,28 @@ use harmonic_volume::{BoundaryTag, SEAM_PART};
 fn world() -> World {
     World::new(
         &[[0.0, 0.0], [6.0, 0.0], [6.0, 5.0], [0.0, 5.0]],
-        &[
-            ObstacleInput::Polygon(vec![
-                [2.0, 1.0],
-                [4.0, 1.0],
-                [4.0, 3.0],
-                [3.5, 3.0],
-                [3.5, 1.5],
-                [2.5, 1.5],
-                [2.5, 3.0],
-                [2.0, 3.0],
-            ]),
-            ObstacleInput::Circle {
-                center: [4.8, 4.0],
-                radius: 0.4,
-            },
-        ],
+        &obstacles(),
     )
     .expect("valid world")
+}
+
+fn obstacles() -> Vec<ObstacleInput> {
+    vec![
+        ObstacleInput::Polygon(vec![
+            [2.0, 1.0],
+            [4.0, 1.0],
+            [4.0, 3.0],
+            [3.5, 3.0],
+            [3.5, 1.5],
+            [2.5, 1.5],
+            [2.5, 3.0],
+            [2.0, 3.0],
+        ]),
+        ObstacleInput::Circle {
+            center: [4.8, 4.0],
+            radius: 0.4,
+        },
+    ]
 }
 
 /// A small deterministic generator (no dependency for a few numbers).
@@ -43,8 +47,31 @@ impl Lcg {
     }
 }
 
+/// [`world`]'s obstacles in an L-shaped room: its two edges at the reflex corner have
+/// workspace on both sides of their lines.
+fn l_world() -> World {
+    World::new(
+        &[
+            [0.0, 0.0],
+            [6.0, 0.0],
+            [6.0, 5.0],
+            [3.0, 5.0],
+            [3.0, 3.2],
+            [0.0, 3.2],
+        ],
+        &obstacles(),
+    )
+    .expect("valid world")
+}
+
 #[test]
 fn parry_distances_agree_with_the_exact_kernels() {
+    // Convex rooms measure their walls as half-planes, the L's reflex edges as segments.
+    parry_distances_agree_in(world(), [1.0, 4.0]);
+    parry_distances_agree_in(l_world(), [1.5, 2.0]);
+}
+
+fn parry_distances_agree_in(world: World, base: [f64; 2]) {
     let l_shape = [
         [-0.5, -0.2],
         [0.6, -0.2],
@@ -55,8 +82,8 @@ fn parry_distances_agree_with_the_exact_kernels() {
     ];
     let robots = [
         Robot::Rigid(RigidRobot::new(&l_shape).expect("valid")),
-        Robot::Arm(Arm::new([1.0, 4.0], &[1.2, 0.9, 0.6], 0.08, None).expect("valid")),
-        Robot::Arm(Arm::new([1.0, 4.0], &[1.2, 0.9], 0.0, None).expect("valid")),
+        Robot::Arm(Arm::new(base, &[1.2, 0.9, 0.6], 0.08, None).expect("valid")),
+        Robot::Arm(Arm::new(base, &[1.2, 0.9], 0.0, None).expect("valid")),
     ];
     let mut rng = Lcg(7);
     for robot in robots {
@@ -71,7 +98,7 @@ fn parry_distances_agree_with_the_exact_kernels() {
                 tolerance: 0.3,
             },
         };
-        let space = ConfigSpace::new(robot.clone(), world(), goal, 0.0, 0.3).expect("valid");
+        let space = ConfigSpace::new(robot.clone(), world.clone(), goal, 0.0, 0.3).expect("valid");
         let mut compared = 0;
         for _ in 0..400 {
             let q: Vec<f64> = match &robot {
