@@ -5,7 +5,7 @@
 
 use std::f64::consts::TAU;
 
-use parry2d_f64::math::{Pose, Vector};
+use parry2d_f64::math::{Pose, Rotation, Vector};
 use parry2d_f64::shape::{Cuboid, Segment};
 
 use crate::error::CspaceError;
@@ -158,16 +158,23 @@ impl Arm {
         let mut out = vec![p];
         for (l, qi) in self.links.iter().zip(q) {
             angle += qi;
-            p = [p[0] + l * angle.cos(), p[1] + l * angle.sin()];
+            let (s, c) = angle.sin_cos();
+            p = [p[0] + l * c, p[1] + l * s];
             out.push(p);
         }
         out
     }
 
-    /// The end effector at `q`.
+    /// The end effector at `q` (the last of [`Arm::joints`], with no list made).
     pub fn tip(&self, q: &[f64]) -> [f64; 2] {
-        let j = self.joints(q);
-        j[j.len() - 1]
+        let mut p = self.base;
+        let mut angle = 0.0;
+        for (l, qi) in self.links.iter().zip(q) {
+            angle += qi;
+            let (s, c) = angle.sin_cos();
+            p = [p[0] + l * c, p[1] + l * s];
+        }
+        p
     }
 
     /// The links' outlines at `q`: segments (2 points) or rectangles (4).
@@ -194,13 +201,17 @@ impl Arm {
 
     /// The links as convex parts placed at `q` (owned: they move with `q`).
     pub fn placed_parts(&self, q: &[f64]) -> Vec<(Pose, Part)> {
-        let j = self.joints(q);
+        // The joints of [`Arm::joints`] and each link's rotation from one sine and cosine.
+        let mut p = self.base;
         let mut angle = 0.0;
-        let mut out = Vec::new();
-        for (i, (l, qi)) in self.links.iter().zip(q).enumerate() {
+        let mut out = Vec::with_capacity(self.links.len());
+        for (l, qi) in self.links.iter().zip(q) {
             angle += qi;
-            let mid = Vector::new(0.5 * (j[i][0] + j[i + 1][0]), 0.5 * (j[i][1] + j[i + 1][1]));
-            let pose = Pose::new(mid, angle);
+            let (s, c) = angle.sin_cos();
+            let end = [p[0] + l * c, p[1] + l * s];
+            let mid = Vector::new(0.5 * (p[0] + end[0]), 0.5 * (p[1] + end[1]));
+            p = end;
+            let pose = Pose::from_parts(mid, Rotation::from_cos_sin_unchecked(c, s));
             let part = if self.width == 0.0 {
                 Part::Segment(Segment::new(
                     Vector::new(-0.5 * l, 0.0),

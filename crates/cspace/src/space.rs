@@ -936,11 +936,12 @@ impl ImplicitDomain for ConfigSpace {
         let want = {
             let term = Arc::clone(&term);
             move |p: &[Point; 4]| -> bool {
-                let t = [term(&p[0]), term(&p[1]), term(&p[2]), term(&p[3])];
-                let free = t.iter().filter(|t| t.value < 0.0).count();
-                if longest_edge(p) <= floor {
+                let longest = longest_edge(p);
+                if longest <= floor {
                     return false;
                 }
+                let t = [term(&p[0]), term(&p[1]), term(&p[2]), term(&p[3])];
+                let free = t.iter().filter(|t| t.value < 0.0).count();
                 if free < 4 {
                     // A gap between two contacts: an edge whose ends collide through
                     // different pairs, with its middle clearly free (by a twentieth of the
@@ -948,7 +949,7 @@ impl ImplicitDomain for ConfigSpace {
                     // the spacing: a quarter, as for slivers, doubled the mesh time of
                     // polygon robots among clutter, where such wedges line every junction
                     // of two obstacles' images, and found no passage more.
-                    return longest_edge(p) > 2.0 * floor
+                    return longest > 2.0 * floor
                         && EDGES.iter().any(|&[a, b]| {
                             t[a].value >= 0.0
                                 && t[b].value >= 0.0
