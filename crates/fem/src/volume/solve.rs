@@ -28,8 +28,9 @@ pub const AUTO_ACCURATE_MAX_UNKNOWNS_3D: usize = 15_000;
 /// `H=0.3 cargo test --release -p harmonic-fem --test volume_solvers -- --ignored --nocapture`).
 pub const AUTO_CHOLESKY_MAX_UNKNOWNS: usize = 20_000;
 
-/// From this many unknowns [`VolumeSolveMethod::Auto`] (and the planning solve's clamped
-/// try) use the smoothed-aggregation multigrid instead of IC(0): measured on this project's
+/// From this many unknowns [`VolumeSolveMethod::Auto`] uses the smoothed-aggregation
+/// multigrid instead of IC(0) (the planning solve's clamped try: from
+/// [`SPECULATIVE_MAX_UNKNOWNS`], see [`PLANNING_PCG_TOL`]): measured on this project's
 /// 2-core machine, me766's 891 k unknowns in 18 iterations and 1.9 s against IC(0)'s 6.2 s,
 /// a 3-link arm's 125 k in 23–24 iterations and 0.24–0.43 s against 0.7–0.8 s; at the 40 k of
 /// the seeded volume scenes the two are even (`cargo run --release --example volume_reach`).
@@ -199,6 +200,11 @@ pub const PLANNING_CHOLESKY_MAX_UNKNOWNS: usize = 200_000;
 /// Relative residual of the planning solve's clamped PCG: deeper than the general 1e-10, since
 /// noise where ψ is smaller than the residual is what an interior extremum is made of (on
 /// 3-link arms' configuration spaces, 85 k unknowns: 80 iterations against 60).
+///
+/// Up to [`SPECULATIVE_MAX_UNKNOWNS`] the clamped try is IC(0)-PCG whatever its size: the
+/// multigrid's field, on a 3-link arm's 126 k unknowns, had interior extrema where ψ fell
+/// to 1e-23 and was solved again by IC(0) (0.5 s each, 89 IC(0) iterations against 25
+/// multigrid ones), while IC(0)'s field is what the planning solve keeps.
 pub const PLANNING_PCG_TOL: f64 = 1e-13;
 
 /// The planning solve's clamped (M-matrix) redo: the accurate elimination up to
@@ -221,7 +227,7 @@ fn clamped_first_try(
     let (psi, report) = if system.matrix().n() <= PLANNING_ACCURATE_MAX_UNKNOWNS {
         solve_volume(system, VolumeSolveMethod::Accurate)?
     } else {
-        let method = iterative_method(system.matrix().n(), AUTO_MULTIGRID_MIN_UNKNOWNS);
+        let method = iterative_method(system.matrix().n(), SPECULATIVE_MAX_UNKNOWNS + 1);
         solve_volume_to(system, method, PLANNING_PCG_TOL)?
     };
     let potential = VolumePotential::new(Arc::clone(mesh), psi, system.reference())?;
