@@ -101,6 +101,7 @@ pub fn refine_where(
         frozen,
         rank,
         touched: Vec::new(),
+        longest_of: Vec::new(),
     };
     refine(&mut r, want, max_tets)
 }
@@ -169,6 +170,7 @@ pub fn refine_periodic(
         frozen: &|_| false,
         rank,
         touched: Vec::new(),
+        longest_of: Vec::new(),
     };
     refine(&mut r, want, max_tets)
 }
@@ -245,7 +247,15 @@ struct Refiner<'a> {
     rank: &'a dyn Fn(&Point) -> f64,
     /// Tetrahedra created or changed in this pass.
     touched: Vec<u32>,
+    /// Per tetrahedron, its edge to bisect once [`Refiner::longest`] has found it
+    /// ([`UNKNOWN_EDGE`] before, and again once the tetrahedron changes): a propagation
+    /// path asks every tetrahedron around each edge on it, and a lattice's tied lengths
+    /// make each answer rank several midpoints.
+    longest_of: Vec<(u32, u32)>,
 }
+
+/// [`Refiner::longest_of`] for a tetrahedron not looked at since it last changed.
+const UNKNOWN_EDGE: (u32, u32) = (u32::MAX, u32::MAX);
 
 impl Refiner<'_> {
     fn index(&mut self) {
@@ -299,7 +309,18 @@ impl Refiner<'_> {
 
     /// The longest edge of `t` in the strict order of [`Refiner::key`]. The rank (a call to
     /// the caller's function) is asked only of the edges tied for the longest.
-    fn longest(&self, t: u32) -> (u32, u32) {
+    fn longest(&mut self, t: u32) -> (u32, u32) {
+        if self.longest_of.len() < self.tets.len() {
+            self.longest_of.resize(self.tets.len(), UNKNOWN_EDGE);
+        }
+        if self.longest_of[t as usize] == UNKNOWN_EDGE {
+            self.longest_of[t as usize] = self.find_longest(t);
+        }
+        self.longest_of[t as usize]
+    }
+
+    /// The edge [`Refiner::longest`] gives, found.
+    fn find_longest(&self, t: u32) -> (u32, u32) {
         let edges = EDGES.map(|e| self.edge(t, e));
         let lens = edges.map(|(_, pa, pb)| length_key(&pa, &pb));
         let top = lens.iter().copied().max().unwrap_or(0);
@@ -355,7 +376,7 @@ impl Refiner<'_> {
             {
                 return None;
             }
-            if let Some(&w) = around.iter().find(|&&w| self.longest(w) != e) {
+            if let Some(w) = around.iter().copied().find(|&w| self.longest(w) != e) {
                 stack.push(w);
                 continue;
             }
@@ -387,6 +408,9 @@ impl Refiner<'_> {
             let n = self.tets.len() as u32;
             self.tets[t as usize] = first;
             self.tets.push(second);
+            if let Some(known) = self.longest_of.get_mut(t as usize) {
+                *known = UNKNOWN_EDGE;
+            }
             if self.period.is_some() {
                 // In this tetrahedron's frame the midpoint lies `shift` periods from `a`'s.
                 let w = self.wraps[t as usize];
