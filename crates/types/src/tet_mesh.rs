@@ -52,51 +52,84 @@ pub fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), Mes
 }
 
 /// The face adjacency of `tets` (vertex indices checked): per tetrahedron, the tetrahedron
-/// across face `k`, or [`NO_NEIGHBOR`]. Faces are matched by sorting their sorted vertex
-/// triples, packed with the tetrahedron and local face into one `u128` key (a parallel sort:
-/// keys are unique, so the result is the same on any number of threads). A face shared by more
-/// than two tetrahedra is an error.
+/// across face `k`, or [`NO_NEIGHBOR`]. Faces are matched by their sorted vertex triples:
+/// bucketed by their smallest vertex (a counting sort), each bucket then sorted by the other
+/// two, packed with the tetrahedron and local face into one `u128` — the order a sort of
+/// every face's packed key gives, without sorting millions of keys at once (the buckets
+/// sorted in parallel; keys are unique, so the result is the same on any number of
+/// threads). A face shared by more than two tetrahedra is an error.
 pub fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshDataError> {
-    use rayon::slice::ParallelSliceMut;
-    let mut faces: Vec<u128> = Vec::with_capacity(4 * tets.len());
-    for (t, tet) in tets.iter().enumerate() {
-        for (k, f) in FACES.iter().enumerate() {
-            let mut key = [tet[f[0]], tet[f[1]], tet[f[2]]];
-            key.sort_unstable();
-            faces.push(
-                (key[0] as u128) << 96
-                    | (key[1] as u128) << 64
-                    | (key[2] as u128) << 32
-                    | ((t as u128) << 2 | k as u128),
-            );
+    use rayon::prelude::*;
+    let sorted = |tet: &[u32; 4], f: &[usize; 3]| {
+        let mut key = [tet[f[0]], tet[f[1]], tet[f[2]]];
+        key.sort_unstable();
+        key
+    };
+    let nv = tets
+        .iter()
+        .flatten()
+        .copied()
+        .max()
+        .map_or(0, |m| m as usize + 1);
+    let mut start = vec![0usize; nv + 1];
+    for tet in tets {
+        for f in &FACES {
+            start[sorted(tet, f)[0] as usize + 1] += 1;
         }
     }
-    faces.par_sort_unstable();
+    for v in 0..nv {
+        start[v + 1] += start[v];
+    }
+    // Within a bucket the smallest vertex is known: the key holds the other two.
+    let mut faces: Vec<u128> = vec![0; 4 * tets.len()];
+    let mut next = start.clone();
+    for (t, tet) in tets.iter().enumerate() {
+        for (k, f) in FACES.iter().enumerate() {
+            let key = sorted(tet, f);
+            let slot = &mut next[key[0] as usize];
+            faces[*slot] =
+                (key[1] as u128) << 64 | (key[2] as u128) << 32 | ((t as u128) << 2 | k as u128);
+            *slot += 1;
+        }
+    }
+    drop(next);
+    let mut buckets: Vec<&mut [u128]> = Vec::with_capacity(nv);
+    let mut rest = faces.as_mut_slice();
+    for v in 0..nv {
+        let (bucket, tail) = std::mem::take(&mut rest).split_at_mut(start[v + 1] - start[v]);
+        buckets.push(bucket);
+        rest = tail;
+    }
+    buckets.par_iter_mut().for_each(|b| b.sort_unstable());
+    drop(buckets);
     let side = |x: u128| ((x as u32 >> 2) as usize, (x as u32 & 3) as usize);
     let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
-    let mut i = 0;
-    while i < faces.len() {
-        let mut j = i + 1;
-        while j < faces.len() && faces[j] >> 32 == faces[i] >> 32 {
-            j += 1;
-        }
-        match j - i {
-            1 => {}
-            2 => {
-                let ((t0, k0), (t1, k1)) = (side(faces[i]), side(faces[i + 1]));
-                neighbors[t0][k0] = t1 as u32;
-                neighbors[t1][k1] = t0 as u32;
+    for v in 0..nv {
+        let bucket = &faces[start[v]..start[v + 1]];
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j] >> 32 == bucket[i] >> 32 {
+                j += 1;
             }
-            n => {
-                let k = faces[i] >> 32;
-                let key = [(k >> 64) as u32, (k >> 32) as u32, k as u32];
-                return Err(MeshDataError::FaceSharedTooOften {
-                    face: key,
-                    count: n,
-                });
+            match j - i {
+                1 => {}
+                2 => {
+                    let ((t0, k0), (t1, k1)) = (side(bucket[i]), side(bucket[i + 1]));
+                    neighbors[t0][k0] = t1 as u32;
+                    neighbors[t1][k1] = t0 as u32;
+                }
+                n => {
+                    let k = bucket[i] >> 32;
+                    let key = [v as u32, (k >> 32) as u32, k as u32];
+                    return Err(MeshDataError::FaceSharedTooOften {
+                        face: key,
+                        count: n,
+                    });
+                }
             }
+            i = j;
         }
-        i = j;
     }
     Ok(neighbors)
 }
@@ -370,6 +403,58 @@ mod tests {
             }
         })
         .unwrap()
+    }
+
+    /// Bucketed face matching against every pair of tetrahedra compared face by face, on
+    /// the Kuhn cube and on a strip of cubes with shuffled vertex numbers; a face shared by
+    /// three tetrahedra is named by its vertices.
+    #[test]
+    fn face_neighbors_match_a_pairwise_search() {
+        let faces_of = |t: &[u32; 4]| {
+            FACES.map(|f| {
+                let mut k = [t[f[0]], t[f[1]], t[f[2]]];
+                k.sort_unstable();
+                k
+            })
+        };
+        let brute = |tets: &[[u32; 4]]| {
+            let mut out = vec![[NO_NEIGHBOR; 4]; tets.len()];
+            for (a, ta) in tets.iter().enumerate() {
+                for (b, tb) in tets.iter().enumerate() {
+                    for (k, fa) in faces_of(ta).iter().enumerate() {
+                        if a != b && faces_of(tb).contains(fa) {
+                            out[a][k] = b as u32;
+                        }
+                    }
+                }
+            }
+            out
+        };
+        let cube = kuhn_cube().tetrahedra().to_vec();
+        // Four cubes side by side along x, vertices renumbered by a permutation.
+        let perm = |v: u32| (v * 7 + 3) % 40;
+        let strip: Vec<[u32; 4]> = (0..4u32)
+            .flat_map(|c| {
+                cube.iter().map(move |t| {
+                    t.map(|v| {
+                        let (x, rest) = (v & 1, v >> 1);
+                        perm((c + x) * 4 + rest)
+                    })
+                })
+            })
+            .collect();
+        for tets in [cube.clone(), strip] {
+            assert_eq!(face_neighbors(&tets).unwrap(), brute(&tets));
+        }
+        let mut three = cube;
+        three.push([0, 1, 3, 7]);
+        three.push([0, 1, 3, 6]);
+        match face_neighbors(&three) {
+            Err(MeshDataError::FaceSharedTooOften { face, count }) => {
+                assert_eq!((face, count), ([0, 1, 3], 3));
+            }
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]
