@@ -120,7 +120,8 @@ impl Meshed {
 fn largest_area_smallest_angle(mesh: &Mesh) -> (f64, f64) {
     let (mut max_area, mut min_angle) = (0.0f64, std::f64::consts::PI);
     // (|cross|, dot) of the smallest angle so far with a positive dot: tan θ = |cross| / dot
-    // orders the angles below 90° without an arctangent per triangle.
+    // orders the angles below 90° without an arctangent per triangle, and an angle no
+    // smaller than the best (a quadtree's 45° everywhere) takes none at all.
     let mut best: Option<(f64, f64)> = None;
     for t in mesh.triangles() {
         let [a, b, c] = t.map(|v| mesh.vertices()[v as usize]);
@@ -137,7 +138,7 @@ fn largest_area_smallest_angle(mesh: &Mesh) -> (f64, f64) {
         let cross = u.x * v.y - u.y * v.x;
         max_area = max_area.max(0.5 * cross.abs());
         let (sine, cosine) = (cross.abs(), u.dot(&v));
-        if cosine <= 0.0 || best.is_none_or(|(bs, bc)| sine * bc <= bs * cosine) {
+        if cosine <= 0.0 || best.is_none_or(|(bs, bc)| sine * bc < bs * cosine) {
             let angle = sine.atan2(cosine);
             if angle < min_angle {
                 min_angle = angle;
@@ -160,4 +161,72 @@ fn auto_refinements(domain: &Domain, mesh_options: &MeshOptions) -> Result<usize
     } else {
         0
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use harmonic_mesh::BoundaryTag;
+
+    /// A `n × n` grid of jittered points (xorshift from `seed`), each square cut along
+    /// a diagonal; `jitter` 0 gives right isosceles triangles, all of 45° smallest angle.
+    fn jittered(n: usize, jitter: f64, mut seed: u64) -> Mesh {
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut points = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let inner = i > 0 && j > 0 && i < n && j < n;
+                let (dx, dy) = if inner {
+                    (jitter * next(), jitter * next())
+                } else {
+                    (0.0, 0.0)
+                };
+                points.push(Point::new(i as f64 + dx, j as f64 + dy));
+            }
+        }
+        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let ring: Vec<u32> = (0..n)
+            .map(|i| at(i, 0))
+            .chain((0..n).map(|j| at(n, j)))
+            .chain((1..=n).rev().map(|i| at(i, n)))
+            .chain((1..=n).rev().map(|j| at(0, j)))
+            .collect();
+        let walls: Vec<_> = (0..ring.len())
+            .map(|k| (ring[k], ring[(k + 1) % ring.len()], BoundaryTag::Wall))
+            .collect();
+        Mesh::from_parts(points, triangles, &walls).expect("a valid grid mesh")
+    }
+
+    #[test]
+    fn the_one_pass_agrees_with_the_quality_report() {
+        for (jitter, seed) in [(0.0, 1), (0.2, 2), (0.35, 3), (0.45, 4)] {
+            let mesh = jittered(12, jitter, seed);
+            let (max_area, min_angle) = largest_area_smallest_angle(&mesh);
+            let q = mesh.quality();
+            assert!(
+                (max_area - q.max_triangle_area).abs() <= 1e-12,
+                "jitter {jitter}"
+            );
+            assert!(
+                (min_angle.to_degrees() - q.min_angle_deg).abs() <= 1e-9,
+                "jitter {jitter}: {} against {}",
+                min_angle.to_degrees(),
+                q.min_angle_deg
+            );
+        }
+        let (_, right) = largest_area_smallest_angle(&jittered(8, 0.0, 5));
+        assert!((right.to_degrees() - 45.0).abs() <= 1e-12);
+    }
 }

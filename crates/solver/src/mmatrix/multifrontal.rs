@@ -479,9 +479,16 @@ fn front<T: Magnitude>(
     for (t, &i) in below.iter().enumerate() {
         pos[i as usize] = width + t;
     }
-    let a = &mut scratch.front;
-    a.clear();
-    a.resize(mm * mm, T::ZERO);
+    // Column t of the front is read and written only from its diagonal down (rows are in
+    // increasing order of `pos`), so only that part is cleared; what lies above it is left
+    // from earlier fronts and never read.
+    if scratch.front.len() < mm * mm {
+        scratch.front.resize(mm * mm, T::ZERO);
+    }
+    let a = &mut scratch.front[..mm * mm];
+    for t in 0..mm {
+        a[t * mm + t..(t + 1) * mm].fill(T::ZERO);
+    }
     for t in 0..width {
         let c = f + t;
         a[t * mm + t] = T::of(m.excess[perm[c]]);
