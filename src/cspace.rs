@@ -38,7 +38,7 @@ use harmonic_cspace::{
 };
 use harmonic_fem::volume::{VolumePotential, solve_periodic_for_planning};
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, trace_exact_volume,
+    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, VolumeFieldTopology, trace_exact_volume,
 };
 use harmonic_trajectory::{Locate, Path, SmoothOptions, TraceStatus, Tracer, trace_smooth};
 use harmonic_volume::{BoundaryTag, PeriodicMesh, Point, TetMesh, dihedral_range};
@@ -292,18 +292,22 @@ impl ConfigPlanner {
 
         let t = Instant::now();
         let bcs = scene.boundary_conditions();
-        // The covering's point-location grid (what a first query would build) beside the solve,
-        // whose two tries leave a core idle at their ends.
-        let (solved, ()) = rayon::join(
+        // The covering's point-location grid (what a first query would build) and what the
+        // field needs of the covering alone (vertex → tetrahedra, components) beside the
+        // solve, whose assembly and two tries leave a core idle at their ends.
+        let (solved, topology) = rayon::join(
             || solve_periodic_for_planning(Arc::clone(&slab), &images, &bcs),
-            || covering.prepare_locate(),
+            || {
+                covering.prepare_locate();
+                VolumeFieldTopology::of(&covering)
+            },
         );
         let (potential, solved) = solved?;
         let psi: Vec<f64> = slab_vertex
             .iter()
             .map(|&v| potential.psi()[v as usize])
             .collect();
-        let field = Arc::clone(P1VolumeField::ascending(&covering, &psi)?.parts());
+        let field = Arc::clone(P1VolumeField::ascending_with(&covering, topology, &psi)?.parts());
         let solve_ms = millis(t);
         let (lo, hi) = covering.bounds();
         let size = space.world().size();

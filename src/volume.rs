@@ -27,7 +27,7 @@ use harmonic_fem::volume::{
     solve_assembled_for_planning,
 };
 use harmonic_trajectory::volume::{
-    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, trace_exact_volume,
+    ExactVolumeOptions, P1VolumeField, VolumeFieldParts, VolumeFieldTopology, trace_exact_volume,
 };
 use harmonic_trajectory::{Locate, Path, SmoothOptions, TraceStatus, Tracer, trace_smooth};
 use harmonic_volume::io::PointData;
@@ -198,15 +198,20 @@ impl VolumePlanner {
         // Stuffed meshes keep a few obtuse tetrahedra; where their positive off-diagonals let
         // the Galerkin field have an interior extremum (or ψ is too flat for Cholesky), the
         // planning solve redoes it on the M-matrix with those weights clamped.
-        // The mesh's point-location grid (what a first query would build) beside the solve.
-        let (solved, ()) = rayon::join(
+        // The mesh's point-location grid (what a first query would build) and what the field
+        // needs of the mesh alone beside the solve.
+        let (solved, topology) = rayon::join(
             || solve_assembled_for_planning(&assembler, &bcs, &system),
-            || mesh.prepare_locate(),
+            || {
+                mesh.prepare_locate();
+                VolumeFieldTopology::of(&mesh)
+            },
         );
         let (potential, solve, clamped) = solved?;
         let solved_by = volume_solved_by(&solve, clamped.is_some());
         let clamped_edges = clamped.unwrap_or(0);
-        let field = Arc::clone(P1VolumeField::ascending(&mesh, potential.psi())?.parts());
+        let field =
+            Arc::clone(P1VolumeField::ascending_with(&mesh, topology, potential.psi())?.parts());
         let solve_ms = millis(t);
 
         let (lo, hi) = mesh.bounds();

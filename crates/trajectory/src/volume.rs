@@ -48,6 +48,80 @@ pub struct VolumeFieldParts {
     component_goal: Vec<bool>,
 }
 
+/// What a [`P1VolumeField`] needs of its mesh alone, before any values: the vertex →
+/// tetrahedra table and the face-connected components with whether each has a goal face.
+/// On a large mesh it is worth computing while the values are still being solved for
+/// ([`P1VolumeField::ascending_with`]).
+#[derive(Debug)]
+pub struct VolumeFieldTopology {
+    vt_start: Vec<u32>,
+    vt: Vec<u32>,
+    component: Vec<u32>,
+    component_goal: Vec<bool>,
+}
+
+impl VolumeFieldTopology {
+    /// The topology of `mesh`.
+    pub fn of(mesh: &TetMesh) -> Self {
+        let nv = mesh.vertices().len();
+        let tets = mesh.tetrahedra();
+        let mut vt_start = vec![0u32; nv + 1];
+        for t in tets {
+            for &v in t {
+                vt_start[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..nv {
+            vt_start[i + 1] += vt_start[i];
+        }
+        let mut next = vt_start.clone();
+        let mut vt = vec![0u32; 4 * tets.len()];
+        for (t, tet) in tets.iter().enumerate() {
+            for &v in tet {
+                vt[next[v as usize] as usize] = t as u32;
+                next[v as usize] += 1;
+            }
+        }
+        // Components and their goals.
+        let mut component = vec![u32::MAX; tets.len()];
+        let mut component_goal = Vec::new();
+        let mut stack = Vec::new();
+        for seed in 0..tets.len() {
+            if component[seed] != u32::MAX {
+                continue;
+            }
+            let c = component_goal.len() as u32;
+            let mut goal = false;
+            component[seed] = c;
+            stack.push(seed as u32);
+            while let Some(t) = stack.pop() {
+                for k in 0..4 {
+                    match mesh.neighbors()[t as usize][k] {
+                        NO_NEIGHBOR => {
+                            goal |= matches!(
+                                mesh.boundary_face(t, k).map(|f| f.tag),
+                                Some(BoundaryTag::Goal(_))
+                            );
+                        }
+                        n if component[n as usize] == u32::MAX => {
+                            component[n as usize] = c;
+                            stack.push(n);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            component_goal.push(goal);
+        }
+        VolumeFieldTopology {
+            vt_start,
+            vt,
+            component,
+            component_goal,
+        }
+    }
+}
+
 impl std::fmt::Debug for P1VolumeField<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("P1VolumeField")
@@ -74,7 +148,22 @@ impl<'a> P1VolumeField<'a> {
         self
     }
 
+    /// [`P1VolumeField::ascending`] with the mesh's [`VolumeFieldTopology`] computed
+    /// beforehand (for instance beside the solve that gives ψ): only the gradients are left.
+    pub fn ascending_with(
+        mesh: &'a TetMesh,
+        topology: VolumeFieldTopology,
+        psi: &[f64],
+    ) -> Result<Self, TraceError> {
+        Self::build_with(mesh, psi.iter().map(|v| -v).collect(), topology)
+    }
+
     fn build(mesh: &'a TetMesh, values: Vec<f64>) -> Result<Self, TraceError> {
+        Self::check_values(mesh, &values)?;
+        Self::build_with(mesh, values, VolumeFieldTopology::of(mesh))
+    }
+
+    fn check_values(mesh: &TetMesh, values: &[f64]) -> Result<(), TraceError> {
         let nv = mesh.vertices().len();
         if values.len() != nv {
             return Err(TraceError::LengthMismatch {
@@ -89,24 +178,30 @@ impl<'a> P1VolumeField<'a> {
                 index,
             });
         }
+        Ok(())
+    }
+
+    fn build_with(
+        mesh: &'a TetMesh,
+        values: Vec<f64>,
+        topology: VolumeFieldTopology,
+    ) -> Result<Self, TraceError> {
+        Self::check_values(mesh, &values)?;
+        let (nv, nt) = (mesh.vertices().len(), mesh.tetrahedra().len());
+        if topology.vt_start.len() != nv + 1 || topology.component.len() != nt {
+            return Err(TraceError::LengthMismatch {
+                what: "field topology",
+                expected: nt,
+                got: topology.component.len(),
+            });
+        }
         let tets = mesh.tetrahedra();
-        let mut vt_start = vec![0u32; nv + 1];
-        for t in tets {
-            for &v in t {
-                vt_start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..nv {
-            vt_start[i + 1] += vt_start[i];
-        }
-        let mut next = vt_start.clone();
-        let mut vt = vec![0u32; 4 * tets.len()];
-        for (t, tet) in tets.iter().enumerate() {
-            for &v in tet {
-                vt[next[v as usize] as usize] = t as u32;
-                next[v as usize] += 1;
-            }
-        }
+        let VolumeFieldTopology {
+            vt_start,
+            vt,
+            component,
+            component_goal,
+        } = topology;
         // Recovered nodal gradients (volume-weighted), for the smooth tracer.
         // Each tetrahedron's gradient on every core, summed into the vertices in order (the
         // same sums on any number of threads).
@@ -140,37 +235,6 @@ impl<'a> P1VolumeField<'a> {
                 })
                 .collect()
         };
-        // Components and their goals.
-        let mut component = vec![u32::MAX; tets.len()];
-        let mut component_goal = Vec::new();
-        let mut stack = Vec::new();
-        for seed in 0..tets.len() {
-            if component[seed] != u32::MAX {
-                continue;
-            }
-            let c = component_goal.len() as u32;
-            let mut goal = false;
-            component[seed] = c;
-            stack.push(seed as u32);
-            while let Some(t) = stack.pop() {
-                for k in 0..4 {
-                    match mesh.neighbors()[t as usize][k] {
-                        NO_NEIGHBOR => {
-                            goal |= matches!(
-                                mesh.boundary_face(t, k).map(|f| f.tag),
-                                Some(BoundaryTag::Goal(_))
-                            );
-                        }
-                        n if component[n as usize] == u32::MAX => {
-                            component[n as usize] = c;
-                            stack.push(n);
-                        }
-                        _ => {}
-                    }
-                }
-            }
-            component_goal.push(goal);
-        }
         Ok(P1VolumeField {
             mesh,
             parts: Arc::new(VolumeFieldParts {

@@ -63,3 +63,28 @@ fn a_corner_is_followed_along_its_edge() {
         path.length
     );
 }
+
+#[test]
+fn a_topology_computed_beforehand_gives_the_same_field() {
+    use harmonic_trajectory::volume::VolumeFieldTopology;
+    let mesh = cube(3);
+    let psi: Vec<f64> = mesh
+        .vertices()
+        .iter()
+        .map(|p| p.x * p.x + 0.3 * p.y)
+        .collect();
+    let fresh = P1VolumeField::ascending(&mesh, &psi).unwrap();
+    let beforehand =
+        P1VolumeField::ascending_with(&mesh, VolumeFieldTopology::of(&mesh), &psi).unwrap();
+    let start = Point::new(0.1, 0.4, 0.6);
+    let opts = ExactVolumeOptions::default();
+    let (a, b) = (
+        trace_exact_volume(&fresh, start, &opts),
+        trace_exact_volume(&beforehand, start, &opts),
+    );
+    assert!(a.status.reached_goal(), "{:?}", a.status);
+    assert_eq!(a.points, b.points);
+    // A topology of another mesh is refused, not read out of bounds.
+    let other = VolumeFieldTopology::of(&cube(2));
+    assert!(P1VolumeField::ascending_with(&mesh, other, &psi).is_err());
+}
