@@ -461,8 +461,8 @@ impl ConfigSpace {
     /// The terms of the value and the boundary part of the largest; the goal's term only
     /// `with_goal` (the goal is carved from the mesh, not stuffed, but names its faces).
     fn terms(&self, p: &Point, with_goal: bool) -> Term {
-        let q = self.config(p);
-        let (d, nearest, pair) = self.nearest_pair(&q);
+        let q = &self.config_array(p)[..self.dof()];
+        let (d, nearest, pair) = self.nearest_pair(q);
         let mut best = Term {
             value: self.margin - d,
             tag: match nearest {
@@ -497,7 +497,7 @@ impl ConfigSpace {
             }
         }
         if with_goal {
-            raise(-self.goal_value(&q), BoundaryTag::Goal(0), 12);
+            raise(-self.goal_value(q), BoundaryTag::Goal(0), 12);
         }
         if let Some((d, r)) = self.anti_goal_offset(p) {
             let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
@@ -689,7 +689,7 @@ impl ConfigSpace {
                 .get(v as usize)
                 .is_some_and(|&o| members[o as usize] > 1)
         };
-        let value = |p: &Point| self.goal_value(&self.config(p));
+        let value = |p: &Point| self.goal_value(&self.config_array(p)[..self.dof()]);
         let holes = [GoalHole {
             value: &value,
             lipschitz,
@@ -770,7 +770,9 @@ impl ConfigSpace {
             if tag == BoundaryTag::Obstacle(SEAM_PART) {
                 return tag;
             }
-            if c.iter().all(|p| self.goal_value(&self.config(p)) <= tol) {
+            if c.iter()
+                .all(|p| self.goal_value(&self.config_array(p)[..self.dof()]) <= tol)
+            {
                 return BoundaryTag::Goal(0);
             }
             if tag != BoundaryTag::Goal(0) {

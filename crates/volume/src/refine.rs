@@ -102,6 +102,7 @@ pub fn refine_where(
         rank,
         touched: Vec::new(),
         longest_of: Vec::new(),
+        buffers: Default::default(),
     };
     refine(&mut r, want, max_tets)
 }
@@ -171,6 +172,7 @@ pub fn refine_periodic(
         rank,
         touched: Vec::new(),
         longest_of: Vec::new(),
+        buffers: Default::default(),
     };
     refine(&mut r, want, max_tets)
 }
@@ -252,6 +254,8 @@ struct Refiner<'a> {
     /// path asks every tetrahedron around each edge on it, and a lattice's tied lengths
     /// make each answer rank several midpoints.
     longest_of: Vec<(u32, u32)>,
+    /// [`Refiner::bisect_longest`]'s propagation path and edge star, reused.
+    buffers: (Vec<u32>, Vec<u32>),
 }
 
 /// [`Refiner::longest_of`] for a tetrahedron not looked at since it last changed.
@@ -259,7 +263,19 @@ const UNKNOWN_EDGE: (u32, u32) = (u32::MAX, u32::MAX);
 
 impl Refiner<'_> {
     fn index(&mut self) {
-        self.around = vec![Vec::new(); self.vertices.len()];
+        // Counted first, so that each list is allocated once (a lattice vertex is in 24
+        // tetrahedra: pushed from empty, its list was reallocated four or five times, a
+        // seventh of a configuration space's meshing), with room for a few bisections.
+        let mut count = vec![0u32; self.vertices.len()];
+        for tet in self.tets.iter() {
+            for &v in tet {
+                count[v as usize] += 1;
+            }
+        }
+        self.around = count
+            .iter()
+            .map(|&c| Vec::with_capacity(c as usize + 4))
+            .collect();
         for (t, tet) in self.tets.iter().enumerate() {
             for &v in tet {
                 self.around[v as usize].push(t as u32);
@@ -354,37 +370,46 @@ impl Refiner<'_> {
         (length_key(&pa, &pb), (self.rank)(&mid), a, b)
     }
 
-    fn tets_around(&self, (a, b): (u32, u32)) -> Vec<u32> {
-        self.around[a as usize]
-            .iter()
-            .copied()
-            .filter(|&t| self.tets[t as usize].contains(&b))
-            .collect()
+    /// The tetrahedra around edge `(a, b)`, into `out`.
+    fn tets_around(&self, (a, b): (u32, u32), out: &mut Vec<u32>) {
+        out.clear();
+        out.extend(
+            self.around[a as usize]
+                .iter()
+                .copied()
+                .filter(|&t| self.tets[t as usize].contains(&b)),
+        );
     }
 
     /// Bisects `t`'s longest edge after whatever its propagation path needs; the number of
     /// bisections, or `None` where the path meets a frozen vertex.
     fn bisect_longest(&mut self, t: u32) -> Option<usize> {
-        let mut stack = vec![t];
-        let mut done = 0;
+        // The path and the edge's tetrahedra in buffers kept from call to call (a carved
+        // goal takes tens of thousands of bisections).
+        let (mut stack, mut around) = std::mem::take(&mut self.buffers);
+        stack.clear();
+        stack.push(t);
+        let mut done = Some(0);
         while let Some(&u) = stack.last() {
             let e = self.longest(u);
-            let around = self.tets_around(e);
+            self.tets_around(e, &mut around);
             if around
                 .iter()
                 .any(|&w| self.tets[w as usize].iter().any(|&v| (self.frozen)(v)))
             {
-                return None;
+                done = None;
+                break;
             }
             if let Some(w) = around.iter().copied().find(|&w| self.longest(w) != e) {
                 stack.push(w);
                 continue;
             }
             self.bisect(u, e, &around);
-            done += 1;
+            done = done.map(|n| n + 1);
             stack.pop();
         }
-        Some(done)
+        self.buffers = (stack, around);
+        done
     }
 
     /// Bisects edge `(a, b)` of `t` and every tetrahedron `around` it.
