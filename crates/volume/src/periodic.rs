@@ -26,7 +26,9 @@
 //!   partner (the face at the other end whose corners are of the same classes) in the
 //!   neighbouring copy: only the slab's faces are ever sorted.
 
-use std::collections::HashMap;
+// The stuffing's maps are keyed by vertex numbers: foldhash, not SipHash (whose hashing
+// was a twentieth of a configuration space's meshing).
+use foldhash::{HashMap, HashMapExt};
 
 use harmonic_types::{BoundaryTag, SEAM_PART};
 

@@ -25,7 +25,9 @@
 //! Faces of the box bounds' lower corner lie on lattice planes, so an axis-aligned box whose
 //! coordinates are multiples of `h` from there is meshed exactly (flat faces, sharp edges).
 
-use std::collections::HashMap;
+// The stuffing's maps are keyed by vertex numbers: foldhash, not SipHash (whose hashing
+// was a twentieth of a configuration space's meshing).
+use foldhash::{HashMap, HashMapExt};
 
 use crate::error::VolumeError;
 use crate::implicit::ImplicitDomain;
