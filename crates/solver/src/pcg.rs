@@ -269,15 +269,24 @@ impl Precondition for Precond {
 }
 
 /// Zero-fill incomplete Cholesky factor `L` (lower triangle of A's pattern, CSC, diagonal first).
+/// Row numbers are `u32`: the two triangular solves of every iteration stream the whole
+/// factor, and the narrower indices are a quarter less of it.
 struct Ic0 {
     col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    row_idx: Vec<u32>,
     values: Vec<f64>,
 }
 
 impl Ic0 {
     fn new(a: &SymmetricCsc) -> Result<Self, SolverError> {
         let n = a.n();
+        if u32::try_from(n).is_err() {
+            return Err(SolverError::DimensionMismatch {
+                what: "IC(0) unknowns (numbered in 32 bits)",
+                expected: u32::MAX as usize,
+                found: n,
+            });
+        }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(a.nnz() / 2 + n);
         let mut orig = Vec::with_capacity(a.nnz() / 2 + n);
@@ -289,7 +298,7 @@ impl Ic0 {
                 // No stored diagonal: a zero diagonal entry.
                 return Err(SolverError::Singular { column: j });
             }
-            row_idx.extend_from_slice(&rows[start..]);
+            row_idx.extend(rows[start..].iter().map(|&i| i as u32));
             orig.extend_from_slice(&vals[start..]);
             col_ptr.push(row_idx.len());
         }
@@ -346,20 +355,20 @@ impl Ic0 {
             }
             // Update the later columns j in column k's pattern, only where (i, j) is stored.
             for jj in start + 1..end {
-                let j = self.row_idx[jj];
+                let j = self.row_idx[jj] as usize;
                 let ljk = self.values[jj];
                 let (js, je) = (self.col_ptr[j], self.col_ptr[j + 1]);
                 for p in js..je {
-                    pos[self.row_idx[p]] = p;
+                    pos[self.row_idx[p] as usize] = p;
                 }
                 for ii in jj..end {
-                    let p = pos[self.row_idx[ii]];
+                    let p = pos[self.row_idx[ii] as usize];
                     if p != usize::MAX {
                         self.values[p] -= self.values[ii] * ljk;
                     }
                 }
                 for p in js..je {
-                    pos[self.row_idx[p]] = usize::MAX;
+                    pos[self.row_idx[p] as usize] = usize::MAX;
                 }
             }
         }
@@ -374,15 +383,15 @@ impl Ic0 {
             let (s, e) = (self.col_ptr[j], self.col_ptr[j + 1]);
             let zj = z[j] / self.values[s];
             z[j] = zj;
-            for p in s + 1..e {
-                z[self.row_idx[p]] -= self.values[p] * zj;
+            for (&i, &l) in self.row_idx[s + 1..e].iter().zip(&self.values[s + 1..e]) {
+                z[i as usize] -= l * zj;
             }
         }
         for j in (0..n).rev() {
             let (s, e) = (self.col_ptr[j], self.col_ptr[j + 1]);
             let mut acc = z[j];
-            for p in s + 1..e {
-                acc -= self.values[p] * z[self.row_idx[p]];
+            for (&i, &l) in self.row_idx[s + 1..e].iter().zip(&self.values[s + 1..e]) {
+                acc -= l * z[i as usize];
             }
             z[j] = acc / self.values[s];
         }

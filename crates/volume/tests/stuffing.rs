@@ -261,3 +261,26 @@ fn triangle_surface_obstacles_are_meshed_around_with_clearance() {
     assert!(mesh.volume() < shrunk, "{}", mesh.volume());
     assert!(mesh.volume() > shrunk - 2.0, "{}", mesh.volume());
 }
+
+#[test]
+fn the_reported_dihedral_extremes_are_those_of_every_angle() {
+    use harmonic_volume::{dihedral_range, tet_angles_and_weights};
+    // A graded mesh (a point goal among curved obstacles): angles from sharp to obtuse.
+    let (mesh, _) = spheres().mesh(&MeshOptions::with_max_volume(0.01)).unwrap();
+    let (mut lo, mut hi, mut obtuse) = (f64::INFINITY, 0.0f64, 0);
+    for t in 0..mesh.tetrahedra().len() as u32 {
+        let (angles, _) = tet_angles_and_weights(&mesh, t);
+        let deg = angles.map(f64::to_degrees);
+        lo = deg.iter().copied().fold(lo, f64::min);
+        hi = deg.iter().copied().fold(hi, f64::max);
+        obtuse += usize::from(deg.iter().any(|&d| d > 90.0 + 1e-9));
+    }
+    let q = quality(&mesh);
+    assert_eq!(dihedral_range(&mesh), [lo, hi]);
+    assert_eq!([q.min_dihedral_deg, q.max_dihedral_deg], [lo, hi]);
+    assert_eq!(q.obtuse_tetrahedra, obtuse);
+    assert!(
+        obtuse > 0 && lo < 60.0,
+        "a mesh that exercises both ends: {q:?}"
+    );
+}
