@@ -152,3 +152,28 @@ fn exercise(a: &SymmetricCsc) {
         );
     }
 }
+
+#[test]
+fn a_large_product_split_over_threads_equals_the_serial_one_bit_for_bit() {
+    // 300 × 300 five-point Laplacian: about 450 k stored entries, above the parallel
+    // threshold; each row is summed alone, so any number of threads gives the same bits.
+    let a = common::laplacian5(300, 300, 0.01);
+    let x = common::rhs(a.n(), 3);
+    let product = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut y = vec![0.0; a.n()];
+        pool.install(|| a.mul_vec(&x, &mut y));
+        y
+    };
+    let one = product(1);
+    for threads in [2, 3] {
+        assert_eq!(product(threads), one, "{threads} threads");
+    }
+    // And a row checked by hand: row 0 of the shifted Laplacian.
+    let (rows, vals) = a.column(0);
+    let want: f64 = rows.iter().zip(vals).map(|(&k, &v)| v * x[k]).sum();
+    assert!((one[0] - want).abs() <= 1e-12 * want.abs().max(1.0));
+}
