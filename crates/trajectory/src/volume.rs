@@ -160,7 +160,7 @@ impl<'a> P1VolumeField<'a> {
 
     fn build(mesh: &'a TetMesh, values: Vec<f64>) -> Result<Self, TraceError> {
         Self::check_values(mesh, &values)?;
-        Self::build_with(mesh, values, VolumeFieldTopology::of(mesh))
+        Self::build_checked(mesh, values, VolumeFieldTopology::of(mesh))
     }
 
     fn check_values(mesh: &TetMesh, values: &[f64]) -> Result<(), TraceError> {
@@ -188,13 +188,30 @@ impl<'a> P1VolumeField<'a> {
     ) -> Result<Self, TraceError> {
         Self::check_values(mesh, &values)?;
         let (nv, nt) = (mesh.vertices().len(), mesh.tetrahedra().len());
-        if topology.vt_start.len() != nv + 1 || topology.component.len() != nt {
+        if topology.vt_start.len() != nv + 1 {
             return Err(TraceError::LengthMismatch {
-                what: "field topology",
+                what: "field topology's vertices (plus one)",
+                expected: nv + 1,
+                got: topology.vt_start.len(),
+            });
+        }
+        if topology.component.len() != nt {
+            return Err(TraceError::LengthMismatch {
+                what: "field topology's tetrahedra",
                 expected: nt,
                 got: topology.component.len(),
             });
         }
+        Self::build_checked(mesh, values, topology)
+    }
+
+    /// The field from checked values and a topology of `mesh`.
+    fn build_checked(
+        mesh: &'a TetMesh,
+        values: Vec<f64>,
+        topology: VolumeFieldTopology,
+    ) -> Result<Self, TraceError> {
+        let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
         let VolumeFieldTopology {
             vt_start,
