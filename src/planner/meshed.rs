@@ -166,47 +166,25 @@ fn auto_refinements(domain: &Domain, mesh_options: &MeshOptions) -> Result<usize
 #[cfg(test)]
 mod tests {
     use super::*;
+    use harmonic_fixtures::Rng;
+    use harmonic_fixtures::grid::{Diagonals, Grid};
     use harmonic_mesh::BoundaryTag;
 
-    /// A `n × n` grid of jittered points (xorshift from `seed`), each square cut along
-    /// a diagonal; `jitter` 0 gives right isosceles triangles, all of 45° smallest angle.
-    fn jittered(n: usize, jitter: f64, mut seed: u64) -> Mesh {
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let mut points = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let inner = i > 0 && j > 0 && i < n && j < n;
-                let (dx, dy) = if inner {
-                    (jitter * next(), jitter * next())
-                } else {
-                    (0.0, 0.0)
-                };
-                points.push(Point::new(i as f64 + dx, j as f64 + dy));
+    /// The fixtures' `n × n` grid of unit cells (diagonals alternating) with its interior
+    /// vertices moved by up to `jitter / 2` along each axis; `jitter` 0 keeps its right
+    /// isosceles triangles, all of 45° smallest angle.
+    fn jittered(n: usize, jitter: f64, seed: u64) -> Mesh {
+        let grid = Grid::new(n, n, 1.0).with_diagonals(Diagonals::Alternating);
+        let mut parts = grid.parts(|_| BoundaryTag::Wall);
+        let mut rng = Rng(seed);
+        for j in 1..n {
+            for i in 1..n {
+                let p = &mut parts.vertices[grid.vertex(i, j) as usize];
+                p.x += jitter * (rng.next_f64() - 0.5);
+                p.y += jitter * (rng.next_f64() - 0.5);
             }
         }
-        let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
-        let ring: Vec<u32> = (0..n)
-            .map(|i| at(i, 0))
-            .chain((0..n).map(|j| at(n, j)))
-            .chain((1..=n).rev().map(|i| at(i, n)))
-            .chain((1..=n).rev().map(|j| at(0, j)))
-            .collect();
-        let walls: Vec<_> = (0..ring.len())
-            .map(|k| (ring[k], ring[(k + 1) % ring.len()], BoundaryTag::Wall))
-            .collect();
-        Mesh::from_parts(points, triangles, &walls).expect("a valid grid mesh")
+        parts.mesh()
     }
 
     #[test]

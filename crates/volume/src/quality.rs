@@ -160,15 +160,15 @@ fn shapes(mesh: &TetMesh) -> Part {
                 lo = lo.min(c);
                 hi = hi.max(c);
             }
+            let vol = mesh.tet_volume(t);
             if hi < lo {
                 // No finite cosine (a degenerate tetrahedron): no angle to report.
                 return Part {
-                    min_vol: mesh.tet_volume(t),
-                    max_vol: mesh.tet_volume(t),
+                    min_vol: vol,
+                    max_vol: vol,
                     ..empty
                 };
             }
-            let vol = mesh.tet_volume(t);
             let (min_deg, max_deg) = (hi.acos().to_degrees(), lo.acos().to_degrees());
             Part {
                 min_deg,
