@@ -277,6 +277,8 @@ pub struct Assembler {
     options: AssemblyOptions,
     /// Per triangle: the conductivity k of ∇·(k∇φ) = 0 (`None`: 1 everywhere, Laplace).
     conductivity: Option<Arc<[f64]>>,
+    /// Per triangle: the absorption σ ≥ 0 of −∇·(k∇φ) + σ(φ − c) = 0 (`None`: 0 everywhere).
+    absorption: Option<Arc<[f64]>>,
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     dofs: Arc<DofMap>,
     /// A zero-valued matrix with the final pattern.
@@ -622,6 +624,7 @@ impl Assembler {
             mesh,
             options,
             conductivity: None,
+            absorption: None,
             kinds,
             dofs: Arc::new(dofs),
             template,
@@ -657,6 +660,38 @@ impl Assembler {
             return Err(FemError::BadConductivity { triangle, value });
         }
         self.conductivity = Some(conductivity.into());
+        Ok(self)
+    }
+
+    /// Adds an absorption σ_t ≥ 0, constant on each triangle (`absorption[t]`, finite):
+    /// solves −∇·(k∇φ) + σ(φ − c) = 0, where c is the reference level of ψ = c − φ (the
+    /// highest prescribed level: the walls' on a map). In ψ the term is σψ: where σ > 0 the
+    /// potential is drawn toward the walls' level, so ψ decays there (like e^(−√σ·d) over a
+    /// distance d in a uniform region) and a path, which climbs ψ, keeps away, as it keeps
+    /// away from walls: how a map's graded costs repel paths without insulating the walls
+    /// behind them (which a small conductivity alone does). The term is lumped: each vertex
+    /// of triangle t gets σ_t |t| / 3 on its diagonal and nothing off it, so the matrix stays
+    /// an M-matrix (its rows only grow more dominant) and ψ keeps the maximum principle: with
+    /// −∇·(k∇ψ) = −σψ ≤ 0, ψ has no interior local maximum.
+    pub fn with_absorption(mut self, absorption: Vec<f64>) -> Result<Self, FemError> {
+        let expected = self.mesh.triangles().len();
+        if absorption.len() != expected {
+            return Err(FemError::ConductivityCount {
+                expected,
+                got: absorption.len(),
+            });
+        }
+        if let Some((triangle, &value)) = absorption
+            .iter()
+            .enumerate()
+            .find(|(_, s)| !(s.is_finite() && **s >= 0.0))
+        {
+            return Err(FemError::BadAbsorption { triangle, value });
+        }
+        self.absorption = absorption
+            .iter()
+            .any(|&s| s > 0.0)
+            .then(|| absorption.into());
         Ok(self)
     }
 
@@ -910,7 +945,8 @@ impl Assembler {
 
     /// Clears the matrix values, right-hand side and row excesses of `system` and scatters
     /// the stiffness into the matrix: K_pq = −k_t (cot θ_k)/2 for the edge opposite local
-    /// vertex k of triangle t (k_t its conductivity, 1 by default). Returns the summed weight
+    /// vertex k of triangle t (k_t its conductivity, 1 by default), and the lumped
+    /// absorption σ_t |t| / 3 on each of its vertices' diagonals. Returns the summed weight
     /// of each lifting edge.
     fn scatter_stiffness(&self, system: &mut LinearSystem) -> Vec<f64> {
         let vertices = self.mesh.vertices();
@@ -931,7 +967,20 @@ impl Assembler {
         {
             let [p0, p1, p2] = tri.map(|v| vertices[v as usize]);
             let k = self.conductivity.as_ref().map_or(1.0, |c| c[t]);
-            let half_inv = 0.5 * k / twice_signed_area(p0, p1, p2);
+            let twice_area = twice_signed_area(p0, p1, p2);
+            let half_inv = 0.5 * k / twice_area;
+            if let Some(sigma) = &self.absorption {
+                // Lumped: a third of σ_t |t| on each vertex's diagonal, counted in its row's
+                // excess (the row sum the accurate elimination keeps exactly).
+                let lumped = sigma[t] * twice_area / 6.0;
+                for &v in tri {
+                    let u = unknown_of[v as usize];
+                    if u != NONE {
+                        values[diag_pos[u as usize] as usize] += lumped;
+                        system.excess[u as usize] += lumped;
+                    }
+                }
+            }
             let w = [
                 (p1 - p0).dot(&(p2 - p0)) * half_inv,
                 (p2 - p1).dot(&(p0 - p1)) * half_inv,

@@ -186,8 +186,19 @@ pub enum FemError {
         /// The offending value.
         value: f64,
     },
+    /// An absorption (the coefficient σ of −∇·(k∇φ) + σ(φ − c) = 0) that is negative, NaN or
+    /// infinite.
+    #[error("the absorption of triangle {triangle} is {value}, not a finite number ≥ 0")]
+    BadAbsorption {
+        /// The triangle.
+        triangle: usize,
+        /// The offending value.
+        value: f64,
+    },
     /// Conductivities given for a different number of triangles than the mesh has.
-    #[error("{got} conductivities for a mesh of {expected} triangles")]
+    #[error(
+        "{got} coefficients (conductivities or absorptions) for a mesh of {expected} triangles"
+    )]
     ConductivityCount {
         /// Triangles in the mesh.
         expected: usize,
