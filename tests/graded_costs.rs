@@ -1,5 +1,5 @@
 //! Graded costs shaping the field (`MapOptions::cost_weight`): a cell of cost c conducts
-//! 1 / (1 + w·0.016·c) of a free cell's flow.
+//! 1 / (1 + w·0.016·c) of a free cell's flow and absorbs w·`cost_absorption(c)` / (0.05 m)².
 //!
 //! - The bundled `meshes/costly_band.yaml` (a `scale` map: a block with a short route above it
 //!   through a band of cost about 200, a longer one below): of seven starts down the left

@@ -124,7 +124,8 @@ impl PyPlanner {
     /// mesher, `auto`).
     /// Occupied cells (and unknown ones) are obstacles. A `scale` or `raw` map's graded
     /// costs shape the field by `cost_weight` (`--cost-weight`: a cell of cost c conducts
-    /// 1 / (1 + w·0.016·c) of a free cell's flow; 0 plans them as free cells). The GIL is
+    /// 1 / (1 + w·0.016·c) of a free cell's flow and the costliest cells absorb; 0 plans
+    /// them as free cells). The GIL is
     /// released while the map is read and the planner built.
     #[staticmethod]
     #[pyo3(signature = (yaml, goal, robot_radius = 0.0, *, max_area = None, cost_weight = 1.0, threads = None))]

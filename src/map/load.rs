@@ -329,25 +329,39 @@ impl OccupancyMap {
             .unwrap_or(0)
     }
 
-    /// The conductivity of the cell under a point for `weight`: 1 / (1 + weight·0.016·c)
-    /// for a cell of cost c (1 off the map and on cells without cost).
-    pub(super) fn conductivity(&self, weight: f64) -> crate::planner::Conductivity {
+    /// The graded cost of the cell under a point (0 off the map and on cells without cost).
+    fn cost_under(&self) -> impl Fn(Point) -> u8 + Send + Sync + 'static {
         let costs = self.costs.clone().unwrap_or_default();
         let frame = GridFrame {
             resolution: self.resolution,
             origin: self.origin,
         };
         let (w, h) = (self.width, self.height);
-        Arc::new(move |p: Point| {
+        move |p: Point| {
             let g = frame.world_to_grid([p.x, p.y]);
             let (i, j) = (g[0].floor(), g[1].floor());
-            let cost = if i >= 0.0 && j >= 0.0 && (i as usize) < w && (j as usize) < h {
+            if i >= 0.0 && j >= 0.0 && (i as usize) < w && (j as usize) < h {
                 costs.get(j as usize * w + i as usize).copied().unwrap_or(0)
             } else {
                 0
-            };
-            1.0 / (1.0 + weight * COST_RESISTANCE * f64::from(cost))
-        })
+            }
+        }
+    }
+
+    /// The conductivity of the cell under a point for `weight`: 1 / (1 + weight·0.016·c)
+    /// for a cell of cost c (1 off the map and on cells without cost).
+    pub(super) fn conductivity(&self, weight: f64) -> crate::planner::Conductivity {
+        let cost = self.cost_under();
+        Arc::new(move |p: Point| 1.0 / (1.0 + weight * COST_RESISTANCE * f64::from(cost(p))))
+    }
+
+    /// The absorption of the cell under a point for `weight`: σ = weight·0.016·c·(c/252)³ / ℓ²
+    /// for a cell of cost c ([`cost_absorption`], ℓ = [`COST_ABSORPTION_LENGTH`]; 0 off the
+    /// map and on cells without cost).
+    pub(super) fn absorption(&self, weight: f64) -> crate::planner::Absorption {
+        let cost = self.cost_under();
+        let per_area = 1.0 / (COST_ABSORPTION_LENGTH * COST_ABSORPTION_LENGTH);
+        Arc::new(move |p: Point| weight * cost_absorption(cost(p)) * per_area)
     }
 
     /// The graded costs as rectangles for a picture: runs of equal cost along each row, in

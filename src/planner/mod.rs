@@ -201,6 +201,18 @@ pub const AUTO_MULTIGRID_FROM: usize = 100_000;
 /// The uniform refinements of the automatic multigrid route (levels below the finest).
 pub const AUTO_MULTIGRID_REFINEMENTS: usize = 2;
 
+/// A coefficient field (a conductivity, an absorption) at each triangle's centroid.
+fn at_centroids(mesh: &Mesh, f: &(dyn Fn(Point) -> f64 + Send + Sync)) -> Vec<f64> {
+    let v = mesh.vertices();
+    mesh.triangles()
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| v[i as usize]);
+            f(Point::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0))
+        })
+        .collect()
+}
+
 fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -257,6 +269,7 @@ impl Planner {
                 Some(k) => Some(k),
                 None if options.solve == SolveMethod::Auto
                     && options.conductivity.is_none()
+                    && options.absorption.is_none()
                     && scene.blend_conditions().is_none() =>
                 {
                     None
@@ -354,9 +367,11 @@ impl Planner {
                 what: "a map, a validated domain or a mesh made elsewhere",
             });
         }
-        if options.conductivity.is_some() && (meshed.hierarchy.is_some() || blend.is_some()) {
+        if (options.conductivity.is_some() || options.absorption.is_some())
+            && (meshed.hierarchy.is_some() || blend.is_some())
+        {
             return Err(PlanError::MultigridUnsupported {
-                what: "a conductivity (graded costs)",
+                what: "a conductivity or absorption (graded costs)",
             });
         }
         stage(Stage::Assembling)?;
@@ -385,16 +400,10 @@ impl Planner {
         } else {
             let mut assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
             if let Some(k) = &options.conductivity {
-                let v = mesh.vertices();
-                let at_centroids = mesh
-                    .triangles()
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(|i| v[i as usize]);
-                        k(Point::new((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0))
-                    })
-                    .collect();
-                assembler = assembler.with_conductivity(at_centroids)?;
+                assembler = assembler.with_conductivity(at_centroids(&mesh, &**k))?;
+            }
+            if let Some(sigma) = &options.absorption {
+                assembler = assembler.with_absorption(at_centroids(&mesh, &**sigma))?;
             }
             let system = assembler.assemble(bcs)?;
             let assemble_ms = millis(t);

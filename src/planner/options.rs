@@ -26,6 +26,10 @@ pub type CancelCheck = Arc<dyn Fn() -> bool + Send + Sync>;
 /// The conductivity k(x) > 0 of ∇·(k∇φ) = 0 at a point (taken at each triangle's centroid).
 pub type Conductivity = Arc<dyn Fn(Point) -> f64 + Send + Sync>;
 
+/// The absorption σ(x) ≥ 0 of −∇·(k∇φ) + σ(φ − c) = 0 at a point, in 1/m² (taken at each
+/// triangle's centroid; c is the walls' level).
+pub type Absorption = Arc<dyn Fn(Point) -> f64 + Send + Sync>;
+
 /// How to build a planner.
 #[derive(Clone, Default)]
 pub struct PlannerOptions {
@@ -64,6 +68,12 @@ pub struct PlannerOptions {
     /// paths, go around (a map's graded costs, [`crate::map::MapOptions::cost_weight`]).
     /// Direct solves only: the multigrid route and the blend refuse it.
     pub conductivity: Option<Conductivity>,
+    /// `Some(σ)`: the potential solves −∇·(k∇φ) + σ(φ − c) = 0, σ taken at each triangle's
+    /// centroid ([`harmonic_fem::Assembler::with_absorption`]): where σ > 0 the potential is
+    /// drawn toward the walls' level, so paths keep away from there as from walls (a map's
+    /// graded costs, [`crate::map::MapOptions::cost_weight`]). Direct solves only, as
+    /// [`PlannerOptions::conductivity`].
+    pub absorption: Option<Absorption>,
     /// Threads for the whole build (meshing, assembly, the solve) and for tracing many
     /// starts ([`Planner::plan_many`], [`Planner::plan_report`]): `None` (the default) uses
     /// rayon's global pool, every core or `RAYON_NUM_THREADS`; `Some(n)` a pool of `n`
@@ -94,6 +104,7 @@ impl std::fmt::Debug for PlannerOptions {
             .field("multigrid", &self.multigrid)
             .field("cancel", &self.cancel.as_ref().map(|_| "check"))
             .field("conductivity", &self.conductivity.as_ref().map(|_| "k(x)"))
+            .field("absorption", &self.absorption.as_ref().map(|_| "σ(x)"))
             .field("threads", &self.threads)
             .finish()
     }

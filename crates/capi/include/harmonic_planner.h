@@ -78,7 +78,8 @@ typedef struct HpOptions {
   int unknown_is_free;
   /**
    * 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
-   * conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting).
+   * conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting)
+   * and absorbing w·0.016·c·(c/252)³ / (0.05 m)².
    */
   double cost_weight;
   /**

@@ -11,7 +11,9 @@
 //! below it shape the field when `cost_weight` > 0 ([`planner::map::MapOptions::cost_weight`]):
 //! a cell of cost c conducts 1 / (1 + w·0.016·c) of a free cell's flow, so paths keep away from
 //! costly cells when a free route is not much longer; at weight 1 the costliest cell resists 5
-//! times a free one, as NavFn's step through it costs 5 times a free step.
+//! times a free one, as NavFn's step through it costs 5 times a free step. The costliest cells
+//! (next to obstacles, in an inflated costmap) also absorb
+//! ([`planner::map::cost_absorption`]), so the walls behind them keep their pull on paths.
 
 #![allow(non_camel_case_types)] // the contract's C names: HP_OK, ...
 
@@ -91,7 +93,8 @@ pub struct HpOptions {
     /// 0 (default): cost 255 is blocked; 1: it is free.
     pub unknown_is_free: c_int,
     /// 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
-    /// conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting).
+    /// conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting)
+    /// and absorbing w·0.016·c·(c/252)³ / (0.05 m)².
     pub cost_weight: f64,
     /// Metres: a blocked goal moves to the nearest clear cell within this distance (default 0).
     pub goal_tolerance: f64,

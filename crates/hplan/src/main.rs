@@ -107,7 +107,8 @@ enum Command {
         /// On a map with graded costs (a `scale` or `raw` map_server YAML): how much they
         /// shape the field. A cell of cost c (1–252) conducts 1/(1 + W·0.016·c) of a free
         /// cell's flow, so paths go around costly cells (W = 1: the costliest cell resists 5×
-        /// a free one, as in NavFn); 0 plans them as free cells.
+        /// a free one, as in NavFn), and the costliest cells also absorb, as a thin soft wall,
+        /// so walls keep their pull behind a costly band; 0 plans them as free cells.
         #[arg(long, value_name = "W", default_value_t = 1.0, requires = "map")]
         cost_weight: f64,
         /// On a MovingAI `.map` file: metres per cell.
