@@ -84,6 +84,7 @@ struct Tally {
     worst: f64,
     costlier: usize,
     cost: [f64; 2],
+    build_ms: [f64; 2],
 }
 
 impl Tally {
@@ -98,6 +99,10 @@ impl Tally {
             self.cost[0] / self.pairs.max(1) as f64,
             self.cost[1] / self.pairs.max(1) as f64
         );
+        println!(
+            "  planners built in {:.0} ms at weight 0, {:.0} ms at weight {weight}, all together",
+            self.build_ms[0], self.build_ms[1]
+        );
     }
 }
 
@@ -110,18 +115,27 @@ fn compare(
     weight: f64,
     tally: &mut Tally,
 ) {
+    let mut build_ms = [0.0; 2];
     let planners: Vec<_> = [0.0, weight]
         .iter()
-        .map(|&w| {
+        .zip(&mut build_ms)
+        .map(|(&w, ms)| {
             let opts = MapOptions {
                 cost_weight: w,
                 ..MapOptions::default()
             };
-            cm.map
-                .planner(goal, 0.0, &opts, &Default::default())
-                .expect("planner")
+            let t = std::time::Instant::now();
+            let p = cm.map.planner(goal, 0.0, &opts, &Default::default());
+            *ms = t.elapsed().as_secs_f64() * 1e3;
+            p.expect("planner")
         })
         .collect();
+    tally.build_ms[0] += build_ms[0];
+    tally.build_ms[1] += build_ms[1];
+    println!(
+        "{name}, goal {goal:?}: planner built in {:.1} ms at weight 0, {:.1} ms at weight {weight}",
+        build_ms[0], build_ms[1]
+    );
     for &s in starts {
         let (a, b) = (planners[0].plan(s), planners[1].plan(s));
         if !a.status.reached_goal() || !b.status.reached_goal() {
