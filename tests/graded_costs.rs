@@ -155,6 +155,52 @@ fn random_costs_keep_the_maximum_principle_and_completeness() {
     }
 }
 
+/// A corridor 20 m long and 0.35 m wide whose every cell costs 252, at weight 8: each cell
+/// absorbs so much that ψ falls about e^(−2300) from one end to the other, far below the
+/// float range, and the solve goes on in extended exponents; the start at the far end (and
+/// one beside the wall halfway) still reaches the goal point, on free cells.
+#[test]
+fn a_long_corridor_of_the_costliest_cells_still_plans_at_weight_eight() {
+    let (w, h) = (404, 9);
+    let mut cells = vec![Cell::Free; w * h];
+    for c in 0..w {
+        cells[c] = Cell::Occupied;
+        cells[(h - 1) * w + c] = Cell::Occupied;
+    }
+    let costs: Vec<u8> = (0..w * h)
+        .map(|i| if cells[i] == Cell::Free { 252 } else { 0 })
+        .collect();
+    let map = OccupancyMap::from_cells(w, h, 0.05, [0.0, 0.0, 0.0], cells)
+        .and_then(|m| m.with_costs(costs))
+        .expect("map");
+    let opts = MapOptions {
+        cost_weight: 8.0,
+        ..MapOptions::default()
+    };
+    let planner = map
+        .planner([0.2, 0.225], 0.0, &opts, &PlannerOptions::default())
+        .expect("planner");
+    let report = planner.plan_report(&[[20.0, 0.225], [10.0, 0.1]]);
+    assert_eq!(report.potential.interior_local_minima, 0);
+    assert!(
+        report.potential.solved_by.contains("extended"),
+        "{}",
+        report.potential.solved_by
+    );
+    for p in &report.paths {
+        assert!(
+            p.status.reached_goal(),
+            "from {:?}: {:?}",
+            p.start,
+            p.status
+        );
+        assert!((p.points.last().expect("a point")[0] - 0.2).abs() < 1e-9);
+        for s in p.points.windows(2) {
+            assert!(on_free_cells(&map, s[0], s[1]), "{s:?}");
+        }
+    }
+}
+
 #[test]
 fn weight_zero_plans_as_the_map_without_costs() {
     let with = OccupancyMap::load(bundled("costly_band.yaml")).expect("map");

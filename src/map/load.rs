@@ -299,7 +299,8 @@ impl OccupancyMap {
     /// The map with graded costs for its free cells, row by row as the cells (0 none, 1 …
     /// 252 the costliest; values above 252 are refused, and costs of blocked cells are
     /// ignored). With [`MapOptions::cost_weight`] w > 0 they shape the field: a cell of cost
-    /// c conducts 1 / (1 + w·0.016·c) of a free cell's flow.
+    /// c conducts 1 / (1 + w·0.016·c) of a free cell's flow and absorbs
+    /// w·[`cost_absorption`]`(c)` / (0.05 m)².
     pub fn with_costs(mut self, costs: Vec<u8>) -> Result<OccupancyMap, MapError> {
         if costs.len() != self.cells.len() {
             return Err(MapError::BadGrid(format!(
