@@ -398,28 +398,38 @@ impl Planner {
             let p = blended_potential(&mesh, k, &d, &n, options.parallelism)?;
             (p, 0.0, t, "blend")
         } else {
-            let mut assembler = Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
-            if let Some(k) = &options.conductivity {
-                assembler = assembler.with_conductivity(at_centroids(&mesh, &**k))?;
-            }
-            if let Some(sigma) = &options.absorption {
-                assembler = assembler.with_absorption(at_centroids(&mesh, &**sigma))?;
-            }
-            let system = assembler.assemble(bcs)?;
-            let assemble_ms = millis(t);
+            // The domain's point and clearance queries (a map mesh's boundary R-tree) are
+            // built beside the assembly and solve: tracing needs them, the solve does not.
+            let (solved, ()) = rayon::join(
+                || -> Result<_, PlanError> {
+                    let mut assembler =
+                        Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
+                    if let Some(k) = &options.conductivity {
+                        assembler = assembler.with_conductivity(at_centroids(&mesh, &**k))?;
+                    }
+                    if let Some(sigma) = &options.absorption {
+                        assembler = assembler.with_absorption(at_centroids(&mesh, &**sigma))?;
+                    }
+                    let system = assembler.assemble(bcs)?;
+                    let assemble_ms = millis(t);
 
-            stage(Stage::Solving)?;
-            let t = Instant::now();
-            // Geometric nested dissection (about half AMD's factorisation time at 1M triangles),
-            // the natural order for small systems.
-            let solver = Solver::with_parallelism(
-                &system,
-                assembler.ordering(),
-                options.solve,
-                options.parallelism,
-            )?;
-            let (potential, report) = solver.potential_with_report(Arc::clone(&mesh), &system)?;
-            (potential, assemble_ms, t, solved_by(&report, false))
+                    stage(Stage::Solving)?;
+                    let t = Instant::now();
+                    // Geometric nested dissection (about half AMD's factorisation time at
+                    // 1M triangles), the natural order for small systems.
+                    let solver = Solver::with_parallelism(
+                        &system,
+                        assembler.ordering(),
+                        options.solve,
+                        options.parallelism,
+                    )?;
+                    let (potential, report) =
+                        solver.potential_with_report(Arc::clone(&mesh), &system)?;
+                    Ok((potential, assemble_ms, t, solved_by(&report, false)))
+                },
+                || meshed.domain.prepare_queries(),
+            );
+            solved?
         };
         let solved = Solved {
             by: solved_by,

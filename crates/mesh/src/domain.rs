@@ -106,9 +106,11 @@ pub struct Domain {
     bbox: (Point, Point),
     target_edge: f64,
     robot_radius: f64,
-    /// Every free-space boundary edge (for the even-odd inside test), with its position
-    /// among the edges of `free`, ring after ring.
-    boundary_index: SegmentIndex,
+    /// Every free-space boundary edge (for the even-odd inside test and clearance), with its
+    /// position among the edges of `free`, ring after ring. Built with the domain where
+    /// validation needs it; for a mesh made elsewhere ([`Domain::of_mesh`]) at the first
+    /// query or by [`Domain::prepare_queries`], beside the solve.
+    boundary_index: std::sync::OnceLock<SegmentIndex>,
     /// Which free-space boundary edges (numbered as in `boundary_index`) are goal edges,
     /// which clearance leaves out: found at the first clearance query (meshing needs none).
     goal_edges: std::sync::OnceLock<Vec<bool>>,
@@ -1081,7 +1083,7 @@ impl Domain {
             bbox: ws.bbox,
             target_edge: ws.h,
             robot_radius: ws.rr,
-            boundary_index,
+            boundary_index: std::sync::OnceLock::from(boundary_index),
             goal_edges: std::sync::OnceLock::new(),
             frame: Frame::identity(),
             user_free: Vec::new(),
@@ -1141,7 +1143,16 @@ impl Domain {
     /// The unit rings' edges in an R-tree, each with its position among all ring edges
     /// (ring after ring, edge `k` of a ring from its point `k`).
     pub(crate) fn unit_boundary_index(&self) -> &SegmentIndex {
-        &self.boundary_index
+        self.boundary_index
+            .get_or_init(|| boundary_index(&self.free))
+    }
+    /// Builds now what point and clearance queries need ([`Domain::contains_free`],
+    /// [`Domain::polyline_clearance`], …) and is otherwise built at the first query: the
+    /// boundary's R-tree and which of its edges are goal edges. A planner calls it beside its
+    /// solve, so that the domain of a map's mesh is ready when tracing starts.
+    pub fn prepare_queries(&self) {
+        self.unit_boundary_index();
+        self.goal_edges();
     }
     /// Whether each boundary edge is a goal edge (found at the first call).
     fn goal_edges(&self) -> &[bool] {
@@ -1163,10 +1174,10 @@ impl Domain {
             return false;
         }
         let p = self.frame.to_unit(p);
-        if self.boundary_index.distance(p) <= 1e-12 * self.scale {
+        if self.unit_boundary_index().distance(p) <= 1e-12 * self.scale {
             return true;
         }
-        self.boundary_index.ray_parity(p, self.bbox.1.x)
+        self.unit_boundary_index().ray_parity(p, self.bbox.1.x)
     }
 
     /// Exact distance from `p` to the nearest wall or obstacle boundary segment of free space
@@ -1175,7 +1186,7 @@ impl Domain {
     pub fn distance_to_obstacles(&self, p: Point) -> f64 {
         let goal = self.goal_edges();
         self.frame.len_to_user(
-            self.boundary_index
+            self.unit_boundary_index()
                 .distance_where(self.frame.to_unit(p), |k| !goal[k as usize]),
         )
     }
@@ -1203,7 +1214,7 @@ impl Domain {
             return f64::INFINITY;
         }
         self.frame.len_to_user(
-            self.boundary_index
+            self.unit_boundary_index()
                 .polyline_distance_where(unit, |k| !goal[k as usize]),
         )
     }

@@ -105,7 +105,7 @@ impl Domain {
             let lo = Point::new(ua.x.min(ub.x), ua.y.min(ub.y));
             let hi = Point::new(ua.x.max(ub.x), ua.y.max(ub.y));
             if self
-                .boundary_index
+                .unit_boundary_index()
                 .in_box(lo, hi)
                 .any(|(p, q, _)| cross_properly(ua, ub, p, q))
             {

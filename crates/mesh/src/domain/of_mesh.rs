@@ -2,7 +2,7 @@
 //! rings, so the clearance and inside queries, the pictures and the planner work on it as on
 //! a domain of a scene.
 
-use super::{Constraints, Domain, Region, TaggedRing, bbox_of, boundary_index};
+use super::{Constraints, Domain, Region, TaggedRing, bbox_of};
 use crate::{BoundaryTag, Frame, Mesh, MeshError, Point};
 
 /// The boundary loops of `mesh` as vertex numbers with the tag of each edge (edge `k` runs
@@ -132,7 +132,6 @@ impl Domain {
             .map(|r| crate::geom::signed_area(&r.points))
             .sum();
         let triangles = mesh.triangles().len().max(1) as f64;
-        let boundary_index = boundary_index(&free);
         Ok(Domain {
             free,
             workspace,
@@ -143,7 +142,8 @@ impl Domain {
             bbox,
             target_edge: super::edge_for_area(free_area / triangles),
             robot_radius: 0.0,
-            boundary_index,
+            // Built at the first query or beside the solve (`prepare_queries`).
+            boundary_index: std::sync::OnceLock::new(),
             goal_edges: std::sync::OnceLock::new(),
             frame,
             user_free,

@@ -290,7 +290,7 @@ impl Domain {
             bbox,
             target_edge: h,
             robot_radius: 0.0,
-            boundary_index,
+            boundary_index: std::sync::OnceLock::from(boundary_index),
             goal_edges: std::sync::OnceLock::new(),
             frame,
             user_free,
