@@ -16,6 +16,7 @@
 use std::collections::HashSet;
 
 use harmonic_fem::interior_local_extrema;
+use harmonic_fixtures::occupancy::point_segment;
 use harmonic_planner::mesh::{BoundaryTag, NO_NEIGHBOR, Point};
 use harmonic_planner::{PlannedPath, Planner, Scene};
 use proptest::prelude::*;
@@ -96,17 +97,6 @@ fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 fn edges(poly: &[[f64; 2]]) -> impl Iterator<Item = ([f64; 2], [f64; 2])> + '_ {
     (0..poly.len()).map(move |i| (poly[i], poly[(i + 1) % poly.len()]))
-}
-
-fn point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len2 = d[0] * d[0] + d[1] * d[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    dist(p, [a[0] + t * d[0], a[1] + t * d[1]])
 }
 
 /// Inside a convex counter-clockwise polygon, by more than 1e-9.

@@ -645,22 +645,33 @@ impl Assembler {
     /// M-matrix and the maximum principle holds; elsewhere an edge whose two triangles
     /// disagree can turn negative, and the system says so ([`LinearSystem::not_m_matrix`]).
     pub fn with_conductivity(mut self, conductivity: Vec<f64>) -> Result<Self, FemError> {
-        let expected = self.mesh.triangles().len();
-        if conductivity.len() != expected {
-            return Err(FemError::ConductivityCount {
-                expected,
-                got: conductivity.len(),
-            });
-        }
-        if let Some((triangle, &value)) = conductivity
-            .iter()
-            .enumerate()
-            .find(|(_, k)| !(k.is_finite() && **k > 0.0))
-        {
-            return Err(FemError::BadConductivity { triangle, value });
-        }
+        self.check_per_triangle(
+            &conductivity,
+            |k| k > 0.0,
+            |triangle, value| FemError::BadConductivity { triangle, value },
+        )?;
         self.conductivity = Some(conductivity.into());
         Ok(self)
+    }
+
+    /// One finite value per triangle, each passing `ok`; else the count's error or `bad`'s.
+    fn check_per_triangle(
+        &self,
+        values: &[f64],
+        ok: impl Fn(f64) -> bool,
+        bad: impl Fn(usize, f64) -> FemError,
+    ) -> Result<(), FemError> {
+        let expected = self.mesh.triangles().len();
+        if values.len() != expected {
+            return Err(FemError::ConductivityCount {
+                expected,
+                got: values.len(),
+            });
+        }
+        match values.iter().position(|&v| !(v.is_finite() && ok(v))) {
+            Some(t) => Err(bad(t, values[t])),
+            None => Ok(()),
+        }
     }
 
     /// Adds an absorption σ_t ≥ 0, constant on each triangle (`absorption[t]`, finite):
@@ -674,20 +685,11 @@ impl Assembler {
     /// an M-matrix (its rows only grow more dominant) and ψ keeps the maximum principle: with
     /// −∇·(k∇ψ) = −σψ ≤ 0, ψ has no interior local maximum.
     pub fn with_absorption(mut self, absorption: Vec<f64>) -> Result<Self, FemError> {
-        let expected = self.mesh.triangles().len();
-        if absorption.len() != expected {
-            return Err(FemError::ConductivityCount {
-                expected,
-                got: absorption.len(),
-            });
-        }
-        if let Some((triangle, &value)) = absorption
-            .iter()
-            .enumerate()
-            .find(|(_, s)| !(s.is_finite() && **s >= 0.0))
-        {
-            return Err(FemError::BadAbsorption { triangle, value });
-        }
+        self.check_per_triangle(
+            &absorption,
+            |s| s >= 0.0,
+            |triangle, value| FemError::BadAbsorption { triangle, value },
+        )?;
         self.absorption = absorption
             .iter()
             .any(|&s| s > 0.0)
