@@ -159,6 +159,20 @@ pub const MAX_GRADED_COST: u8 = 252;
 /// unit of cost, so 0.8 / 50 — a cell of cost 252 resists 5 times as much as a free cell.
 pub const COST_RESISTANCE: f64 = 0.8 / 50.0;
 
+/// The largest [`MapOptions::cost_weight`]: at 10⁶ the cheapest graded cell already resists
+/// 16 000 times a free one, and larger weights would take the conductivity toward 0 and the
+/// absorption toward the float range's end.
+pub const MAX_COST_WEIGHT: f64 = 1e6;
+
+/// `x` as `{}` prints it, or in exponent form where that would take more than 16 digits.
+fn short_number(x: f64) -> String {
+    if x.is_finite() && x.abs() >= 1e16 {
+        format!("{x:e}")
+    } else {
+        x.to_string()
+    }
+}
+
 /// The length that sets the scale of a graded cost's absorption ([`cost_absorption`]): 5 cm,
 /// a Nav2 costmap's usual cell. In metres, not cells, so that the same place mapped at
 /// another resolution plans the same paths.
@@ -223,7 +237,8 @@ pub struct MapOptions {
     /// much as a free one, as NavFn's step through it costs 5 times a free step; 0 ignores
     /// the costs (they plan as free cells). With costs and a positive weight the map is
     /// meshed by the quadtree, whose right triangles keep the system an M-matrix for any k,
-    /// and the lumped absorption only adds to its diagonal. Default 1.
+    /// and the lumped absorption only adds to its diagonal. From 0 to [`MAX_COST_WEIGHT`];
+    /// default 1.
     pub cost_weight: f64,
 }
 
@@ -698,10 +713,14 @@ impl OccupancyMap {
         planner
             .stage(crate::planner::Stage::Meshing)
             .map_err(plan_error)?;
-        if !(opts.cost_weight.is_finite() && opts.cost_weight >= 0.0) {
+        if !(0.0..=MAX_COST_WEIGHT).contains(&opts.cost_weight) {
             return Err(MapError::BadOption {
                 option: "cost_weight",
-                message: format!("must be zero or positive, got {}", opts.cost_weight),
+                message: format!(
+                    "must be between 0 and {MAX_COST_WEIGHT:e} (beyond, every graded cell is a \
+                     wall to the field), got {}",
+                    short_number(opts.cost_weight)
+                ),
             });
         }
         // Graded costs shape the field through a conductivity and an absorption, on the

@@ -237,3 +237,33 @@ fn weight_zero_plans_as_the_map_without_costs() {
         );
     }
 }
+
+/// A weight below 0, above `MAX_COST_WEIGHT` or not a number is refused in one line naming
+/// the option and the range; the largest weight still plans.
+#[test]
+fn cost_weights_out_of_range_are_refused() {
+    let map = OccupancyMap::load(bundled("costly_band.yaml")).expect("map");
+    let with = |w: f64| MapOptions {
+        cost_weight: w,
+        ..MapOptions::default()
+    };
+    for w in [-1.0, 1e7, f64::NAN, f64::INFINITY] {
+        let Err(err) = map.planner([7.5, 2.0], 0.0, &with(w), &PlannerOptions::default()) else {
+            panic!("weight {w} planned");
+        };
+        let message = err.to_string();
+        assert!(
+            message.contains("cost_weight") && message.contains("between 0 and 1e6"),
+            "{message}"
+        );
+    }
+    let planner = map
+        .planner(
+            [7.5, 2.0],
+            0.0,
+            &with(harmonic_planner::map::MAX_COST_WEIGHT),
+            &PlannerOptions::default(),
+        )
+        .expect("the largest weight plans");
+    assert!(planner.plan([0.5, 0.5]).status.reached_goal());
+}

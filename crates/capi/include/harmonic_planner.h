@@ -79,7 +79,7 @@ typedef struct HpOptions {
   /**
    * 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
    * conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting)
-   * and absorbing w·0.016·c·(c/252)³ / (0.05 m)².
+   * and absorbing w·0.016·c·(c/252)³ / (0.05 m)²; at most 1e6.
    */
   double cost_weight;
   /**

@@ -94,7 +94,7 @@ pub struct HpOptions {
     pub unknown_is_free: c_int,
     /// 0: graded costs ignored; > 0: graded costs (1..252) shape the field, a cell of cost c
     /// conducting 1 / (1 + w·0.016·c) of a free cell's flow (default 1, NavFn's weighting)
-    /// and absorbing w·0.016·c·(c/252)³ / (0.05 m)².
+    /// and absorbing w·0.016·c·(c/252)³ / (0.05 m)²; at most 1e6.
     pub cost_weight: f64,
     /// Metres: a blocked goal moves to the nearest clear cell within this distance (default 0).
     pub goal_tolerance: f64,
@@ -284,9 +284,10 @@ fn costmap_cells(map: &HpCostmap, options: &HpOptions) -> Result<(Vec<Cell>, Vec
             options.robot_radius
         )));
     }
-    if !(options.cost_weight.is_finite() && options.cost_weight >= 0.0) {
+    if !(0.0..=planner::map::MAX_COST_WEIGHT).contains(&options.cost_weight) {
         return Err(invalid(format!(
-            "cost_weight must be zero or positive, got {}",
+            "cost_weight must be between 0 and {:e}, got {:e}",
+            planner::map::MAX_COST_WEIGHT,
             options.cost_weight
         )));
     }
