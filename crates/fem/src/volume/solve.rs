@@ -201,9 +201,9 @@ pub const PLANNING_CHOLESKY_MAX_UNKNOWNS: usize = 200_000;
 /// noise where ψ is smaller than the residual is what an interior extremum is made of (on
 /// 3-link arms' configuration spaces, 85 k unknowns: 80 iterations against 60).
 ///
-/// Up to [`SPECULATIVE_MAX_UNKNOWNS`] the clamped try is IC(0)-PCG whatever its size: the
-/// multigrid's field, on a 3-link arm's 126 k unknowns, had interior extrema where ψ fell
-/// to 1e-23 and was solved again by IC(0) (0.5 s each, 89 IC(0) iterations against 25
+/// Up to `SPECULATIVE_MAX_UNKNOWNS` (400 k) the clamped try is IC(0)-PCG whatever its size:
+/// the multigrid's field, on a 3-link arm's 126 k unknowns, had interior extrema where ψ
+/// fell to 1e-23 and was solved again by IC(0) (0.5 s each, 89 IC(0) iterations against 25
 /// multigrid ones), while IC(0)'s field is what the planning solve keeps.
 pub const PLANNING_PCG_TOL: f64 = 1e-13;
 
