@@ -215,8 +215,14 @@ fn refine(
         let mut next = std::mem::take(&mut r.touched);
         next.sort_unstable();
         next.dedup();
-        next.retain(|&t| want(&corners(r, t)));
-        candidates = next;
+        // The tetrahedra this pass made or changed that are wanted, asked on every core.
+        candidates = {
+            use rayon::prelude::*;
+            let (vertices, tets, wraps, period) = (&*r.vertices, &*r.tets, &*r.wraps, r.period);
+            next.into_par_iter()
+                .filter(|&t| want(&corners_of(vertices, tets, wraps, period, t)))
+                .collect()
+        };
     }
     report
 }
