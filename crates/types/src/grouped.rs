@@ -76,6 +76,54 @@ impl<K: Ord + Copy + Default + Send> Grouped<K> {
     }
 }
 
+/// The distinct edges of a tetrahedral mesh, and each tetrahedron's edges among them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TetEdges {
+    /// The edges `[a, b]`, `a < b`, in increasing order of `(a, b)`.
+    pub edges: Vec<[u32; 2]>,
+    /// Per tetrahedron: the index in `edges` of each of its [`EDGES`](crate::EDGES).
+    pub of_tet: Vec<[u32; 6]>,
+}
+
+impl TetEdges {
+    /// The edges of tetrahedra `tets` over `vertices` vertices: the tetrahedra's edges
+    /// grouped by their smaller vertex ([`Grouped::by_vertex`]), each with its larger vertex
+    /// and its slot (tetrahedron, edge). Fewer than 2³² / 6 tetrahedra.
+    ///
+    /// ```
+    /// use harmonic_types::TetEdges;
+    /// // Two tetrahedra sharing the face (0, 1, 2): 9 edges.
+    /// let e = TetEdges::of(5, &[[0, 1, 2, 3], [0, 2, 1, 4]]);
+    /// assert_eq!(e.edges.len(), 9);
+    /// assert_eq!(e.edges[0], [0, 1]);
+    /// assert_eq!(e.of_tet[0][0], e.of_tet[1][1]); // edge (0, 1) of both
+    /// ```
+    pub fn of(vertices: usize, tets: &[[u32; 4]]) -> TetEdges {
+        let all = Grouped::<u64>::by_vertex(vertices, |emit| {
+            for (t, tet) in tets.iter().enumerate() {
+                for (e, &[i, j]) in crate::EDGES.iter().enumerate() {
+                    let (a, b) = (tet[i].min(tet[j]), tet[i].max(tet[j]));
+                    emit(a, (b as u64) << 32 | ((t as u32) * 6 + e as u32) as u64);
+                }
+            }
+        });
+        let mut edges: Vec<[u32; 2]> = Vec::new();
+        let mut of_tet = vec![[0u32; 6]; tets.len()];
+        for a in 0..vertices {
+            let mut last = None;
+            for &k in all.of(a) {
+                let (b, slot) = ((k >> 32) as u32, k as u32);
+                if last != Some(b) {
+                    edges.push([a as u32, b]);
+                    last = Some(b);
+                }
+                of_tet[(slot / 6) as usize][(slot % 6) as usize] = (edges.len() - 1) as u32;
+            }
+        }
+        TetEdges { edges, of_tet }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -98,6 +146,45 @@ mod tests {
         assert_eq!(g.keys, sorted.iter().map(|p| p.1).collect::<Vec<_>>());
         for v in 0..1000 {
             assert!(g.of(v).len() == sorted.iter().filter(|p| p.0 as usize == v).count());
+        }
+    }
+
+    #[test]
+    fn tet_edges_are_the_distinct_sorted_edges_each_tetrahedron_points_at() {
+        // Random quadruples of distinct vertices (not a mesh: only the numbering is tested).
+        let mut state = 777u64;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n) as u32
+        };
+        let tets: Vec<[u32; 4]> = (0..3000)
+            .map(|_| {
+                let mut t = [0u32; 4];
+                let mut k = 0;
+                while k < 4 {
+                    let v = next(400);
+                    if !t[..k].contains(&v) {
+                        t[k] = v;
+                        k += 1;
+                    }
+                }
+                t
+            })
+            .collect();
+        let e = TetEdges::of(400, &tets);
+        let mut expected: Vec<[u32; 2]> = tets
+            .iter()
+            .flat_map(|t| crate::EDGES.map(|[i, j]| [t[i].min(t[j]), t[i].max(t[j])]))
+            .collect();
+        expected.sort_unstable();
+        expected.dedup();
+        assert_eq!(e.edges, expected);
+        for (t, te) in tets.iter().zip(&e.of_tet) {
+            for (k, &[i, j]) in crate::EDGES.iter().enumerate() {
+                assert_eq!(e.edges[te[k] as usize], [t[i].min(t[j]), t[i].max(t[j])]);
+            }
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use harmonic_types::{EDGES, Grouped, TetMesh, Vector3 as Vector};
+use harmonic_types::{EDGES, TetEdges, TetMesh, Vector3 as Vector};
 
 /// A summary of a mesh's shape quality.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -110,61 +110,32 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
 /// negative beyond round-off (see [`QualityReport::negative_weight_edges`]), from each
 /// tetrahedron's six terms (`terms`, as [`tet_weights`] gives them).
 ///
-/// The largest term at each vertex (the round-off scale); then each edge's terms, found as entries keyed by the edge's smaller
-/// vertex ([`Grouped::by_vertex`]: a counting sort, not a sort of all of them) and summed in
-/// the order of their tetrahedra, whatever the thread count. On me766's 5.58 M tetrahedra
-/// this took 2.7 s of a 12 s `hplan plan` when every term came with six arccosines and the
-/// 33.5 M entries were sorted at once.
+/// The edges are numbered as the assembly numbers them ([`TetEdges`]: a counting sort by
+/// the smaller vertex, not a sort of every term) and each one's terms summed in the order
+/// of their tetrahedra, whatever the thread count. On me766's 5.58 M tetrahedra this report
+/// took 2.7 s of a 12 s `hplan plan` when every term came with six arccosines and the
+/// 33.5 M terms were sorted at once.
 fn edge_weight_signs(mesh: &TetMesh, terms: &[[f64; 6]]) -> (usize, usize) {
-    use rayon::prelude::*;
     let tets = mesh.tetrahedra();
     let nv = mesh.vertices().len();
+    let TetEdges { edges, of_tet } = TetEdges::of(nv, tets);
+    let mut sum = vec![0.0f64; edges.len()];
+    // The largest term at each vertex: the round-off scale.
     let mut scale = vec![0.0f64; nv];
-    for (tet, w) in tets.iter().zip(terms) {
+    for ((tet, w), te) in tets.iter().zip(terms).zip(&of_tet) {
         for (e, &[i, j]) in EDGES.iter().enumerate() {
+            sum[te[e] as usize] += w[e];
             for v in [tet[i], tet[j]] {
                 scale[v as usize] = scale[v as usize].max(w[e].abs());
             }
         }
     }
-    // Per smaller vertex: (larger vertex, tetrahedron), one per tetrahedron edge.
-    let grouped = Grouped::<u64>::by_vertex(nv, |emit| {
-        for (t, tet) in tets.iter().enumerate() {
-            for &[i, j] in &EDGES {
-                let (a, b) = (tet[i].min(tet[j]), tet[i].max(tet[j]));
-                emit(a, u64::from(b) << 32 | t as u64);
-            }
-        }
-    });
-    (0..nv)
-        .into_par_iter()
-        .map(|a| {
-            let keys = grouped.of(a);
-            let (mut edges, mut negative) = (0, 0);
-            let mut k = 0;
-            while k < keys.len() {
-                let b = keys[k] >> 32;
-                let mut sum = 0.0;
-                while k < keys.len() && keys[k] >> 32 == b {
-                    let t = (keys[k] & 0xffff_ffff) as usize;
-                    let tet = tets[t];
-                    let e = EDGES
-                        .iter()
-                        .position(|&[i, j]| {
-                            let (u, v) = (tet[i].min(tet[j]), tet[i].max(tet[j]));
-                            u as usize == a && u64::from(v) == b
-                        })
-                        .unwrap_or(0);
-                    sum += terms[t][e];
-                    k += 1;
-                }
-                let tol = 1e-12 * scale[a].max(scale[b as usize]);
-                edges += 1;
-                negative += usize::from(sum < -tol);
-            }
-            (edges, negative)
-        })
-        .reduce(|| (0, 0), |p, q| (p.0 + q.0, p.1 + q.1))
+    let negative = edges
+        .iter()
+        .zip(&sum)
+        .filter(|&(&[a, b], &s)| s < -1e-12 * scale[a as usize].max(scale[b as usize]))
+        .count();
+    (edges.len(), negative)
 }
 
 /// The extremes of every tetrahedron's dihedral angles and volume, and its obtuse count.

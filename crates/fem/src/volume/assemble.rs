@@ -7,7 +7,7 @@ use std::sync::{Arc, OnceLock};
 
 use harmonic_solver::{MMatrix, SymmetricCsc};
 use harmonic_types::BoundaryTag;
-use harmonic_types::{BoundaryFace, EDGES, Grouped, NO_NEIGHBOR, Point3 as Point, TetMesh};
+use harmonic_types::{BoundaryFace, EDGES, NO_NEIGHBOR, Point3 as Point, TetEdges, TetMesh};
 
 use super::FemError;
 use crate::NotMMatrix;
@@ -265,30 +265,11 @@ impl VolumeAssembler {
         }
         let n = free.len();
 
-        // Unique edges and each tetrahedron's edge numbers: the tetrahedra's edges grouped by
-        // their smaller vertex, each with its larger vertex and its slot (tetrahedron, edge).
-        let all = Grouped::<u64>::by_vertex(nv, |emit| {
-            for (t, tet) in tets.iter().enumerate() {
-                for (e, &[i, j]) in EDGES.iter().enumerate() {
-                    let (a, b) = (tet[i].min(tet[j]), tet[i].max(tet[j]));
-                    emit(a, (b as u64) << 32 | ((t as u32) * 6 + e as u32) as u64);
-                }
-            }
-        });
-        let mut edges: Vec<[u32; 2]> = Vec::new();
-        let mut tet_edges = vec![[0u32; 6]; tets.len()];
-        for a in 0..nv {
-            let mut last = None;
-            for &k in all.of(a) {
-                let (b, slot) = ((k >> 32) as u32, k as u32);
-                if last != Some(b) {
-                    edges.push([a as u32, b]);
-                    last = Some(b);
-                }
-                tet_edges[(slot / 6) as usize][(slot % 6) as usize] = (edges.len() - 1) as u32;
-            }
-        }
-        drop(all);
+        // Unique edges and each tetrahedron's edge numbers.
+        let TetEdges {
+            edges,
+            of_tet: tet_edges,
+        } = TetEdges::of(nv, tets);
 
         // Pattern: diagonal plus edges between unknowns, rows sorted per column.
         let mut count = vec![1usize; n];
