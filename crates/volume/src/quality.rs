@@ -223,14 +223,10 @@ mod tests {
     use harmonic_types::{BoundaryTag, Point3 as Point};
 
     /// An n³ grid of unit cubes, each cut into Freudenthal's six tetrahedra, every vertex
-    /// moved by up to `jitter` along each axis (xorshift from `seed`).
-    fn jittered_cubes(n: usize, jitter: f64, mut seed: u64) -> TetMesh {
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % 1_000_001) as f64 / 1_000_000.0 * 2.0 - 1.0
-        };
+    /// moved by up to `jitter` along each axis (seeded).
+    fn jittered_cubes(n: usize, jitter: f64, seed: u64) -> TetMesh {
+        let mut rng = harmonic_fixtures::Rng(seed);
+        let mut next = || 2.0 * rng.next_f64() - 1.0;
         let id = |i: usize, j: usize, k: usize| ((k * (n + 1) + j) * (n + 1) + i) as u32;
         let mut vertices = Vec::new();
         for k in 0..=n {
