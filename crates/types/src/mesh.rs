@@ -781,8 +781,8 @@ mod tests {
     }
 
     /// An n × n grid of unit cells, every vertex moved by up to `jitter` along each axis
-    /// (xorshift from `seed`), each cell cut along a random diagonal: obtuse corners inside
-    /// and on the boundary, and non-Delaunay edges.
+    /// (xorshift from `seed`), each cell cut along a random diagonal: obtuse corners and
+    /// non-Delaunay edges (no corner opposite the boundary is obtuse: the test adds one).
     fn jittered_grid(n: usize, jitter: f64, mut seed: u64) -> Mesh {
         let mut next = || {
             seed ^= seed << 13;
