@@ -35,7 +35,7 @@ pub struct QualityReport {
 /// Dihedral angle (radians) of tetrahedron `t` at each of its [`EDGES`], and the stiffness
 /// weight `−V ∇λ_i·∇λ_j` of each edge.
 pub fn tet_angles_and_weights(mesh: &TetMesh, t: u32) -> ([f64; 6], [f64; 6]) {
-    let (g, _) = mesh.barycentric_gradients(t);
+    let (g, vol) = mesh.barycentric_gradients(t);
     let mut angles = [0.0; 6];
     for (e, &[i, j]) in EDGES.iter().enumerate() {
         // The dihedral angle at edge (i, j) is between faces k and l (the other two; the
@@ -47,17 +47,11 @@ pub fn tet_angles_and_weights(mesh: &TetMesh, t: u32) -> ([f64; 6], [f64; 6]) {
         let c = (-a.dot(&b) / (a.norm() * b.norm())).clamp(-1.0, 1.0);
         angles[e] = c.acos();
     }
-    (angles, tet_weights(mesh, t))
+    (angles, weights_of(&g, vol))
 }
 
-/// The stiffness weight `−V ∇λ_i·∇λ_j` of each of tetrahedron `t`'s [`EDGES`].
-pub fn tet_weights(mesh: &TetMesh, t: u32) -> [f64; 6] {
-    let (g, vol) = mesh.barycentric_gradients(t);
-    weights_of(&g, vol)
-}
-
-/// The stiffness weights of a tetrahedron of volume `vol` whose barycentric coordinates
-/// have the gradients `g`.
+/// The stiffness weights `−V ∇λ_i·∇λ_j` of a tetrahedron's [`EDGES`], its volume `vol` and
+/// its barycentric coordinates' gradients `g`.
 fn weights_of(g: &[Vector; 4], vol: f64) -> [f64; 6] {
     EDGES.map(|[i, j]| -vol * g[i].dot(&g[j]))
 }
@@ -108,7 +102,7 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
 
 /// The number of distinct edges of `mesh`, and of those whose summed stiffness weight is
 /// negative beyond round-off (see [`QualityReport::negative_weight_edges`]), from each
-/// tetrahedron's six terms (`terms`, as [`tet_weights`] gives them).
+/// tetrahedron's six terms (`terms`, as [`tet_angles_and_weights`] gives them).
 ///
 /// The edges are numbered as the assembly numbers them ([`TetEdges`]: a counting sort by
 /// the smaller vertex, not a sort of every term) and each one's terms summed in the order
@@ -275,7 +269,7 @@ mod tests {
     fn by_sorting_every_term(mesh: &TetMesh) -> (usize, usize) {
         let mut entries: Vec<(u64, f64)> = Vec::new();
         for (t, tet) in mesh.tetrahedra().iter().enumerate() {
-            let w = tet_weights(mesh, t as u32);
+            let (_, w) = tet_angles_and_weights(mesh, t as u32);
             for (e, &[i, j]) in EDGES.iter().enumerate() {
                 let (a, b) = (tet[i].min(tet[j]) as u64, tet[i].max(tet[j]) as u64);
                 entries.push((a << 32 | b, w[e]));
