@@ -293,11 +293,16 @@ fn cut_and_warp(
             here
         })
         .collect();
+    // Only the ends of a cut edge can be warped: in increasing order, as a pass over every
+    // vertex would meet them.
+    let mut ends: Vec<u32> = found.iter().flat_map(|&((a, b), _)| [a, b]).collect();
+    ends.par_sort_unstable();
+    ends.dedup();
     let mut cuts: Cuts = found.into_iter().collect();
 
     // 2. Warping: the threshold is α times the edge's length before any warping.
     let mut warped = 0;
-    for v in 0..nv as u32 {
+    for v in ends {
         if f[v as usize] == 0.0 {
             continue;
         }
