@@ -7,7 +7,10 @@
 //! on a lattice plane). A path sliding along such a face would graze the real obstacle. So
 //! every wall or obstacle face is measured against the exact solids (parry3d distances) and,
 //! where one comes closer than the robot radius, the obstacles are inflated (and the workspace
-//! shrunk) by a margin and the domain meshed again, until no face falls short.
+//! shrunk) by a margin and the domain meshed again, until no face falls short. The first
+//! margins come from the tetrahedra at the surface alone, before the whole domain is stuffed
+//! (on me766, 5.58 M tetrahedra, meshing took 3.2–3.9 s with two whole passes, 1.6–1.8 s
+//! with the first look and one whole pass, side by side on 2 cores).
 
 use std::time::Instant;
 
@@ -63,7 +66,8 @@ pub struct MeshReport {
     pub point_goal_radius: f64,
     /// The largest safety margin finally added to the robot radius (per obstacle, walls).
     pub margin: f64,
-    /// How many times the domain was stuffed.
+    /// How many times the domain was stuffed (a first look at its surface alone included,
+    /// which a conservative mesh begins with).
     pub passes: usize,
     /// Lattice vertices evaluated in the last pass.
     pub lattice_vertices: usize,
@@ -112,11 +116,23 @@ impl VolumeDomain {
         let mut margins = vec![0.0; self.obstacles().len()];
         let mut wall_margin = 0.0;
         let mut passes = 0;
+        // First only the tetrahedra at the surface, to find the margins the boundary faces
+        // need without stuffing the whole domain for it (most scenes need one: a face across
+        // a sharp box edge or a curved surface is a chord); then the whole, checked again.
+        let mut surface_first = opts.conservative;
+        let tol = opts.clearance_tolerance;
         loop {
             passes += 1;
             let implicit = self
                 .implicit(goal_radius, &margins, wall_margin)
                 .carving(&carved);
+            if std::mem::take(&mut surface_first) {
+                let (obstacles, wall) =
+                    self.surface_clearance_deficits(&implicit, &carved, h, opts)?;
+                if raise_margins(&mut margins, &mut wall_margin, &obstacles, wall, tol, h) {
+                    continue;
+                }
+            }
             let mut stuffed = stuff(
                 &implicit,
                 &StuffingOptions {
@@ -186,16 +202,61 @@ impl VolumeDomain {
                 };
                 return Ok((mesh, report));
             }
-            let tol = opts.clearance_tolerance;
-            for (m, &d) in margins.iter_mut().zip(&obstacle_deficits) {
-                if d > tol {
-                    *m += 1.5 * d + 1e-9 * h;
+            raise_margins(
+                &mut margins,
+                &mut wall_margin,
+                &obstacle_deficits,
+                wall_deficit,
+                tol,
+                h,
+            );
+        }
+    }
+
+    /// The clearance deficits ([`VolumeDomain::mesh_clearance_deficits`]) of the boundary
+    /// faces that stuffing `implicit` at spacing `h` gives, from the tetrahedra at its
+    /// surface alone ([`crate::stuffing::stuff_surface`]): the faces that no other of them
+    /// shares and whose corners all lie on the surface, less those the goals own (the
+    /// `carved` goals' faces as the whole mesh tags them after carving).
+    fn surface_clearance_deficits(
+        &self,
+        implicit: &crate::domain::DomainImplicit<'_>,
+        carved: &[bool],
+        h: f64,
+        opts: &MeshOptions,
+    ) -> Result<(Vec<f64>, f64), VolumeError> {
+        let (shell, surface) = crate::stuffing::stuff_surface(
+            implicit,
+            &StuffingOptions {
+                spacing: h,
+                max_tetrahedra: opts.max_tetrahedra,
+            },
+        )?;
+        let solids = implicit.goal_solids();
+        let tol = 1e-9 * h;
+        let mut obstacles = vec![f64::NEG_INFINITY; self.obstacles().len()];
+        let mut wall = f64::NEG_INFINITY;
+        let neighbors = harmonic_types::face_neighbors(&shell.tetrahedra)?;
+        for (tet, across) in shell.tetrahedra.iter().zip(&neighbors) {
+            for (k, &n) in across.iter().enumerate() {
+                let face = harmonic_types::FACES[k].map(|l| tet[l]);
+                if n != harmonic_types::NO_NEIGHBOR || !face.iter().all(|&v| surface[v as usize]) {
+                    continue;
+                }
+                let tri = face.map(|v| shell.vertices[v as usize]);
+                let centroid = Point::from((tri[0].coords + tri[1].coords + tri[2].coords) / 3.0);
+                // As the whole mesh's faces are tagged: a goal's by the centroid, a carved
+                // goal's by all three corners.
+                let goal = matches!(implicit.tag(&centroid), BoundaryTag::Goal(_))
+                    || (0..carved.len()).any(|j| {
+                        carved[j] && tri.iter().all(|p| solids[j].signed_distance(p) <= tol)
+                    });
+                if !goal {
+                    self.raise_clearance_deficits(tri, &mut obstacles, &mut wall);
                 }
             }
-            if wall_deficit > tol {
-                wall_margin += 1.5 * wall_deficit + 1e-9 * h;
-            }
         }
+        Ok((obstacles, wall))
     }
 
     /// The radius of the balls point goals are carved as: at most the spacing and half the
@@ -329,4 +390,28 @@ impl VolumeDomain {
         }
         (obstacles, wall)
     }
+}
+
+/// Raises the margins of the obstacles and walls whose faces came closer than the robot
+/// radius by more than `tol` (each by 1.5 times its deficit); whether any was raised.
+fn raise_margins(
+    margins: &mut [f64],
+    wall_margin: &mut f64,
+    obstacle_deficits: &[f64],
+    wall_deficit: f64,
+    tol: f64,
+    h: f64,
+) -> bool {
+    let mut raised = false;
+    for (m, &d) in margins.iter_mut().zip(obstacle_deficits) {
+        if d > tol {
+            *m += 1.5 * d + 1e-9 * h;
+            raised = true;
+        }
+    }
+    if wall_deficit > tol {
+        *wall_margin += 1.5 * wall_deficit + 1e-9 * h;
+        raised = true;
+    }
+    raised
 }

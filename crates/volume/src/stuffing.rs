@@ -173,6 +173,31 @@ pub fn lattice_tetrahedra(bounds: (Point, Point), spacing: f64) -> u64 {
 
 /// Meshes the free space of `domain` by isosurface stuffing (see the module docs).
 pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuffed, VolumeError> {
+    stuff_where(domain, opts, false).map(|(out, _)| out)
+}
+
+/// The part of [`stuff`]'s mesh that touches the surface: the stencils of the background
+/// tetrahedra with a vertex on or outside it (every face of the full mesh's boundary is a
+/// face of one of them), and per output vertex whether it lies on the surface (a cut point
+/// or a warped lattice vertex). A face of these tetrahedra that no other of them shares
+/// and whose three vertices lie on the surface is a boundary face of the full mesh: a
+/// tetrahedron with a surface vertex comes from a background tetrahedron that is kept, so a
+/// face with three surface vertices keeps both its sides here. What the mesher checks
+/// against the exact solids before it stuffs the whole domain.
+pub(crate) fn stuff_surface(
+    domain: &dyn ImplicitDomain,
+    opts: &StuffingOptions,
+) -> Result<(Stuffed, Vec<bool>), VolumeError> {
+    stuff_where(domain, opts, true)
+}
+
+/// [`stuff`], of every background tetrahedron or (`surface_only`) of those that touch the
+/// surface ([`stuff_surface`]), with per output vertex whether it lies on the surface.
+fn stuff_where(
+    domain: &dyn ImplicitDomain,
+    opts: &StuffingOptions,
+    surface_only: bool,
+) -> Result<(Stuffed, Vec<bool>), VolumeError> {
     let h = opts.spacing;
     if !(h.is_finite() && h > 0.0) {
         return Err(VolumeError::BadMaxVolume { value: h });
@@ -220,13 +245,16 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
             let (pos, f, cuts, warped) = cut_and_warp(domain, h, &background.vertices, &|v, k| {
                 background.neighbours(v, k)
             });
-            let (mut out, _) = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
+            let keep = kept(&f, surface_only);
+            let (mut out, sources) = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
                 for &t in &background.tets {
-                    e(t);
+                    if keep(&t) {
+                        e(t);
+                    }
                 }
             });
             out.graded = report.bisections;
-            return Ok(out);
+            return Ok((out, on_surface(&sources, &f)));
         }
     }
     let (pos, f, cuts, warped) = cut_and_warp(domain, h, &positions, &|v, k| {
@@ -234,8 +262,33 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
     });
 
     // 3. Stencils over the lattice tetrahedra.
-    let (out, _) = emit_stencils(&lattice, &pos, &f, &cuts, domain, warped, &|_| true);
-    Ok(out)
+    let keep = kept(&f, surface_only);
+    let (out, sources) = emit_over(&pos, &f, &cuts, domain, warped, h, &mut |e| {
+        lattice.for_each_tet(&|_| true, &mut |t| {
+            if keep(&t) {
+                e(t);
+            }
+        })
+    });
+    Ok((out, on_surface(&sources, &f)))
+}
+
+/// Which background tetrahedra [`stuff_where`] stuffs: all, or those with a vertex on or
+/// outside the surface.
+fn kept(f: &[f64], surface_only: bool) -> impl Fn(&[u32; 4]) -> bool + '_ {
+    move |t| !surface_only || t.iter().any(|&v| f[v as usize] >= 0.0)
+}
+
+/// Per output vertex of a stuffing, whether it lies on the surface: a cut point, or a
+/// lattice vertex whose value is 0 (warped, or on the surface to begin with).
+fn on_surface(sources: &[Sv], f: &[f64]) -> Vec<bool> {
+    sources
+        .iter()
+        .map(|s| match *s {
+            Sv::Cut(..) => true,
+            Sv::Lattice(a) => f[a as usize] == 0.0,
+        })
+        .collect()
 }
 
 /// The lattice neighbours of `v`, each with whether the edge is long (axis-parallel).
