@@ -66,8 +66,9 @@ pub struct MeshReport {
     pub point_goal_radius: f64,
     /// The largest safety margin finally added to the robot radius (per obstacle, walls).
     pub margin: f64,
-    /// How many times the domain was stuffed (a first look at its surface alone included,
-    /// which a conservative mesh begins with).
+    /// How many margin settings were tried: 1 where none was needed (the first look at the
+    /// surface found no deficit and the whole mesh none either), 2 where that first look
+    /// raised the margins once and the whole mesh needed no more.
     pub passes: usize,
     /// Lattice vertices evaluated in the last pass.
     pub lattice_vertices: usize,
@@ -213,11 +214,9 @@ impl VolumeDomain {
         }
     }
 
-    /// The clearance deficits ([`VolumeDomain::mesh_clearance_deficits`]) of the boundary
-    /// faces that stuffing `implicit` at spacing `h` gives, from the tetrahedra at its
-    /// surface alone ([`crate::stuffing::stuff_surface`]): the faces that no other of them
-    /// shares and whose corners all lie on the surface, less those the goals own (the
-    /// `carved` goals' faces as the whole mesh tags them after carving).
+    /// The clearance deficits ([`VolumeDomain::mesh_clearance_deficits`]) of the wall and
+    /// obstacle faces that stuffing `implicit` at spacing `h` gives
+    /// ([`VolumeDomain::surface_faces`]).
     fn surface_clearance_deficits(
         &self,
         implicit: &crate::domain::DomainImplicit<'_>,
@@ -225,6 +224,25 @@ impl VolumeDomain {
         h: f64,
         opts: &MeshOptions,
     ) -> Result<(Vec<f64>, f64), VolumeError> {
+        let mut obstacles = vec![f64::NEG_INFINITY; self.obstacles().len()];
+        let mut wall = f64::NEG_INFINITY;
+        for tri in self.surface_faces(implicit, carved, h, opts)? {
+            self.raise_clearance_deficits(tri, &mut obstacles, &mut wall);
+        }
+        Ok((obstacles, wall))
+    }
+
+    /// The wall and obstacle faces of stuffing `implicit` at spacing `h`, from the
+    /// tetrahedra at its surface alone ([`crate::stuffing::stuff_surface`]): the faces that
+    /// no other of them shares and whose corners all lie on the surface, less those the
+    /// goals own (the `carved` goals' faces as the whole mesh tags them after carving).
+    fn surface_faces(
+        &self,
+        implicit: &crate::domain::DomainImplicit<'_>,
+        carved: &[bool],
+        h: f64,
+        opts: &MeshOptions,
+    ) -> Result<Vec<[Point; 3]>, VolumeError> {
         let (shell, surface) = crate::stuffing::stuff_surface(
             implicit,
             &StuffingOptions {
@@ -234,9 +252,8 @@ impl VolumeDomain {
         )?;
         let solids = implicit.goal_solids();
         let tol = 1e-9 * h;
-        let mut obstacles = vec![f64::NEG_INFINITY; self.obstacles().len()];
-        let mut wall = f64::NEG_INFINITY;
         let neighbors = harmonic_types::face_neighbors(&shell.tetrahedra)?;
+        let mut faces = Vec::new();
         for (tet, across) in shell.tetrahedra.iter().zip(&neighbors) {
             for (k, &n) in across.iter().enumerate() {
                 let face = harmonic_types::FACES[k].map(|l| tet[l]);
@@ -252,11 +269,11 @@ impl VolumeDomain {
                         carved[j] && tri.iter().all(|p| solids[j].signed_distance(p) <= tol)
                     });
                 if !goal {
-                    self.raise_clearance_deficits(tri, &mut obstacles, &mut wall);
+                    faces.push(tri);
                 }
             }
         }
-        Ok((obstacles, wall))
+        Ok(faces)
     }
 
     /// The radius of the balls point goals are carved as: at most the spacing and half the
@@ -414,4 +431,114 @@ fn raise_margins(
         raised = true;
     }
     raised
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Part;
+    use harmonic_fixtures::Rng;
+
+    /// The first look's faces are the whole mesh's wall and obstacle faces (where a goal is
+    /// carved, the whole mesh's split pieces of them) and its deficits the same, on seeded
+    /// random scenes of spheres and boxes not aligned with the lattice (so their faces are
+    /// chords that dip into the obstacles), with and without a robot radius, point goals
+    /// (carved) and sphere goals wider than the lattice (stuffed).
+    #[test]
+    fn the_surface_alone_gives_the_whole_meshs_deficits() {
+        let mut rng = Rng(0x05ee_d0f5_ca1e);
+        for case in 0..8 {
+            let mut at = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
+            let mut obstacles = Vec::new();
+            for i in 0..3 + case % 4 {
+                let c = Point::new(at(1.0, 9.0), at(1.0, 9.0), at(1.0, 9.0));
+                let solid = if i % 2 == 0 {
+                    Solid::new_sphere(Part::Obstacle(i), c, at(0.4, 1.5))
+                } else {
+                    let half = nalgebra::Vector3::new(at(0.3, 1.5), at(0.3, 1.5), at(0.3, 1.5));
+                    Solid::new_box(Part::Obstacle(i), c - half, c + half)
+                };
+                obstacles.push(solid.unwrap());
+            }
+            // Point goals are carved (the mesh refined around them); a ball wider than the
+            // lattice is stuffed.
+            let goal = if case % 2 == 0 {
+                GoalRegion::Point(Point::new(at(0.3, 0.8), at(0.3, 0.8), at(0.3, 0.8)))
+            } else {
+                GoalRegion::Sphere(crate::solid::SphereSolid {
+                    center: Point::new(at(1.4, 1.6), at(1.4, 1.6), at(1.4, 1.6)),
+                    radius: 1.15,
+                })
+            };
+            let workspace = Solid::new_box(
+                Part::Workspace,
+                Point::new(0.0, 0.0, 0.0),
+                Point::new(10.0, 10.0, 10.0),
+            )
+            .unwrap();
+            let robot = [0.0, 0.15][case % 2];
+            let domain = VolumeDomain::new(workspace, obstacles, vec![goal], robot).unwrap();
+            let opts = MeshOptions {
+                conservative: false,
+                ..MeshOptions::with_max_volume(at(0.02, 0.08))
+            };
+            let (mesh, report) = domain.mesh(&opts).unwrap();
+            let whole = domain.mesh_clearance_deficits(&mesh);
+            let h = report.spacing;
+            let carved = domain.carved_goals(h);
+            let implicit = domain
+                .implicit(report.point_goal_radius, &[], 0.0)
+                .carving(&carved);
+            let surface = domain
+                .surface_clearance_deficits(&implicit, &carved, h, &opts)
+                .unwrap();
+            assert_eq!(surface, whole, "case {case}: {report:?}");
+            // The faces themselves, by their corners.
+            let key = |tri: [Point; 3]| {
+                let mut c = tri.map(|p| [p.x, p.y, p.z]);
+                c.sort_by(|a, b| a.partial_cmp(b).unwrap());
+                c
+            };
+            let sorted = |mut faces: Vec<[[f64; 3]; 3]>| {
+                faces.sort_by(|a, b| a.partial_cmp(b).unwrap());
+                faces
+            };
+            let of_surface = domain
+                .surface_faces(&implicit, &carved, h, &opts)
+                .unwrap()
+                .into_iter()
+                .map(key)
+                .collect();
+            let of_whole = mesh
+                .boundary_faces()
+                .iter()
+                .filter(|f| !matches!(f.tag, BoundaryTag::Goal(_)))
+                .map(|f| key(f.vertices.map(|v| mesh.vertices()[v as usize])))
+                .collect();
+            let (of_surface, of_whole) = (sorted(of_surface), sorted(of_whole));
+            assert!(of_whole.len() > 100, "case {case}");
+            if report.refined == 0 {
+                assert!(of_surface == of_whole, "case {case}: the same faces");
+            } else {
+                // Carving a goal bisects faces near it: the pieces tile the faces they split.
+                let area = |faces: &[[[f64; 3]; 3]]| -> f64 {
+                    let area = |c: &[[f64; 3]; 3]| {
+                        let [a, b, d] = c.map(nalgebra::Vector3::from);
+                        0.5 * (b - a).cross(&(d - a)).norm()
+                    };
+                    faces.iter().map(area).sum()
+                };
+                assert!(of_whole.len() > of_surface.len(), "case {case}");
+                let (a, b) = (area(&of_surface), area(&of_whole));
+                assert!(
+                    (a - b).abs() <= 1e-12 * b,
+                    "case {case}: area {a} against {b}"
+                );
+            }
+            assert!(
+                whole.0.iter().any(|&d| d > 1e-10),
+                "case {case}: some face dips in: {whole:?}"
+            );
+        }
+    }
 }

@@ -182,8 +182,9 @@ pub fn stuff(domain: &dyn ImplicitDomain, opts: &StuffingOptions) -> Result<Stuf
 /// or a warped lattice vertex). A face of these tetrahedra that no other of them shares
 /// and whose three vertices lie on the surface is a boundary face of the full mesh: a
 /// tetrahedron with a surface vertex comes from a background tetrahedron that is kept, so a
-/// face with three surface vertices keeps both its sides here. What the mesher checks
-/// against the exact solids before it stuffs the whole domain.
+/// face with three surface vertices keeps both its sides here; a face that only lost its
+/// inner side here has a vertex inside. What the mesher checks against the exact solids
+/// before it stuffs the whole domain.
 pub(crate) fn stuff_surface(
     domain: &dyn ImplicitDomain,
     opts: &StuffingOptions,
