@@ -33,29 +33,25 @@ pub struct P1VolumeField<'a> {
     outside: Option<OutsideClassifier<'a>>,
 }
 
-/// What a [`P1VolumeField`] computes once from its mesh and values (vertex → tetrahedra,
-/// recovered gradients, components): O(mesh) work that a planner keeps and shares between
+/// What a [`P1VolumeField`] computes once from its mesh and values (recovered gradients,
+/// components): O(mesh) work that a planner keeps and shares between
 /// queries ([`P1VolumeField::parts`], [`P1VolumeField::from_parts`]).
 #[derive(Debug)]
 pub struct VolumeFieldParts {
     values: Vec<f64>,
-    /// Vertex → tetrahedra (CSR).
-    vt_start: Vec<u32>,
-    vt: Vec<u32>,
     nodal: Vec<Vector>,
     /// Per tetrahedron: its component; per component: whether it has a goal face.
     component: Vec<u32>,
     component_goal: Vec<bool>,
 }
 
-/// What a [`P1VolumeField`] needs of its mesh alone, before any values: the vertex →
-/// tetrahedra table and the face-connected components with whether each has a goal face.
-/// On a large mesh it is worth computing while the values are still being solved for
+/// What a [`P1VolumeField`] needs of its mesh alone, before any values: the face-connected
+/// components with whether each has a goal face, and the mesh's vertex → tetrahedra table
+/// ([`TetMesh::tets_around`], kept by the mesh) built if the mesh had none. On a large mesh
+/// it is worth computing while the values are still being solved for
 /// ([`P1VolumeField::ascending_with`]).
 #[derive(Debug)]
 pub struct VolumeFieldTopology {
-    vt_start: Vec<u32>,
-    vt: Vec<u32>,
     component: Vec<u32>,
     component_goal: Vec<bool>,
 }
@@ -63,25 +59,9 @@ pub struct VolumeFieldTopology {
 impl VolumeFieldTopology {
     /// The topology of `mesh`.
     pub fn of(mesh: &TetMesh) -> Self {
-        let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
-        let mut vt_start = vec![0u32; nv + 1];
-        for t in tets {
-            for &v in t {
-                vt_start[v as usize + 1] += 1;
-            }
-        }
-        for i in 0..nv {
-            vt_start[i + 1] += vt_start[i];
-        }
-        let mut next = vt_start.clone();
-        let mut vt = vec![0u32; 4 * tets.len()];
-        for (t, tet) in tets.iter().enumerate() {
-            for &v in tet {
-                vt[next[v as usize] as usize] = t as u32;
-                next[v as usize] += 1;
-            }
-        }
+        // Built here, beside the solve, where the mesh came without it.
+        mesh.tets_around();
         // Components and their goals.
         let mut component = vec![u32::MAX; tets.len()];
         let mut component_goal = Vec::new();
@@ -114,8 +94,6 @@ impl VolumeFieldTopology {
             component_goal.push(goal);
         }
         VolumeFieldTopology {
-            vt_start,
-            vt,
             component,
             component_goal,
         }
@@ -187,14 +165,7 @@ impl<'a> P1VolumeField<'a> {
         topology: VolumeFieldTopology,
     ) -> Result<Self, TraceError> {
         Self::check_values(mesh, &values)?;
-        let (nv, nt) = (mesh.vertices().len(), mesh.tetrahedra().len());
-        if topology.vt_start.len() != nv + 1 {
-            return Err(TraceError::LengthMismatch {
-                what: "field topology's vertices (plus one)",
-                expected: nv + 1,
-                got: topology.vt_start.len(),
-            });
-        }
+        let nt = mesh.tetrahedra().len();
         if topology.component.len() != nt {
             return Err(TraceError::LengthMismatch {
                 what: "field topology's tetrahedra",
@@ -214,11 +185,10 @@ impl<'a> P1VolumeField<'a> {
         let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
         let VolumeFieldTopology {
-            vt_start,
-            vt,
             component,
             component_goal,
         } = topology;
+        let vt = mesh.tets_around();
         // Recovered nodal gradients (volume-weighted), for the smooth tracer.
         // Each tetrahedron's gradient on every core, summed into the vertices in order (the
         // same sums on any number of threads).
@@ -241,7 +211,7 @@ impl<'a> P1VolumeField<'a> {
             (0..nv)
                 .into_par_iter()
                 .map(|v| {
-                    let around = &vt[vt_start[v] as usize..vt_start[v + 1] as usize];
+                    let around = vt.of(v);
                     let (mut n, mut w) = (Vector::zeros(), 0.0);
                     for &t in around {
                         let (gv, vol) = per_tet[t as usize];
@@ -256,8 +226,6 @@ impl<'a> P1VolumeField<'a> {
             mesh,
             parts: Arc::new(VolumeFieldParts {
                 values,
-                vt_start,
-                vt,
                 nodal,
                 component,
                 component_goal,
@@ -304,8 +272,7 @@ impl<'a> P1VolumeField<'a> {
     }
 
     fn vertex_tets(&self, v: u32) -> &[u32] {
-        let p = &self.parts;
-        &p.vt[p.vt_start[v as usize] as usize..p.vt_start[v as usize + 1] as usize]
+        self.mesh.tets_around().of(v as usize)
     }
 
     /// The tetrahedra containing every vertex of `sigma`.

@@ -43,7 +43,8 @@ pub use hierarchy::MeshHierarchy;
 pub use mesh::{BoundaryEdge, Mesh, NO_NEIGHBOR, QualityReport, map_in_two};
 pub use tag::{BoundaryTag, Part, SEAM_PART};
 pub use tet_mesh::{
-    BoundaryFace, EDGES, FACES, TetMesh, check_tetrahedra, face_neighbors, signed_volume,
+    BoundaryFace, EDGES, FACES, TetMesh, check_tetrahedra, face_neighbors, face_neighbors_around,
+    signed_volume,
 };
 
 /// A point of the plane.

@@ -63,21 +63,24 @@ pub fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), Mes
 /// vertex (22.3 M keys, 357 MB). A face shared by more than two tetrahedra is an error (the
 /// one with the smallest vertex triple).
 pub fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshDataError> {
-    use rayon::prelude::*;
-    use std::sync::atomic::{AtomicU32, Ordering};
     let nv = tets
         .iter()
         .flatten()
         .copied()
         .max()
         .map_or(0, |m| m as usize + 1);
-    let around = crate::Grouped::<u32>::by_vertex(nv, |emit| {
-        for (t, tet) in tets.iter().enumerate() {
-            for &v in tet {
-                emit(v, t as u32);
-            }
-        }
-    });
+    face_neighbors_around(tets, &crate::Grouped::tets_around(nv, tets))
+}
+
+/// [`face_neighbors`] with the tetrahedra around each vertex given
+/// ([`Grouped::tets_around`](crate::Grouped::tets_around)).
+pub fn face_neighbors_around(
+    tets: &[[u32; 4]],
+    around: &crate::Grouped<u32>,
+) -> Result<Vec<[u32; 4]>, MeshDataError> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let nv = around.start.len() - 1;
     let neighbors: Vec<[AtomicU32; 4]> = (0..tets.len())
         .into_par_iter()
         .map(|_| std::array::from_fn(|_| AtomicU32::new(NO_NEIGHBOR)))
@@ -174,6 +177,7 @@ pub struct TetMesh {
     face_boundary: Vec<[u32; 4]>,
     on_boundary: Vec<bool>,
     locator: OnceLock<Locator>,
+    around: OnceLock<crate::Grouped<u32>>,
 }
 
 impl TetMesh {
@@ -195,13 +199,12 @@ impl TetMesh {
             });
         }
         check_tetrahedra(&vertices, &tets)?;
-        let neighbors = face_neighbors(&tets)?;
-        Ok(Self::with_neighbors(
-            vertices,
-            tets,
-            neighbors,
-            &mut |_, _, c| tag(c),
-        ))
+        let around = crate::Grouped::tets_around(nv, &tets);
+        let neighbors = face_neighbors_around(&tets, &around)?;
+        let mesh = Self::with_neighbors(vertices, tets, neighbors, &mut |_, _, c| tag(c));
+        // Kept: the assembly numbers the edges and the tracer walks around vertices with it.
+        let _ = mesh.around.set(around);
+        Ok(mesh)
     }
 
     /// A mesh from parts already checked and their face adjacency (as [`face_neighbors`]
@@ -248,6 +251,7 @@ impl TetMesh {
             face_boundary,
             on_boundary,
             locator: OnceLock::new(),
+            around: OnceLock::new(),
         }
     }
 
@@ -264,6 +268,13 @@ impl TetMesh {
             let corners = f.vertices.map(|v| self.vertices[v as usize]);
             f.tag = retag(&corners, f.tag);
         }
+    }
+
+    /// The tetrahedra around each vertex, ascending ([`Grouped::tets_around`](crate::Grouped::tets_around);
+    /// kept from [`TetMesh::new`], else built on first use).
+    pub fn tets_around(&self) -> &crate::Grouped<u32> {
+        self.around
+            .get_or_init(|| crate::Grouped::tets_around(self.vertices.len(), &self.tets))
     }
 
     /// The vertices.

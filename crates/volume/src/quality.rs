@@ -112,7 +112,7 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
 fn edge_weight_signs(mesh: &TetMesh, terms: &[[f64; 6]]) -> (usize, usize) {
     let tets = mesh.tetrahedra();
     let nv = mesh.vertices().len();
-    let TetEdges { edges, of_tet } = TetEdges::of(nv, tets);
+    let TetEdges { edges, of_tet } = TetEdges::around(tets, mesh.tets_around());
     let mut sum = vec![0.0f64; edges.len()];
     // The largest term at each vertex: the round-off scale.
     let mut scale = vec![0.0f64; nv];

@@ -269,7 +269,7 @@ impl VolumeAssembler {
         let TetEdges {
             edges,
             of_tet: tet_edges,
-        } = TetEdges::of(nv, tets);
+        } = TetEdges::around(tets, mesh.tets_around());
 
         // Pattern: diagonal plus edges between unknowns, rows sorted per column.
         let mut count = vec![1usize; n];
