@@ -178,6 +178,7 @@ pub struct TetMesh {
     on_boundary: Vec<bool>,
     locator: OnceLock<Locator>,
     around: OnceLock<crate::Grouped<u32>>,
+    edges: OnceLock<crate::TetEdges>,
 }
 
 impl TetMesh {
@@ -252,6 +253,7 @@ impl TetMesh {
             on_boundary,
             locator: OnceLock::new(),
             around: OnceLock::new(),
+            edges: OnceLock::new(),
         }
     }
 
@@ -275,6 +277,13 @@ impl TetMesh {
     pub fn tets_around(&self) -> &crate::Grouped<u32> {
         self.around
             .get_or_init(|| crate::Grouped::tets_around(self.vertices.len(), &self.tets))
+    }
+
+    /// The edges and each tetrahedron's edges among them ([`TetEdges::around`](crate::TetEdges::around)),
+    /// built on first use and kept: the assembly and the quality report share them.
+    pub fn edges(&self) -> &crate::TetEdges {
+        self.edges
+            .get_or_init(|| crate::TetEdges::around(&self.tets, self.tets_around()))
     }
 
     /// The vertices.

@@ -112,11 +112,11 @@ pub fn quality(mesh: &TetMesh) -> QualityReport {
 fn edge_weight_signs(mesh: &TetMesh, terms: &[[f64; 6]]) -> (usize, usize) {
     let tets = mesh.tetrahedra();
     let nv = mesh.vertices().len();
-    let TetEdges { edges, of_tet } = TetEdges::around(tets, mesh.tets_around());
+    let TetEdges { edges, of_tet } = mesh.edges();
     let mut sum = vec![0.0f64; edges.len()];
     // The largest term at each vertex: the round-off scale.
     let mut scale = vec![0.0f64; nv];
-    for ((tet, w), te) in tets.iter().zip(terms).zip(&of_tet) {
+    for ((tet, w), te) in tets.iter().zip(terms).zip(of_tet) {
         for (e, &[i, j]) in EDGES.iter().enumerate() {
             sum[te[e] as usize] += w[e];
             for v in [tet[i], tet[j]] {

@@ -164,11 +164,7 @@ pub struct VolumeAssembler {
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     unknown_of: Vec<u32>,
     free: Arc<Vec<u32>>,
-    /// Unique mesh edges `(a, b)`, `a < b`.
-    edges: Vec<[u32; 2]>,
-    /// Per tetrahedron: the index of each of its [`EDGES`] in `edges`.
-    tet_edges: Vec<[u32; 6]>,
-    /// Per edge: positions of `(a, b)` and `(b, a)` when both ends are unknowns.
+    /// Per edge (the mesh's [`TetMesh::edges`]): positions of `(a, b)` and `(b, a)` when both ends are unknowns.
     edge_pos: Vec<[u32; 2]>,
     diag_pos: Vec<u32>,
     template: SymmetricCsc,
@@ -266,14 +262,11 @@ impl VolumeAssembler {
         let n = free.len();
 
         // Unique edges and each tetrahedron's edge numbers.
-        let TetEdges {
-            edges,
-            of_tet: tet_edges,
-        } = TetEdges::around(tets, mesh.tets_around());
+        let edges = &mesh.edges().edges;
 
         // Pattern: diagonal plus edges between unknowns, rows sorted per column.
         let mut count = vec![1usize; n];
-        for &[a, b] in &edges {
+        for &[a, b] in edges {
             let (ua, ub) = (unknown_of[a as usize], unknown_of[b as usize]);
             if ua != NONE && ub != NONE {
                 count[ua as usize] += 1;
@@ -295,7 +288,7 @@ impl VolumeAssembler {
             row_idx[*slot] = j;
             *slot += 1;
         }
-        for &[a, b] in &edges {
+        for &[a, b] in edges {
             let (ua, ub) = (unknown_of[a as usize], unknown_of[b as usize]);
             if ua != NONE && ub != NONE {
                 row_idx[next[ub as usize]] = ua as usize;
@@ -363,8 +356,6 @@ impl VolumeAssembler {
             kinds,
             unknown_of,
             free: Arc::new(free),
-            edges,
-            tet_edges,
             edge_pos,
             diag_pos,
             template,
@@ -384,7 +375,7 @@ impl VolumeAssembler {
     }
     /// The number of mesh edges.
     pub fn edge_count(&self) -> usize {
-        self.edges.len()
+        self.mesh.edges().edges.len()
     }
 
     /// Assembles the reduced system for constant conditions `bcs`.
@@ -564,15 +555,16 @@ impl VolumeAssembler {
             let mesh = &*self.mesh;
             // Each tetrahedron's six terms on every core, summed into the edges in order (the
             // same sums on any number of threads).
-            let local: Vec<[f64; 6]> = (0..self.tet_edges.len() as u32)
+            let TetEdges { edges, of_tet } = mesh.edges();
+            let local: Vec<[f64; 6]> = (0..of_tet.len() as u32)
                 .into_par_iter()
                 .map(|t| {
                     let (g, vol) = mesh.barycentric_gradients(t);
                     EDGES.map(|[i, j]| -vol * g[i].dot(&g[j]))
                 })
                 .collect();
-            let mut weight = vec![0.0; self.edges.len()];
-            for (te, w) in self.tet_edges.iter().zip(&local) {
+            let mut weight = vec![0.0; edges.len()];
+            for (te, w) in of_tet.iter().zip(&local) {
                 for (&e, &we) in te.iter().zip(w) {
                     weight[e as usize] += we;
                 }
@@ -596,7 +588,7 @@ impl VolumeAssembler {
         let round_off = 1e-12 * weight.iter().fold(0.0f64, |m, w| m.max(w.abs()));
         {
             let values = matrix.values_mut();
-            for (e, (&[a, b], &w)) in self.edges.iter().zip(weight).enumerate() {
+            for (e, (&[a, b], &w)) in self.mesh.edges().edges.iter().zip(weight).enumerate() {
                 let (ua, ub) = (unknown_of[a as usize], unknown_of[b as usize]);
                 let w = if clamp && w < 0.0 {
                     if (ua != NONE || ub != NONE) && w < -round_off {
@@ -709,7 +701,7 @@ impl VolumeAssembler {
         let mut first: Option<NotMMatrix> = None;
         for &e in negative {
             let w = weight[e];
-            let [a, b] = self.edges[e];
+            let [a, b] = self.mesh.edges().edges[e];
             let scale = [a, b]
                 .iter()
                 .filter(|&&v| unknown_of[v as usize] != NONE)
