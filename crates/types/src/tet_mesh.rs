@@ -152,6 +152,20 @@ pub fn face_neighbors_around(
         .collect())
 }
 
+/// `cell`'s value, computed by `f` where it has none yet. Not `OnceLock::get_or_init`: `f`
+/// runs on every core (rayon), and while the thread computing it waits for its own parallel
+/// tasks, rayon may hand it another task that asks for the same cell (the volume planner
+/// asks for a mesh's tables from both sides of a `join`): inside `get_or_init` that
+/// re-entrant initialisation deadlocks. Here two asks at once both compute, the same value,
+/// and the first one done is kept.
+fn computed_once<T>(cell: &OnceLock<T>, f: impl FnOnce() -> T) -> &T {
+    if let Some(v) = cell.get() {
+        return v;
+    }
+    let v = f();
+    cell.get_or_init(|| v)
+}
+
 /// One boundary face of the mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoundaryFace {
@@ -275,15 +289,17 @@ impl TetMesh {
     /// The tetrahedra around each vertex, ascending ([`Grouped::tets_around`](crate::Grouped::tets_around);
     /// kept from [`TetMesh::new`], else built on first use).
     pub fn tets_around(&self) -> &crate::Grouped<u32> {
-        self.around
-            .get_or_init(|| crate::Grouped::tets_around(self.vertices.len(), &self.tets))
+        computed_once(&self.around, || {
+            crate::Grouped::tets_around(self.vertices.len(), &self.tets)
+        })
     }
 
     /// The edges and each tetrahedron's edges among them ([`TetEdges::around`](crate::TetEdges::around)),
     /// built on first use and kept: the assembly and the quality report share them.
     pub fn edges(&self) -> &crate::TetEdges {
-        self.edges
-            .get_or_init(|| crate::TetEdges::around(&self.tets, self.tets_around()))
+        computed_once(&self.edges, || {
+            crate::TetEdges::around(&self.tets, self.tets_around())
+        })
     }
 
     /// The vertices.
