@@ -9,8 +9,9 @@
 //! vertex, then larger), so results do not depend on the thread count. Measured on me766's
 //! 5.58 M tetrahedra (2 cores, side by side in one run): its 6.5 M edges numbered in
 //! 0.41–0.63 s from the table of tetrahedra around each vertex that the mesh kept from
-//! finding its faces' neighbours, against 0.81–0.95 s when all 33.5 M per-tetrahedron edge keys were grouped
-//! by the smaller vertex (and 0.70 s, in a quieter hour, by one parallel sort of them all).
+//! finding its faces' neighbours, against 0.81–0.95 s when all 33.5 M per-tetrahedron edge
+//! keys were grouped by the smaller vertex (and 0.70 s, in a quieter hour, by one parallel
+//! sort of them all).
 
 use rayon::prelude::*;
 

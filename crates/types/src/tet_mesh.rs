@@ -54,7 +54,7 @@ pub fn check_tetrahedra(vertices: &[Point], tets: &[[u32; 4]]) -> Result<(), Mes
 /// The face adjacency of `tets` (vertex indices checked): per tetrahedron, the tetrahedron
 /// across face `k`, or [`NO_NEIGHBOR`]. A face belongs to its smallest vertex, and both
 /// tetrahedra that share it hold that vertex: so the tetrahedra are grouped by vertex
-/// ([`Grouped::by_vertex`](crate::Grouped::by_vertex), four `u32` per tetrahedron), and each
+/// ([`Grouped::tets_around`](crate::Grouped::tets_around), four `u32` per tetrahedron), and each
 /// vertex pairs the faces it owns among its few tens of tetrahedra by sorting their other two
 /// vertices — the vertices on every core, each face found by exactly one of them, so the
 /// result does not depend on the thread count. Measured on me766's 5.58 M tetrahedra (2
@@ -72,8 +72,9 @@ pub fn face_neighbors(tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshDataError>
     face_neighbors_around(tets, &crate::Grouped::tets_around(nv, tets))
 }
 
-/// [`face_neighbors`] with the tetrahedra around each vertex given
-/// ([`Grouped::tets_around`](crate::Grouped::tets_around)).
+/// [`face_neighbors`] with the tetrahedra around each vertex given: `around` must be
+/// [`Grouped::tets_around`](crate::Grouped::tets_around) of these `tets` (as
+/// [`TetMesh::tets_around`] keeps it).
 pub fn face_neighbors_around(
     tets: &[[u32; 4]],
     around: &crate::Grouped<u32>,
@@ -286,16 +287,18 @@ impl TetMesh {
         }
     }
 
-    /// The tetrahedra around each vertex, ascending ([`Grouped::tets_around`](crate::Grouped::tets_around);
-    /// kept from [`TetMesh::new`], else built on first use).
+    /// The tetrahedra around each vertex, ascending
+    /// ([`Grouped::tets_around`](crate::Grouped::tets_around); kept from [`TetMesh::new`],
+    /// else built on first use).
     pub fn tets_around(&self) -> &crate::Grouped<u32> {
         computed_once(&self.around, || {
             crate::Grouped::tets_around(self.vertices.len(), &self.tets)
         })
     }
 
-    /// The edges and each tetrahedron's edges among them ([`TetEdges::around`](crate::TetEdges::around)),
-    /// built on first use and kept: the assembly and the quality report share them.
+    /// The edges and each tetrahedron's edges among them
+    /// ([`TetEdges::around`](crate::TetEdges::around)), built on first use and kept: the
+    /// assembly and the quality report share them.
     pub fn edges(&self) -> &crate::TetEdges {
         computed_once(&self.edges, || {
             crate::TetEdges::around(&self.tets, self.tets_around())

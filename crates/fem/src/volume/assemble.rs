@@ -164,7 +164,8 @@ pub struct VolumeAssembler {
     kinds: BTreeMap<BoundaryTag, ConditionKind>,
     unknown_of: Vec<u32>,
     free: Arc<Vec<u32>>,
-    /// Per edge (the mesh's [`TetMesh::edges`]): positions of `(a, b)` and `(b, a)` when both ends are unknowns.
+    /// Per edge (the mesh's [`TetMesh::edges`]): positions of `(a, b)` and `(b, a)` when both
+    /// ends are unknowns.
     edge_pos: Vec<[u32; 2]>,
     diag_pos: Vec<u32>,
     template: SymmetricCsc,
