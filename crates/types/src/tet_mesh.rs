@@ -156,9 +156,10 @@ pub fn face_neighbors_around(
 /// `cell`'s value, computed by `f` where it has none yet. Not `OnceLock::get_or_init`: `f`
 /// runs on every core (rayon), and while the thread computing it waits for its own parallel
 /// tasks, rayon may hand it another task that asks for the same cell (the volume planner
-/// asks for a mesh's tables from both sides of a `join`): inside `get_or_init` that
-/// re-entrant initialisation deadlocks. Here two asks at once both compute, the same value,
-/// and the first one done is kept.
+/// asks for a mesh's tables from both sides of a `join`; tracing many starts at once asks
+/// for the point locator from each): inside `get_or_init` that re-entrant initialisation
+/// deadlocks. Here two asks at once both compute, the same value, and the first one done is
+/// kept.
 fn computed_once<T>(cell: &OnceLock<T>, f: impl FnOnce() -> T) -> &T {
     if let Some(v) = cell.get() {
         return v;
@@ -376,7 +377,7 @@ impl TetMesh {
     /// planner does it while it builds (beside its solve), so that its first query does not.
     pub fn prepare_locate(&self) {
         if !self.tets.is_empty() {
-            self.locator.get_or_init(|| Locator::new(self));
+            computed_once(&self.locator, || Locator::new(self));
         }
     }
 
@@ -391,9 +392,7 @@ impl TetMesh {
         {
             return Some(t);
         }
-        self.locator
-            .get_or_init(|| Locator::new(self))
-            .locate(self, p)
+        computed_once(&self.locator, || Locator::new(self)).locate(self, p)
     }
 
     /// Walks from `start` toward `p` across faces; `None` if the walk leaves the mesh or
