@@ -53,16 +53,10 @@ impl<K: Ord + Copy + Default + Send> Grouped<K> {
         // Each group sorted, a run of vertices per task.
         let mut pieces = Vec::new();
         let mut rest: &mut [K] = &mut keys;
-        let per_task = vertices
-            .div_ceil(64 * rayon::current_num_threads().max(1))
-            .max(256);
-        let mut v = 0;
-        while v < vertices {
-            let end = (v + per_task).min(vertices);
+        for (v, end) in vertex_runs(vertices) {
             let (piece, tail) = rest.split_at_mut(start[end] - start[v]);
             pieces.push((v, end, piece));
             rest = tail;
-            v = end;
         }
         pieces.into_par_iter().for_each(|(v0, v1, piece)| {
             let base = start[v0];
@@ -77,6 +71,18 @@ impl<K: Ord + Copy + Default + Send> Grouped<K> {
     pub fn of(&self, v: usize) -> &[K] {
         &self.keys[self.start[v]..self.start[v + 1]]
     }
+}
+
+/// Vertices `0..vertices` in runs `(first, end)`, one per parallel task: about 64 runs a
+/// thread, each of at least 256 vertices.
+pub(crate) fn vertex_runs(vertices: usize) -> Vec<(usize, usize)> {
+    let per_task = vertices
+        .div_ceil(64 * rayon::current_num_threads().max(1))
+        .max(256);
+    (0..vertices)
+        .step_by(per_task)
+        .map(|v| (v, (v + per_task).min(vertices)))
+        .collect()
 }
 
 impl Grouped<u32> {
@@ -155,13 +161,7 @@ impl TetEdges {
                 .filter(|&(i, k)| i == 0 || keys[i - 1] >> 32 != k >> 32)
                 .count()
         };
-        let per_task = nv
-            .div_ceil(64 * rayon::current_num_threads().max(1))
-            .max(256);
-        let chunks: Vec<(usize, usize)> = (0..nv)
-            .step_by(per_task)
-            .map(|v| (v, (v + per_task).min(nv)))
-            .collect();
+        let chunks = vertex_runs(nv);
         // 1. How many edges each run of vertices owns.
         let counts: Vec<usize> = chunks
             .par_iter()

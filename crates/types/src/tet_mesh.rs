@@ -137,13 +137,10 @@ pub fn face_neighbors_around(
         }
         None
     };
-    let per_task = nv
-        .div_ceil(64 * rayon::current_num_threads().max(1))
-        .max(256);
-    let starts: Vec<usize> = (0..nv).step_by(per_task.max(1)).collect();
-    if let Some(e) = starts.par_iter().find_map_first(|&v0| {
+    let runs = crate::grouped::vertex_runs(nv);
+    if let Some(e) = runs.par_iter().find_map_first(|&(v0, v1)| {
         let mut faces = Vec::new();
-        (v0..(v0 + per_task).min(nv)).find_map(|a| pair(a, &mut faces))
+        (v0..v1).find_map(|a| pair(a, &mut faces))
     }) {
         return Err(e);
     }

@@ -255,7 +255,7 @@ fn stuff_where(
                 }
             });
             out.graded = report.bisections;
-            return Ok((out, on_surface(&sources, &f)));
+            return Ok((out, on_surface(&sources, &f, surface_only)));
         }
     }
     let (pos, f, cuts, warped) = cut_and_warp(domain, h, &positions, &|v, k| {
@@ -271,7 +271,7 @@ fn stuff_where(
             }
         })
     });
-    Ok((out, on_surface(&sources, &f)))
+    Ok((out, on_surface(&sources, &f, surface_only)))
 }
 
 /// Which background tetrahedra [`stuff_where`] stuffs: all, or those with a vertex on or
@@ -281,8 +281,12 @@ fn kept(f: &[f64], surface_only: bool) -> impl Fn(&[u32; 4]) -> bool + '_ {
 }
 
 /// Per output vertex of a stuffing, whether it lies on the surface: a cut point, or a
-/// lattice vertex whose value is 0 (warped, or on the surface to begin with).
-fn on_surface(sources: &[Sv], f: &[f64]) -> Vec<bool> {
+/// lattice vertex whose value is 0 (warped, or on the surface to begin with). Only `asked`
+/// (for [`stuff_surface`]); empty otherwise.
+fn on_surface(sources: &[Sv], f: &[f64], asked: bool) -> Vec<bool> {
+    if !asked {
+        return Vec::new();
+    }
     sources
         .iter()
         .map(|s| match *s {
