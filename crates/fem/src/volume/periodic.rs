@@ -32,96 +32,159 @@ pub fn periodic_conditions(bcs: &BoundaryConditions) -> BoundaryConditions {
 /// Folds `system` (assembled on a slab) so that vertex `v` and `images[v]` are one unknown;
 /// [`VolumeSystem::expand`] of the folded system gives both the same ψ.
 pub fn identify_periodic(system: &VolumeSystem, images: &[u32]) -> Result<VolumeSystem, FemError> {
-    let nv = images.len();
-    if system.psi_fixed.len() != nv {
-        return Err(FemError::LengthMismatch {
-            what: "periodic images",
-            expected: system.psi_fixed.len(),
-            got: nv,
-        });
-    }
-    const NONE: usize = usize::MAX;
-    let mut unknown_of = vec![NONE; nv];
-    for (i, &v) in system.free.iter().enumerate() {
-        unknown_of[v as usize] = i;
-    }
-    // New numbering: the unknowns that are their own image.
-    let mut new_of_vertex = vec![NONE; nv];
-    let mut free = Vec::new();
-    for &v in system.free.iter() {
-        if images[v as usize] == v {
-            new_of_vertex[v as usize] = free.len();
-            free.push(v);
-        }
-    }
-    let mut fold = vec![NONE; system.free.len()];
-    for (i, &v) in system.free.iter().enumerate() {
-        let r = images[v as usize] as usize;
-        if r >= nv || new_of_vertex[r] == NONE {
-            return Err(FemError::PeriodicMismatch {
-                vertex: v,
-                image: r as u32,
+    Fold::of(system, images)?.apply(system)
+}
+
+/// The folding of one slab pattern ([`identify_periodic`]), found once and applied to every
+/// system assembled on that pattern (the planning solve's Galerkin and clamped systems).
+struct Fold {
+    /// The slab vertex of each folded unknown (those that are their own image).
+    free: Arc<Vec<u32>>,
+    /// The folded unknown of each slab unknown.
+    fold: Vec<usize>,
+    /// The folded matrix's pattern, every value zero.
+    template: SymmetricCsc,
+    /// The slab's pattern (shared), which every folded system must have.
+    slab_pattern: SymmetricCsc,
+    /// Where each stored entry of the slab's matrix is added in the folded one.
+    slot: Vec<usize>,
+    images: Arc<Vec<u32>>,
+}
+
+impl Fold {
+    /// The folding of `system`'s unknowns and pattern by `images`; errors where a vertex and
+    /// its image are not both unknowns or both prescribed.
+    fn of(system: &VolumeSystem, images: &[u32]) -> Result<Fold, FemError> {
+        let nv = images.len();
+        if system.psi_fixed.len() != nv {
+            return Err(FemError::LengthMismatch {
+                what: "periodic images",
+                expected: system.psi_fixed.len(),
+                got: nv,
             });
         }
-        fold[i] = new_of_vertex[r];
-    }
-    // A prescribed vertex must be identified with a prescribed one.
-    for v in 0..nv {
-        let r = images[v] as usize;
-        if r < nv && (unknown_of[v] == NONE) != (unknown_of[r] == NONE) {
-            return Err(FemError::PeriodicMismatch {
-                vertex: v as u32,
-                image: r as u32,
-            });
+        const NONE: usize = usize::MAX;
+        let mut unknown_of = vec![NONE; nv];
+        for (i, &v) in system.free.iter().enumerate() {
+            unknown_of[v as usize] = i;
         }
-    }
-    let n = free.len();
-    let a = &system.matrix;
-    let mut columns: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
-    for j in 0..a.n() {
-        let (rows, vals) = a.column(j);
-        let fj = fold[j];
-        for (&i, &x) in rows.iter().zip(vals) {
-            columns[fj].push((fold[i], x));
-        }
-    }
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::new();
-    let mut values = Vec::new();
-    col_ptr.push(0);
-    for col in &mut columns {
-        col.sort_unstable_by_key(|&(i, _)| i);
-        for &(i, x) in col.iter() {
-            if row_idx.len() > *col_ptr.last().unwrap_or(&0) && row_idx.last() == Some(&i) {
-                if let Some(last) = values.last_mut() {
-                    *last += x;
-                }
-            } else {
-                row_idx.push(i);
-                values.push(x);
+        // New numbering: the unknowns that are their own image.
+        let mut new_of_vertex = vec![NONE; nv];
+        let mut free = Vec::new();
+        for &v in system.free.iter() {
+            if images[v as usize] == v {
+                new_of_vertex[v as usize] = free.len();
+                free.push(v);
             }
         }
-        col_ptr.push(row_idx.len());
+        let mut fold = vec![NONE; system.free.len()];
+        for (i, &v) in system.free.iter().enumerate() {
+            let r = images[v as usize] as usize;
+            if r >= nv || new_of_vertex[r] == NONE {
+                return Err(FemError::PeriodicMismatch {
+                    vertex: v,
+                    image: r as u32,
+                });
+            }
+            fold[i] = new_of_vertex[r];
+        }
+        // A prescribed vertex must be identified with a prescribed one.
+        for v in 0..nv {
+            let r = images[v] as usize;
+            if r < nv && (unknown_of[v] == NONE) != (unknown_of[r] == NONE) {
+                return Err(FemError::PeriodicMismatch {
+                    vertex: v as u32,
+                    image: r as u32,
+                });
+            }
+        }
+        // The slab's entries grouped by folded column (a counting sort), then each column's
+        // rows sorted and merged: entry k of the slab's matrix lands in `slot[k]`.
+        let n = free.len();
+        let a = &system.matrix;
+        let (a_ptr, a_rows) = (a.col_ptr(), a.row_idx());
+        let mut start = vec![0usize; n + 1];
+        for j in 0..a.n() {
+            start[fold[j] + 1] += a_ptr[j + 1] - a_ptr[j];
+        }
+        for c in 0..n {
+            start[c + 1] += start[c];
+        }
+        let mut next = start.clone();
+        // (folded row, slab entry), by folded column.
+        let mut grouped = vec![(0usize, 0usize); a_rows.len()];
+        for j in 0..a.n() {
+            let c = &mut next[fold[j]];
+            for k in a_ptr[j]..a_ptr[j + 1] {
+                grouped[*c] = (fold[a_rows[k]], k);
+                *c += 1;
+            }
+        }
+        drop(next);
+        let mut slot = vec![0usize; a_rows.len()];
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(a_rows.len());
+        col_ptr.push(0);
+        for c in 0..n {
+            let column = &mut grouped[start[c]..start[c + 1]];
+            column.sort_unstable();
+            for &(i, k) in column.iter() {
+                if row_idx.len() == *col_ptr.last().unwrap_or(&0) || row_idx.last() != Some(&i) {
+                    row_idx.push(i);
+                }
+                slot[k] = row_idx.len() - 1;
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let nnz = row_idx.len();
+        let template =
+            SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])?;
+        Ok(Fold {
+            free: Arc::new(free),
+            fold,
+            template,
+            slab_pattern: SymmetricCsc::zeros_like(a),
+            slot,
+            images: Arc::new(images.to_vec()),
+        })
     }
-    let matrix = SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, values)?;
-    let mut rhs = vec![0.0; n];
-    let mut excess = vec![0.0; n];
-    for (i, &f) in fold.iter().enumerate() {
-        rhs[f] += system.rhs[i];
-        excess[f] += system.excess[i];
+
+    /// `system` folded: its matrix's entries, right-hand side and excesses summed into the
+    /// folded unknowns (in the slab's order, so the sums do not depend on anything else).
+    fn apply(&self, system: &VolumeSystem) -> Result<VolumeSystem, FemError> {
+        let a = &system.matrix;
+        if !a.shares_pattern(&self.slab_pattern) || system.rhs.len() != self.fold.len() {
+            return Err(FemError::LengthMismatch {
+                what: "a system folded by another assembly's pattern",
+                expected: self.fold.len(),
+                got: system.rhs.len(),
+            });
+        }
+        let n = self.free.len();
+        let mut matrix = SymmetricCsc::zeros_like(&self.template);
+        let values = matrix.values_mut();
+        for (&k, &x) in self.slot.iter().zip(a.values()) {
+            values[k] += x;
+        }
+        let mut rhs = vec![0.0; n];
+        let mut excess = vec![0.0; n];
+        for (i, &f) in self.fold.iter().enumerate() {
+            rhs[f] += system.rhs[i];
+            excess[f] += system.excess[i];
+        }
+        Ok(VolumeSystem {
+            matrix,
+            rhs,
+            excess,
+            psi_fixed: system.psi_fixed.clone(),
+            reference: system.reference,
+            not_m_matrix: system.not_m_matrix,
+            free: Arc::clone(&self.free),
+            positive_offdiagonals: system.positive_offdiagonals,
+            clamped: system.clamped,
+            images: Some(Arc::clone(&self.images)),
+        })
     }
-    Ok(VolumeSystem {
-        matrix,
-        rhs,
-        excess,
-        psi_fixed: system.psi_fixed.clone(),
-        reference: system.reference,
-        not_m_matrix: system.not_m_matrix,
-        free: Arc::new(free),
-        positive_offdiagonals: system.positive_offdiagonals,
-        clamped: system.clamped,
-        images: Some(Arc::new(images.to_vec())),
-    })
 }
 
 /// What [`solve_periodic_for_planning`] did.
@@ -155,19 +218,16 @@ pub fn solve_periodic_for_planning(
         VolumeAssemblyOptions::default(),
         Arc::clone(&shared),
     )?;
-    let system = identify_periodic(&assembler.assemble(&bcs)?, images)?;
+    let a = assembler.assemble(&bcs)?;
+    let folding = Fold::of(&a, images)?;
+    let system = folding.apply(&a)?;
     let positive_offdiagonals = system.positive_offdiagonals();
     let unknowns = system.matrix().n();
     let (potential, solve, clamped_edges) = planning_solve(
         &slab,
         &system,
         super::solve::AUTO_MULTIGRID_MIN_UNKNOWNS,
-        || {
-            identify_periodic(
-                &assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?,
-                images,
-            )
-        },
+        || folding.apply(&assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?),
     )?;
     Ok((
         potential,
@@ -241,5 +301,69 @@ mod tests {
         let t2 = cov.walk(&Point::new(0.5, 0.5, 1.01), t);
         assert!(t2.is_some());
         let _ = Vector::zeros();
+    }
+
+    /// One folding serves every system assembled on the slab's pattern (the Galerkin and the
+    /// clamped one): each comes out as a fresh fold of its own would make it, entry by entry,
+    /// and a system assembled on another pattern is refused.
+    #[test]
+    fn one_fold_serves_every_system_on_the_pattern() {
+        let stuffed = stuff_periodic(
+            &Slab,
+            &StuffingOptions {
+                spacing: 0.15,
+                max_tetrahedra: 1_000_000,
+            },
+            [None, None, Some(7)],
+        )
+        .unwrap();
+        let pm = PeriodicMesh::new(&stuffed, 1, &|p| Slab.tag(p)).unwrap();
+        let bcs = periodic_conditions(&BoundaryConditions::default());
+        let slab = Arc::new(pm.slab);
+        let assembler = VolumeAssembler::with_identified(
+            Arc::clone(&slab),
+            &bcs,
+            VolumeAssemblyOptions::default(),
+            Arc::new(pm.images.clone()),
+        )
+        .unwrap();
+        let galerkin = assembler.assemble(&bcs).unwrap();
+        let clamped = assembler
+            .assemble_weighted(&bcs, None, NegativeWeights::Clamp)
+            .unwrap();
+        let fold = Fold::of(&galerkin, &pm.images).unwrap();
+        for system in [&galerkin, &clamped] {
+            let once = fold.apply(system).unwrap();
+            let fresh = identify_periodic(system, &pm.images).unwrap();
+            assert!(
+                once.matrix().n() < system.matrix().n(),
+                "vertices were identified"
+            );
+            assert_eq!(once.matrix().col_ptr(), fresh.matrix().col_ptr());
+            assert_eq!(once.matrix().row_idx(), fresh.matrix().row_idx());
+            assert_eq!(once.matrix().values(), fresh.matrix().values());
+            assert_eq!(once.rhs(), fresh.rhs());
+            assert_eq!(once.excess(), fresh.excess());
+            assert_eq!(once.free_vertices(), fresh.free_vertices());
+        }
+        // Every entry lands somewhere: the folded entries sum to the slab's.
+        let (a, folded) = (galerkin.matrix(), fold.apply(&galerkin).unwrap());
+        let total: f64 = a.values().iter().sum();
+        let folded_total: f64 = folded.matrix().values().iter().sum();
+        assert!((total - folded_total).abs() <= 1e-9 * total.abs().max(1.0));
+        // Another assembly (its own pattern) is not folded by this one's.
+        let other = VolumeAssembler::with_identified(
+            Arc::clone(&slab),
+            &bcs,
+            VolumeAssemblyOptions::default(),
+            Arc::new(pm.images.clone()),
+        )
+        .unwrap()
+        .assemble(&bcs)
+        .unwrap();
+        assert!(matches!(
+            fold.apply(&other),
+            Err(FemError::LengthMismatch { .. })
+        ));
     }
 }
