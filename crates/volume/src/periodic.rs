@@ -335,10 +335,15 @@ fn cut_and_warp_quotient(
         .collect();
     let mut cuts: Cuts = found.into_iter().collect();
 
-    // 2. Warping: the threshold is α times the edge's length before any warping.
+    // 2. Warping: the threshold is α times the edge's length before any warping. Only an
+    //    end of a cut edge can warp (cuts are only removed), so only those are visited, in
+    //    the order of `active`.
+    let mut ends: Vec<u32> = cuts.keys().flat_map(|&(v, w)| [v, w]).collect();
+    ends.par_sort_unstable();
+    ends.dedup();
     let mut warped = 0;
     let mut seen: Vec<crate::solid::Vector> = Vec::new();
-    for &v in active {
+    for &v in &ends {
         if f[v as usize] == 0.0 {
             continue;
         }
@@ -391,46 +396,35 @@ fn stuff_quotient(
     let period = background.period;
     let nv = background.vertices.len();
     // The quotient's edges, each once: (a, b, b's offset from a), a < b, found per vertex
-    // among the tetrahedra around it (on every core).
-    let mut around_start = vec![0usize; nv + 1];
-    for tet in &background.tets {
-        for &v in tet {
-            around_start[v as usize + 1] += 1;
-        }
-    }
-    for v in 0..nv {
-        around_start[v + 1] += around_start[v];
-    }
-    let mut around = vec![0u32; around_start[nv]];
-    let mut next = around_start.clone();
-    for (t, tet) in background.tets.iter().enumerate() {
-        for &v in tet {
-            around[next[v as usize]] = t as u32;
-            next[v as usize] += 1;
-        }
-    }
-    drop(next);
-    let edges: Vec<(u32, u32, [i32; 3])> = (0..nv as u32)
+    // among the tetrahedra around it, a run of vertices per task (on every core).
+    let around = harmonic_types::Grouped::tets_around(nv, &background.tets);
+    let per_run = nv
+        .div_ceil(64 * rayon::current_num_threads().max(1))
+        .max(256);
+    let edges: Vec<(u32, u32, [i32; 3])> = (0..nv.div_ceil(per_run))
         .into_par_iter()
-        .flat_map_iter(|a| {
-            let mut list: Vec<(u32, [i32; 3])> = Vec::new();
-            for &t in &around[around_start[a as usize]..around_start[a as usize + 1]] {
-                let (tet, w) = (background.tets[t as usize], background.wraps[t as usize]);
-                let ia = tet.iter().position(|&v| v == a).unwrap_or(0);
-                for j in 0..4 {
-                    if tet[j] > a {
-                        list.push((tet[j], [0, 1, 2].map(|k| w[j][k] - w[ia][k])));
+        .map(|r| {
+            let (mut out, mut list) = (Vec::new(), Vec::<(u32, [i32; 3])>::new());
+            for a in (r * per_run) as u32..((r + 1) * per_run).min(nv) as u32 {
+                list.clear();
+                for &t in around.of(a as usize) {
+                    let (tet, w) = (background.tets[t as usize], background.wraps[t as usize]);
+                    let ia = tet.iter().position(|&v| v == a).unwrap_or(0);
+                    for j in 0..4 {
+                        if tet[j] > a {
+                            list.push((tet[j], [0, 1, 2].map(|k| w[j][k] - w[ia][k])));
+                        }
                     }
                 }
+                list.sort_unstable_by_key(|&(b, _)| b);
+                list.dedup_by_key(|&mut (b, _)| b);
+                out.extend(list.iter().map(|&(b, rel)| (a, b, rel)));
             }
-            list.sort_unstable_by_key(|&(b, _)| b);
-            list.dedup_by_key(|&mut (b, _)| b);
-            list.into_iter().map(move |(b, rel)| (a, b, rel))
+            out
         })
-        .collect();
-    let used: Vec<bool> = (0..nv)
-        .map(|v| around_start[v + 1] > around_start[v])
-        .collect();
+        .collect::<Vec<_>>()
+        .concat();
+    let used: Vec<bool> = (0..nv).map(|v| !around.of(v).is_empty()).collect();
     let mut start = vec![0usize; nv + 1];
     for &(a, b, _) in &edges {
         start[a as usize + 1] += 1;
