@@ -141,28 +141,53 @@ impl Prolongation {
         }
     }
 
-    /// `coarse = Pᵀ fine` (the restriction of a residual).
-    fn restrict(&self, fine: &[f64], coarse: &mut [f64]) {
-        coarse.fill(0.0);
-        for (i, &r) in fine.iter().enumerate().take(self.fine_len()) {
-            let (columns, values) = self.rows.row(i);
-            for (&c, &v) in columns.iter().zip(values) {
-                coarse[c as usize] += v * r;
+    /// `coarse = Pᵀ fine` (the restriction of a residual), by the rows of `transposed` (this
+    /// prolongation's [`Prolongation::transpose`]): each coarse value sums its fine terms in
+    /// increasing fine order, as a scatter over the fine rows would, so the numbers do not
+    /// depend on how the rows are split; large levels on rayon's pool.
+    fn restrict(&self, transposed: &SparseRows, fine: &[f64], coarse: &mut [f64]) {
+        let rows = |first: usize, out: &mut [f64]| {
+            for (k, c) in out.iter_mut().enumerate() {
+                let (columns, values) = transposed.row(first + k);
+                *c = columns
+                    .iter()
+                    .zip(values)
+                    .fold(0.0, |s, (&i, &v)| s + v * fine[i as usize]);
             }
-        }
+        };
+        split_rows(coarse, fine.len(), rows);
     }
 
-    /// `fine += P coarse` (a coarse correction added).
+    /// `fine += P coarse` (a coarse correction added); large levels on rayon's pool.
     fn add_prolonged(&self, coarse: &[f64], fine: &mut [f64]) {
-        for (i, f) in fine.iter_mut().enumerate().take(self.fine_len()) {
-            let (columns, values) = self.rows.row(i);
-            let s: f64 = columns
-                .iter()
-                .zip(values)
-                .map(|(&c, &v)| v * coarse[c as usize])
-                .sum();
-            *f += s;
-        }
+        let rows = |first: usize, out: &mut [f64]| {
+            for (k, f) in out.iter_mut().enumerate() {
+                let (columns, values) = self.rows.row(first + k);
+                let s: f64 = columns
+                    .iter()
+                    .zip(values)
+                    .map(|(&c, &v)| v * coarse[c as usize])
+                    .sum();
+                *f += s;
+            }
+        };
+        let n = self.fine_len();
+        split_rows(&mut fine[..n], n, rows);
+    }
+}
+
+/// Runs `rows(first, out)` over `out` (rows `first..first + out.len()`), in one piece, or
+/// where the level (of `level_len` unknowns) is large enough for its sweeps to be split,
+/// in one piece per thread on rayon's pool. Each row is computed alike either way.
+fn split_rows(out: &mut [f64], level_len: usize, rows: impl Fn(usize, &mut [f64]) + Sync) {
+    if level_len >= crate::PARALLEL_MIN_UNKNOWNS && rayon::current_num_threads() > 1 {
+        use rayon::prelude::*;
+        let size = out.len().div_ceil(rayon::current_num_threads()).max(1);
+        out.par_chunks_mut(size)
+            .enumerate()
+            .for_each(|(c, o)| rows(c * size, o));
+    } else {
+        rows(0, out);
     }
 }
 
@@ -187,6 +212,8 @@ impl Default for MultigridOptions {
 struct Level {
     a: Rows,
     from_below: Prolongation,
+    /// `from_below`'s transpose, for restricting by rows.
+    to_below: SparseRows,
 }
 
 /// A symmetric matrix by rows for the cycle: the off-diagonal entries with 32-bit column
@@ -491,6 +518,7 @@ impl Multigrid {
                 .map(|(a, from_below)| {
                     Ok(Level {
                         a: Rows::of(a)?,
+                        to_below: from_below.transpose(),
                         from_below,
                     })
                 })
@@ -603,7 +631,9 @@ impl Multigrid {
             level.a.gauss_seidel(b, x, kind, &mut mine.before);
         }
         level.a.residual(Some(b), x, &mut mine.r);
-        level.from_below.restrict(&mine.r, &mut mine.below_b);
+        level
+            .from_below
+            .restrict(&level.to_below, &mine.r, &mut mine.below_b);
         self.cycle(&mine.below_b, &mut mine.below_x, below);
         level.from_below.add_prolonged(&mine.below_x, x);
         for _ in 0..sweeps {
@@ -680,6 +710,44 @@ mod tests {
             row_ptr.push(cols.len());
         }
         Prolongation::try_new(n, row_ptr, cols, vals).unwrap()
+    }
+
+    /// The transfers of a level large enough to be split over threads give, on two threads,
+    /// the very numbers one thread gives and a scatter over the fine rows gives.
+    #[test]
+    fn transfers_split_over_threads_give_the_same_numbers() {
+        let n = crate::PARALLEL_MIN_UNKNOWNS;
+        let p = interpolation_1d(n);
+        let pt = p.transpose();
+        let fine: Vec<f64> = (0..p.fine_len())
+            .map(|i| (i as f64 * 0.731).sin())
+            .collect();
+        let coarse: Vec<f64> = (0..n).map(|i| (i as f64 * 1.37).cos()).collect();
+        let mut scattered = vec![0.0; n];
+        for (i, &r) in fine.iter().enumerate() {
+            let (columns, values) = p.row(i);
+            for (&c, &v) in columns.iter().zip(values) {
+                scattered[c as usize] += v * r;
+            }
+        }
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut restricted = vec![f64::NAN; n];
+                p.restrict(&pt, &fine, &mut restricted);
+                let mut prolonged = fine.clone();
+                p.add_prolonged(&coarse, &mut prolonged);
+                (restricted, prolonged)
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        assert_eq!(one.0, scattered);
+        assert_eq!(two.0, scattered);
+        assert_eq!(one.1, two.1);
+        assert!((one.1[1] - (fine[1] + coarse[0])).abs() < 1e-15);
     }
 
     fn hierarchy(levels: usize) -> Multigrid {
