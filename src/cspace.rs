@@ -307,7 +307,14 @@ impl ConfigPlanner {
             .iter()
             .map(|&v| potential.psi()[v as usize])
             .collect();
-        let field = Arc::clone(P1VolumeField::ascending_with(&covering, topology, &psi)?.parts());
+        // The covering's tetrahedra are copies of the slab's, one copy after another.
+        let field = P1VolumeField::ascending_with_copies(
+            &covering,
+            topology,
+            &psi,
+            slab.tetrahedra().len(),
+        )?;
+        let field = Arc::clone(field.parts());
         let solve_ms = millis(t);
         let (lo, hi) = covering.bounds();
         let size = space.world().size();

@@ -133,12 +133,39 @@ impl<'a> P1VolumeField<'a> {
         topology: VolumeFieldTopology,
         psi: &[f64],
     ) -> Result<Self, TraceError> {
-        Self::build_with(mesh, psi.iter().map(|v| -v).collect(), topology)
+        Self::build_with(mesh, psi.iter().map(|v| -v).collect(), topology, None)
+    }
+
+    /// [`P1VolumeField::ascending_with`] on a mesh made of copies of its first `period`
+    /// tetrahedra — a periodic domain's covering, whose tetrahedron `t` is tetrahedron
+    /// `t % period` moved by whole periods. A copy whose corners hold the same values as
+    /// its original's takes the original's gradient (the same up to rounding: a translate),
+    /// computed once; any other copy gets its own.
+    pub fn ascending_with_copies(
+        mesh: &'a TetMesh,
+        topology: VolumeFieldTopology,
+        psi: &[f64],
+        period: usize,
+    ) -> Result<Self, TraceError> {
+        let nt = mesh.tetrahedra().len();
+        if period == 0 || !nt.is_multiple_of(period) {
+            return Err(TraceError::LengthMismatch {
+                what: "tetrahedra of one copy (a divisor of the mesh's)",
+                expected: period,
+                got: nt,
+            });
+        }
+        Self::build_with(
+            mesh,
+            psi.iter().map(|v| -v).collect(),
+            topology,
+            Some(period),
+        )
     }
 
     fn build(mesh: &'a TetMesh, values: Vec<f64>) -> Result<Self, TraceError> {
         Self::check_values(mesh, &values)?;
-        Self::build_checked(mesh, values, VolumeFieldTopology::of(mesh))
+        Self::build_checked(mesh, values, VolumeFieldTopology::of(mesh), None)
     }
 
     fn check_values(mesh: &TetMesh, values: &[f64]) -> Result<(), TraceError> {
@@ -163,6 +190,7 @@ impl<'a> P1VolumeField<'a> {
         mesh: &'a TetMesh,
         values: Vec<f64>,
         topology: VolumeFieldTopology,
+        copies_of: Option<usize>,
     ) -> Result<Self, TraceError> {
         Self::check_values(mesh, &values)?;
         let nt = mesh.tetrahedra().len();
@@ -173,14 +201,16 @@ impl<'a> P1VolumeField<'a> {
                 got: topology.component.len(),
             });
         }
-        Self::build_checked(mesh, values, topology)
+        Self::build_checked(mesh, values, topology, copies_of)
     }
 
-    /// The field from checked values and a topology of `mesh`.
+    /// The field from checked values and a topology of `mesh` (whose tetrahedra repeat the
+    /// first `copies_of` ones, if given: [`P1VolumeField::ascending_with_copies`]).
     fn build_checked(
         mesh: &'a TetMesh,
         values: Vec<f64>,
         topology: VolumeFieldTopology,
+        copies_of: Option<usize>,
     ) -> Result<Self, TraceError> {
         let nv = mesh.vertices().len();
         let tets = mesh.tetrahedra();
@@ -192,17 +222,33 @@ impl<'a> P1VolumeField<'a> {
         // Recovered nodal gradients (volume-weighted), for the smooth tracer.
         // Each tetrahedron's gradient on every core, summed into the vertices in order (the
         // same sums on any number of threads).
+        let own = |t: u32| {
+            let (g, vol) = mesh.barycentric_gradients(t);
+            let tet = tets[t as usize];
+            let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
+            (grad * vol, vol)
+        };
         let per_tet: Vec<(Vector, f64)> = {
             use rayon::prelude::*;
-            (0..tets.len() as u32)
-                .into_par_iter()
-                .map(|t| {
-                    let (g, vol) = mesh.barycentric_gradients(t);
-                    let tet = tets[t as usize];
-                    let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
-                    (grad * vol, vol)
-                })
-                .collect()
+            match copies_of {
+                None => (0..tets.len() as u32).into_par_iter().map(own).collect(),
+                Some(period) => {
+                    let first: Vec<(Vector, f64)> =
+                        (0..period as u32).into_par_iter().map(own).collect();
+                    let corner_values = |t: usize| tets[t].map(|v| values[v as usize].to_bits());
+                    (0..tets.len())
+                        .into_par_iter()
+                        .map(|t| {
+                            let o = t % period;
+                            if t == o || corner_values(t) == corner_values(o) {
+                                first[o]
+                            } else {
+                                own(t as u32)
+                            }
+                        })
+                        .collect()
+                }
+            }
         };
         // Per vertex, its tetrahedra's sums in the order the vertex → tetrahedra table lists
         // them (the tetrahedra's own order), on every core.
