@@ -323,15 +323,7 @@ impl Rows {
                 }
             }
         };
-        if self.parallel() {
-            use rayon::prelude::*;
-            let size = self.n().div_ceil(rayon::current_num_threads());
-            out.par_chunks_mut(size)
-                .enumerate()
-                .for_each(|(c, o)| chunk(c * size, o));
-        } else {
-            chunk(0, out);
-        }
+        split_rows(out, self.n(), chunk);
     }
 
     /// Whether this level's products and sweeps are split over rayon's pool.

@@ -75,7 +75,14 @@ impl<K: Ord + Copy + Default + Send> Grouped<K> {
 
 /// Vertices `0..vertices` in runs `(first, end)`, one per parallel task: about 64 runs a
 /// thread, each of at least 256 vertices.
-pub(crate) fn vertex_runs(vertices: usize) -> Vec<(usize, usize)> {
+///
+/// ```
+/// let runs = harmonic_types::vertex_runs(1000);
+/// assert_eq!(runs.first().map(|r| r.0), Some(0));
+/// assert_eq!(runs.last().map(|r| r.1), Some(1000));
+/// assert!(runs.windows(2).all(|w| w[0].1 == w[1].0));
+/// ```
+pub fn vertex_runs(vertices: usize) -> Vec<(usize, usize)> {
     let per_task = vertices
         .div_ceil(64 * rayon::current_num_threads().max(1))
         .max(256);

@@ -38,7 +38,7 @@ mod tet_locate;
 mod tet_mesh;
 
 pub use error::{Element, MeshDataError};
-pub use grouped::{Grouped, TetEdges};
+pub use grouped::{Grouped, TetEdges, vertex_runs};
 pub use hierarchy::MeshHierarchy;
 pub use mesh::{BoundaryEdge, Mesh, NO_NEIGHBOR, QualityReport, map_in_two};
 pub use tag::{BoundaryTag, Part, SEAM_PART};

@@ -281,11 +281,11 @@ type QuotientNeighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64, [i32; 3])) + 
 /// two seeded 3-link arms' paths came back `collision`.
 pub(crate) const THIN_FREE_DEPTH: f64 = 0.2;
 
-/// Steps 1 and 2 of stuffing on the canonical vertices `active` of a periodic background
-/// (positions `positions`, edges `neighbours`; values from `known` where it has them, else
-/// from the domain): the vertices after warping, their signs, the
-/// cut points left (each in the frame of its edge's lower-numbered end) and how many
-/// vertices were warped. Every copy of a vertex is warped alike and every copy of an edge cut
+/// Steps 1 and 2 of stuffing on the canonical vertices `active` (ascending) of a periodic
+/// background (positions `positions`, edges `neighbours`; values from `known` where it has
+/// them, else from the domain): the vertices after warping, their signs, the cut points
+/// left (each in the frame of its edge's lower-numbered end) and how many vertices were
+/// warped. Every copy of a vertex is warped alike and every copy of an edge cut
 /// at the same point, because each is computed once, on its class.
 fn cut_and_warp_quotient(
     domain: &(dyn ImplicitDomain + Sync),
@@ -337,7 +337,7 @@ fn cut_and_warp_quotient(
 
     // 2. Warping: the threshold is α times the edge's length before any warping. Only an
     //    end of a cut edge can warp (cuts are only removed), so only those are visited, in
-    //    the order of `active`.
+    //    increasing order as `active` lists them.
     let mut ends: Vec<u32> = cuts.keys().flat_map(|&(v, w)| [v, w]).collect();
     ends.par_sort_unstable();
     ends.dedup();
@@ -398,14 +398,11 @@ fn stuff_quotient(
     // The quotient's edges, each once: (a, b, b's offset from a), a < b, found per vertex
     // among the tetrahedra around it, a run of vertices per task (on every core).
     let around = harmonic_types::Grouped::tets_around(nv, &background.tets);
-    let per_run = nv
-        .div_ceil(64 * rayon::current_num_threads().max(1))
-        .max(256);
-    let edges: Vec<(u32, u32, [i32; 3])> = (0..nv.div_ceil(per_run))
+    let edges: Vec<(u32, u32, [i32; 3])> = harmonic_types::vertex_runs(nv)
         .into_par_iter()
-        .map(|r| {
+        .map(|(first, end)| {
             let (mut out, mut list) = (Vec::new(), Vec::<(u32, [i32; 3])>::new());
-            for a in (r * per_run) as u32..((r + 1) * per_run).min(nv) as u32 {
+            for a in first as u32..end as u32 {
                 list.clear();
                 for &t in around.of(a as usize) {
                     let (tet, w) = (background.tets[t as usize], background.wraps[t as usize]);
