@@ -228,26 +228,24 @@ impl<'a> P1VolumeField<'a> {
             let grad: Vector = (0..4).map(|k| g[k] * values[tet[k] as usize]).sum();
             (grad * vol, vol)
         };
-        let per_tet: Vec<(Vector, f64)> = {
+        // Each tetrahedron's (gradient × volume, volume) once: all of them, or those of the
+        // first copy, which later copies look up (where their corners hold the same values)
+        // instead of keeping their own.
+        let period = copies_of.unwrap_or(tets.len()).max(1);
+        let first: Vec<(Vector, f64)> = {
             use rayon::prelude::*;
-            match copies_of {
-                None => (0..tets.len() as u32).into_par_iter().map(own).collect(),
-                Some(period) => {
-                    let first: Vec<(Vector, f64)> =
-                        (0..period as u32).into_par_iter().map(own).collect();
-                    let corner_values = |t: usize| tets[t].map(|v| values[v as usize].to_bits());
-                    (0..tets.len())
-                        .into_par_iter()
-                        .map(|t| {
-                            let o = t % period;
-                            if t == o || corner_values(t) == corner_values(o) {
-                                first[o]
-                            } else {
-                                own(t as u32)
-                            }
-                        })
-                        .collect()
-                }
+            (0..period.min(tets.len()) as u32)
+                .into_par_iter()
+                .map(own)
+                .collect()
+        };
+        let corner_values = |t: usize| tets[t].map(|v| values[v as usize].to_bits());
+        let of_tet = |t: usize| {
+            let o = t % period;
+            if t == o || corner_values(t) == corner_values(o) {
+                first[o]
+            } else {
+                own(t as u32)
             }
         };
         // Per vertex, its tetrahedra's sums in the order the vertex → tetrahedra table lists
@@ -260,7 +258,7 @@ impl<'a> P1VolumeField<'a> {
                     let around = vt.of(v);
                     let (mut n, mut w) = (Vector::zeros(), 0.0);
                     for &t in around {
-                        let (gv, vol) = per_tet[t as usize];
+                        let (gv, vol) = of_tet(t as usize);
                         n += gv;
                         w += vol;
                     }
