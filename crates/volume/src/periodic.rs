@@ -653,12 +653,11 @@ impl PeriodicMesh {
                 }
             }
         }
-        let tets: Vec<[u32; 4]> = (0..shifts.len())
-            .flat_map(|c| {
-                let ids = &ids[c * nsv..(c + 1) * nsv];
-                s.tetrahedra.iter().map(move |t| t.map(|v| ids[v as usize]))
-            })
-            .collect();
+        let mut tets: Vec<[u32; 4]> = Vec::with_capacity(shifts.len() * s.tetrahedra.len());
+        for c in 0..shifts.len() {
+            let ids = &ids[c * nsv..(c + 1) * nsv];
+            tets.extend(s.tetrahedra.iter().map(|t| t.map(|v| ids[v as usize])));
+        }
         // The slab's own adjacency; its ends are left without neighbours there. A face
         // without a neighbour whose corners' classes are those of another such face is a
         // slab end, one of a pair of seam faces (`d` periods apart); the others are real

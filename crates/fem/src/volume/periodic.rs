@@ -47,7 +47,7 @@ struct Fold {
     /// The slab's pattern (shared), which every folded system must have.
     slab_pattern: SymmetricCsc,
     /// Where each stored entry of the slab's matrix is added in the folded one.
-    slot: Vec<usize>,
+    slot: Vec<u32>,
     images: Arc<Vec<u32>>,
 }
 
@@ -110,18 +110,22 @@ impl Fold {
         for c in 0..n {
             start[c + 1] += start[c];
         }
+        // Entries and folded rows are numbered in 32 bits (the assembler's matrices are).
+        if a_rows.len() >= u32::MAX as usize {
+            return Err(FemError::TooLarge { nnz: a_rows.len() });
+        }
         let mut next = start.clone();
         // (folded row, slab entry), by folded column.
-        let mut grouped = vec![(0usize, 0usize); a_rows.len()];
+        let mut grouped = vec![(0u32, 0u32); a_rows.len()];
         for j in 0..a.n() {
             let c = &mut next[fold[j]];
             for k in a_ptr[j]..a_ptr[j + 1] {
-                grouped[*c] = (fold[a_rows[k]], k);
+                grouped[*c] = (fold[a_rows[k]] as u32, k as u32);
                 *c += 1;
             }
         }
         drop(next);
-        let mut slot = vec![0usize; a_rows.len()];
+        let mut slot = vec![0u32; a_rows.len()];
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(a_rows.len());
         col_ptr.push(0);
@@ -129,10 +133,11 @@ impl Fold {
             let column = &mut grouped[start[c]..start[c + 1]];
             column.sort_unstable();
             for &(i, k) in column.iter() {
+                let i = i as usize;
                 if row_idx.len() == *col_ptr.last().unwrap_or(&0) || row_idx.last() != Some(&i) {
                     row_idx.push(i);
                 }
-                slot[k] = row_idx.len() - 1;
+                slot[k as usize] = (row_idx.len() - 1) as u32;
             }
             col_ptr.push(row_idx.len());
         }
@@ -164,7 +169,7 @@ impl Fold {
         let mut matrix = SymmetricCsc::zeros_like(&self.template);
         let values = matrix.values_mut();
         for (&k, &x) in self.slot.iter().zip(a.values()) {
-            values[k] += x;
+            values[k as usize] += x;
         }
         let mut rhs = vec![0.0; n];
         let mut excess = vec![0.0; n];
