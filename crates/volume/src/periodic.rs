@@ -335,12 +335,9 @@ fn cut_and_warp_quotient(
         .collect();
     let mut cuts: Cuts = found.into_iter().collect();
 
-    // 2. Warping: the threshold is α times the edge's length before any warping. Only an
-    //    end of a cut edge can warp (cuts are only removed), so only those are visited, in
-    //    increasing order as `active` lists them.
-    let mut ends: Vec<u32> = cuts.keys().flat_map(|&(v, w)| [v, w]).collect();
-    ends.par_sort_unstable();
-    ends.dedup();
+    // 2. Warping: the threshold is α times the edge's length before any warping; only the
+    //    ends of cut edges, in increasing order as `active` lists them.
+    let ends = crate::stuffing::cut_ends(cuts.keys().copied());
     let mut warped = 0;
     let mut seen: Vec<crate::solid::Vector> = Vec::new();
     for &v in &ends {

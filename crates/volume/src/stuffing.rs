@@ -309,6 +309,16 @@ type Neighbours<'a> = dyn Fn(u32, &mut dyn FnMut(u32, f64)) + Sync + 'a;
 /// Hands every tetrahedron of a background to a callback.
 pub(crate) type Tets<'a> = dyn FnMut(&mut dyn FnMut([u32; 4])) + 'a;
 
+/// The ends of the cut edges `edges`, ascending, each once: the only vertices warping can
+/// move (it only removes cuts), in the order a pass over every vertex would meet them.
+pub(crate) fn cut_ends(edges: impl Iterator<Item = (u32, u32)>) -> Vec<u32> {
+    use rayon::prelude::*;
+    let mut ends: Vec<u32> = edges.flat_map(|(a, b)| [a, b]).collect();
+    ends.par_sort_unstable();
+    ends.dedup();
+    ends
+}
+
 /// The cut points of the edges whose ends have strictly opposite signs.
 pub(crate) type Cuts = HashMap<(u32, u32), Point>;
 
@@ -351,11 +361,7 @@ fn cut_and_warp(
             here
         })
         .collect();
-    // Only the ends of a cut edge can be warped: in increasing order, as a pass over every
-    // vertex would meet them.
-    let mut ends: Vec<u32> = found.iter().flat_map(|&((a, b), _)| [a, b]).collect();
-    ends.par_sort_unstable();
-    ends.dedup();
+    let ends = cut_ends(found.iter().map(|&(e, _)| e));
     let mut cuts: Cuts = found.into_iter().collect();
 
     // 2. Warping: the threshold is α times the edge's length before any warping.

@@ -351,11 +351,33 @@ mod tests {
             assert_eq!(once.excess(), fresh.excess());
             assert_eq!(once.free_vertices(), fresh.free_vertices());
         }
-        // Every entry lands somewhere: the folded entries sum to the slab's.
-        let (a, folded) = (galerkin.matrix(), fold.apply(&galerkin).unwrap());
-        let total: f64 = a.values().iter().sum();
-        let folded_total: f64 = folded.matrix().values().iter().sum();
-        assert!((total - folded_total).abs() <= 1e-9 * total.abs().max(1.0));
+        // Independently: each folded entry (i, j) is the sum of the slab's entries (k, l)
+        // with fold[k] = i and fold[l] = j, and nothing else is stored.
+        for system in [&galerkin, &clamped] {
+            let a = system.matrix();
+            let mut sums: std::collections::HashMap<(usize, usize), f64> = Default::default();
+            for l in 0..a.n() {
+                let (rows, values) = a.column(l);
+                for (&k, &x) in rows.iter().zip(values) {
+                    *sums.entry((fold.fold[k], fold.fold[l])).or_default() += x;
+                }
+            }
+            let folded = fold.apply(system).unwrap();
+            let m = folded.matrix();
+            let mut stored = 0;
+            for j in 0..m.n() {
+                let (rows, values) = m.column(j);
+                for (&i, &x) in rows.iter().zip(values) {
+                    let want = sums[&(i, j)];
+                    assert!(
+                        (x - want).abs() <= 1e-14 * want.abs().max(1.0),
+                        "({i}, {j})"
+                    );
+                    stored += 1;
+                }
+            }
+            assert_eq!(stored, sums.len());
+        }
         // Another assembly (its own pattern) is not folded by this one's.
         let other = VolumeAssembler::with_identified(
             Arc::clone(&slab),
