@@ -1,21 +1,26 @@
 //! The planner's paths do not depend on how many threads solve the potential: the Cholesky
-//! path (above `AUTO_ACCURATE_MAX_UNKNOWNS` unknowns) and the multigrid route (the default
-//! from `AUTO_MULTIGRID_FROM` estimated triangles) on one thread and on two.
+//! path (`SolveMethod::Auto`'s above `AUTO_ACCURATE_MAX_UNKNOWNS` unknowns, asked for here)
+//! and the multigrid route (the default from `AUTO_MULTIGRID_FROM` estimated triangles) on one
+//! thread and on two.
 
-use harmonic_planner::fem::Parallelism;
+use harmonic_planner::fem::{Parallelism, SolveMethod};
 use harmonic_planner::{Planner, PlannerOptions, Scene};
 
 #[test]
 fn one_thread_and_two_give_the_same_paths() {
     let mut scene = Scene::from_file(harmonic_fixtures::mesh_file("reference.json")).unwrap();
-    // About 130 k triangles: over 50 000 unknowns, so the direct solve is the (parallel)
-    // Cholesky, and over `AUTO_MULTIGRID_FROM`, so the default is the multigrid route.
+    // About 130 k triangles: over 50 000 unknowns, where the Cholesky path runs in parallel,
+    // and over `AUTO_MULTIGRID_FROM`, so the default is the multigrid route.
     scene.mesh.max_area = Some(0.001);
-    for (multigrid, solved_by) in [(Some(0), "cholesky"), (None, "multigrid")] {
+    for (multigrid, solve, solved_by) in [
+        (Some(0), SolveMethod::Cholesky, "cholesky"),
+        (None, SolveMethod::Auto, "multigrid"),
+    ] {
         let build = |parallelism| {
             let options = PlannerOptions {
                 parallelism,
                 multigrid,
+                solve,
                 ..PlannerOptions::default()
             };
             Planner::with_options(&scene, &options).unwrap()

@@ -28,10 +28,14 @@
 //! 8e-9 relative, the accurate solve by 3e-14 (`tests/flat_fields.rs` at the workspace root).
 //! Costs measured on the reference scene with nested dissection (first solve = analysis,
 //! factorisation and solve; `cargo test --release --test flat_fields -- --ignored --nocapture
-//! accurate_solve_cost`): 30k triangles (14k unknowns) 24 ms for both; 300k triangles (148k
-//! unknowns) 0.27 s Cholesky against 0.60 s accurate. Hence the default
-//! [`SolveMethod::Auto`]: accurate up to [`AUTO_ACCURATE_MAX_UNKNOWNS`], above that Cholesky,
-//! redone accurately only when ψ spans more than 1/[`AUTO_FLAT_RATIO`].
+//! accurate_solve_cost`, two runs on the 2-core machine, 07 Dec 2026): 14 k unknowns 22–23 ms
+//! Cholesky against 14–15 ms accurate; 73 k 92–124 ms against 88–114 ms; 148 k 214–256 ms
+//! against 238 ms (0.93–1.11×); 296 k 0.46–0.55 s against 0.52–0.66 s (1.12–1.19×); 494 k
+//! 1.01 s against 1.23 s. (Before the multifrontal elimination it was 0.27 s against 0.60 s
+//! at 148 k.) A flat field above the threshold costs a Cholesky solve, the check and the
+//! accurate solve. Hence the default [`SolveMethod::Auto`]: accurate up to
+//! [`AUTO_ACCURATE_MAX_UNKNOWNS`] (150 k), above that Cholesky, redone accurately only when ψ
+//! spans more than 1/[`AUTO_FLAT_RATIO`] and fails the maximum-principle check.
 //!
 //! ```
 //! use std::sync::Arc;
