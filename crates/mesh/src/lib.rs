@@ -9,7 +9,7 @@
 //! The pipeline is [`DomainSpec`] → [`Domain::new`] (validation, circle discretisation,
 //! robot-radius offsetting, polygon booleans with geo/i_overlay, snapping, boundary tags) →
 //! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, optional [`Grading`] towards
-//! goals and obstacle corners, large meshes in two halves on two threads glued along a cut —
+//! goals and obstacle corners, large meshes in two halves on two threads of rayon's pool glued along a cut —
 //! [`MeshOptions::halves_from`] —, Hilbert vertex order from [`HILBERT_FROM`] vertices) →
 //! [`Mesh`] (adjacency, tags, components, point location, quality report).
 //!

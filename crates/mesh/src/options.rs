@@ -49,8 +49,8 @@ pub struct MeshOptions {
     /// bound is `max_area` everywhere). See [`Grading`].
     pub grading: Option<Grading>,
     /// Meshes estimated to have at least this many triangles are made as two halves on two
-    /// threads, glued along a cut (default 250 000; `usize::MAX` never). Not with grading or
-    /// prefill.
+    /// threads of rayon's pool (one after the other in a pool of one thread: the same mesh),
+    /// glued along a cut (default 250 000; `usize::MAX` never). Not with grading or prefill.
     pub halves_from: usize,
     /// Simplify detailed obstacle polygons before meshing: vertices are dropped while the
     /// simplified boundary stays within this distance (workspace units) of the original, and

@@ -644,7 +644,7 @@ fn to_user_vertices(
 /// Rounds of exchanging cut vertices between two halves (each followed by refinement).
 const CUT_ROUNDS: usize = 8;
 
-/// Meshes `halves` (the constraint inputs of the two sides of `cut`) on two threads and
+/// Meshes `halves` (the constraint inputs of the two sides of `cut`) on rayon's pool and
 /// refines them until they have the same vertices on the cut. `None` if they do not settle
 /// within [`CUT_ROUNDS`], or if a half spends its share of the vertex budget.
 fn mesh_halves(
@@ -659,11 +659,7 @@ fn mesh_halves(
         let cap = h.vertices.len().saturating_add(refiner.cap / 2);
         refiner.run(load(h.vertices, h.edges)?, cap)
     };
-    let (a, b) = std::thread::scope(|s| {
-        let low = s.spawn(|| first(low));
-        let b = first(high);
-        (low.join(), b)
-    });
+    let (a, b) = beside(|| first(low), || first(high));
     let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
     let mut parts = [a?, b?];
     if !parts.iter().all(|p| p.complete) {
@@ -766,32 +762,32 @@ fn mesh_halves(
             Ok::<_, MeshError>(again)
         };
         let [pa, pb] = parts;
-        let (a, b) = std::thread::scope(|s| {
-            let a = s.spawn(|| take(pa, for_a));
-            let b = take(pb, for_b);
-            (a.join(), b)
-        });
+        let (a, b) = beside(|| take(pa, for_a), || take(pb, for_b));
         let a = a.map_err(|e| MeshError::Triangulation(panic_message(e)))?;
         parts = [a?, b?];
     }
     Ok(None)
 }
 
-/// The two halves with their free faces, read on two threads once the halves are final.
+/// The two halves with their free faces, read on rayon's pool once the halves are final
+/// (`free_faces` only reads a part: a panic there is a bug, and it propagates).
 fn with_free_faces(parts: [Part; 2], seam: &Seam) -> [(Part, FreeFaces); 2] {
     let [a, b] = parts;
-    std::thread::scope(|s| {
-        let a = s.spawn(move || {
-            let faces = free_faces(&a, Some(seam));
-            (a, faces)
-        });
-        let fb = free_faces(&b, Some(seam));
-        // `free_faces` only reads the part: a panic there is a bug, not an input's fault.
-        [
-            a.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
-            (b, fb),
-        ]
-    })
+    let (fa, fb) = rayon::join(|| free_faces(&a, Some(seam)), || free_faces(&b, Some(seam)));
+    [(a, fa), (b, fb)]
+}
+
+/// Runs `a` and `b` as a pair on rayon's pool (one after the other in a pool of one thread,
+/// so `threads = 1` means one), returning `a`'s panic, if any, as an error value: a half's
+/// triangulation that panics becomes a meshing error, as it did on its own thread.
+fn beside<A: Send, B: Send>(
+    a: impl FnOnce() -> A + Send,
+    b: impl FnOnce() -> B + Send,
+) -> (std::thread::Result<A>, B) {
+    rayon::join(
+        || std::panic::catch_unwind(std::panic::AssertUnwindSafe(a)),
+        b,
+    )
 }
 
 impl Domain {
@@ -810,7 +806,7 @@ impl Domain {
     /// Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
     ///
     /// Meshes of more than [`MeshOptions::halves_from`] triangles (estimated; without grading
-    /// or prefill) are made as two halves on two threads, cut along a line at `0` or `±2^k`
+    /// or prefill) are made as two halves (on two threads of rayon's pool), cut along a line at `0` or `±2^k`
     /// that splits free space evenly and glued along it: the same bounds hold everywhere, and
     /// the result does not depend on the number of cores.
     ///
@@ -875,7 +871,7 @@ impl Domain {
         ))
     }
 
-    /// Meshes free space as two halves on two threads (see [`mesh_halves`]) if it is large
+    /// Meshes free space as two halves (on two threads of rayon's pool) (see [`mesh_halves`]) if it is large
     /// enough and neither graded nor prefilled: the most even cut; if refinement moved
     /// points of a cut that cannot exchange them, the best one that can. Returns the two
     /// parts, the number of input vertices and the seam; `None` for one piece.
@@ -1312,7 +1308,7 @@ fn hilbert_numbering(glued: &Glued, (lo, hi): (Point, Point)) -> (Vec<u32>, Vec<
 }
 
 /// The triangles in the new numbers, rotated so the smallest comes first (keeps
-/// orientation; large meshes on two threads) and sorted.
+/// orientation; large meshes on two threads of rayon's pool) and sorted.
 fn renumbered_triangles(tri_raw: &[[usize; 3]], new_id: &[u32], nv: usize) -> Vec<[u32; 3]> {
     let renumber = |tris: &[[usize; 3]], out: &mut [[u32; 3]]| {
         for (t, o) in tris.iter().zip(out.iter_mut()) {

@@ -220,3 +220,42 @@ fn halves_taking_each_others_cut_vertices_are_refined_locally_or_in_full() {
         );
     }
 }
+
+/// The halves run on rayon's pool: in a pool of one thread one after the other, in a pool of
+/// two side by side, and the glued mesh is the same either way.
+#[test]
+fn the_halves_give_the_same_mesh_in_a_pool_of_one_thread_and_of_two() {
+    let spec = DomainSpec {
+        workspace: rect(0.0, 0.0, 8.0, 10.0),
+        obstacles: vec![
+            Shape::Polygon(vec![p(4.0, 2.0), p(5.0, 1.5), p(6.0, 2.0), p(5.0, 2.5)]),
+            Shape::Circle {
+                center: p(2.0, 7.0),
+                radius: 0.7,
+            },
+        ],
+        goals: vec![GoalShape::Circle {
+            center: p(7.0, 7.0),
+            radius: 0.3,
+        }],
+        robot_radius: 0.1,
+    };
+    let opts = MeshOptions {
+        max_area: Some(0.01),
+        halves_from: 0,
+        ..MeshOptions::default()
+    };
+    let domain = Domain::new(&spec, &opts).expect("domain");
+    let in_pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| domain.mesh(&opts).expect("mesh"))
+    };
+    let (one, report) = in_pool(1);
+    let (two, _) = in_pool(2);
+    assert!(report.seam.is_some(), "made in halves: {report:?}");
+    assert_eq!(one.vertices(), two.vertices());
+    assert_eq!(one.triangles(), two.triangles());
+}
