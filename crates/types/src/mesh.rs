@@ -220,7 +220,8 @@ fn check_triangles(vertices: &[Point], triangles: &[[u32; 3]]) -> Result<(), Mes
 const TWO_THREADS_FROM: usize = 200_000;
 
 /// Runs `f` over `input` and the matching `output` — for long slices as two halves on two
-/// threads (the meshing of large meshes: neighbours, renumbering).
+/// threads of rayon's pool (one after the other in a pool of one thread), for the meshing of
+/// large meshes: neighbours, renumbering.
 pub fn map_in_two<T: Sync, U: Send>(
     input: &[T],
     output: &mut [U],
@@ -230,10 +231,7 @@ pub fn map_in_two<T: Sync, U: Send>(
         let mid = input.len() / 2;
         let (i0, i1) = input.split_at(mid);
         let (o0, o1) = output.split_at_mut(mid);
-        std::thread::scope(|s| {
-            s.spawn(|| f(i1, o1));
-            f(i0, o0);
-        });
+        rayon::join(|| f(i0, o0), || f(i1, o1));
     } else {
         f(input, output);
     }
