@@ -380,9 +380,17 @@ pub(crate) fn numeric<T: Magnitude>(
                 Some(kept) => kept.get_or_insert_with(|| Scratch::new(n)),
                 None => own.insert(Scratch::new(n)),
             };
+            // The subtree's columns of L and pivots, sized once (grown front by front they
+            // were copied at every doubling, into freshly faulted pages).
+            let (mut l_len, mut d_len) = (0, 0);
+            for p in tree.range(root) {
+                let (cols, entries) = tree.columns(tree.post[p], col_ptr);
+                l_len += entries.len();
+                d_len += cols.len();
+            }
             let mut out = Factored {
-                l: Vec::new(),
-                d: Vec::new(),
+                l: Vec::with_capacity(l_len),
+                d: Vec::with_capacity(d_len),
                 update: None,
             };
             let mut stack = Updates::new();
