@@ -149,7 +149,7 @@ fn compare(
         let (n0, m0) = cm.measure(&a.points);
         let (n1, m1) = cm.measure(&b.points);
         println!(
-            "  {name} {s:?} -> {goal:?}: {:.2} m, narrowest {n0:.4} m, mean cost {m0:.1} | {:.2} m, narrowest {n1:.4} m, mean cost {m1:.1}",
+            "  {name} {s:?} -> {goal:?}: {:.2} m, narrowest {n0:.4} m, mean cost {m0:.3} | {:.2} m, narrowest {n1:.4} m, mean cost {m1:.3}",
             a.length, b.length
         );
         tally.pairs += 1;
