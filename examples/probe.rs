@@ -7,7 +7,8 @@
 //!
 //! `--sequential` orders, factors and solves on one thread ([`Parallelism::Sequential`]); by
 //! default the ordering of large systems uses rayon's pool (the factorisation and solves stay
-//! on one thread, see `Parallelism`). The mesher's two halves run on two threads of rayon's pool (one after the other in a pool of one).
+//! on one thread, see `Parallelism`). The mesher's two halves run on two threads of rayon's
+//! pool (one after the other in a pool of one).
 //!
 //! `--multigrid K` meshes at `4^K` times the largest triangle area and refines the mesh
 //! uniformly `K` times (the same smallest angle, triangles of at most the area asked), then

@@ -37,7 +37,8 @@ pub struct PlannerOptions {
     pub on_stage: Option<StageObserver>,
     /// Threads for the Cholesky solve of the potential (by default rayon's pool from
     /// [`harmonic_solver::PARALLEL_MIN_UNKNOWNS`] unknowns). The same paths to rounding either
-    /// way. The mesher's two halves (large meshes) run on two threads of rayon's pool where it has two.
+    /// way. The mesher's two halves (large meshes) run on two threads of rayon's pool where it
+    /// has two.
     pub parallelism: Parallelism,
     /// How the potential's system is factored ([`SolveMethod::Auto`] by default: the
     /// accurate LDLᵀ up to [`harmonic_fem::AUTO_ACCURATE_MAX_UNKNOWNS`] unknowns, Cholesky

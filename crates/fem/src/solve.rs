@@ -14,8 +14,9 @@ use crate::bc::BoundaryConditions;
 use crate::potential::{Potential, unsound};
 
 /// Up to this many unknowns [`SolveMethod::Auto`] uses the accurate solve outright: there it
-/// costs no more than the Cholesky factorisation (0.7–0.95× of it from 14 k to 148 k
-/// unknowns, 1.2× at 300 k: see the crate docs), while a flat field above it costs both.
+/// costs about as much as the Cholesky factorisation or less (0.63–1.11× of it from 14 k to
+/// 148 k unknowns, 1.12–1.19× at 296 k: see the crate docs), while a flat field above it costs
+/// both.
 pub const AUTO_ACCURATE_MAX_UNKNOWNS: usize = 150_000;
 
 /// Above [`AUTO_ACCURATE_MAX_UNKNOWNS`], [`SolveMethod::Auto`] redoes a Cholesky solution

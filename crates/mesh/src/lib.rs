@@ -9,9 +9,10 @@
 //! The pipeline is [`DomainSpec`] → [`Domain::new`] (validation, circle discretisation,
 //! robot-radius offsetting, polygon booleans with geo/i_overlay, snapping, boundary tags) →
 //! [`Domain::mesh`] (constrained Delaunay + Ruppert refinement, optional [`Grading`] towards
-//! goals and obstacle corners, large meshes in two halves on two threads of rayon's pool glued along a cut —
-//! [`MeshOptions::halves_from`] —, Hilbert vertex order from [`HILBERT_FROM`] vertices) →
-//! [`Mesh`] (adjacency, tags, components, point location, quality report).
+//! goals and obstacle corners, large meshes in two halves on two threads of rayon's pool,
+//! glued along a cut — [`MeshOptions::halves_from`] —, Hilbert vertex order from
+//! [`HILBERT_FROM`] vertices) → [`Mesh`] (adjacency, tags, components, point location,
+//! quality report).
 //!
 //! ```
 //! use harmonic_mesh::{Domain, DomainSpec, GoalShape, MeshOptions, Point, Shape};

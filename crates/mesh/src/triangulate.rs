@@ -806,9 +806,9 @@ impl Domain {
     /// Errors at once if the estimated triangle count exceeds `opts.max_triangles`.
     ///
     /// Meshes of more than [`MeshOptions::halves_from`] triangles (estimated; without grading
-    /// or prefill) are made as two halves (on two threads of rayon's pool), cut along a line at `0` or `±2^k`
-    /// that splits free space evenly and glued along it: the same bounds hold everywhere, and
-    /// the result does not depend on the number of cores.
+    /// or prefill) are made as two halves (on two threads of rayon's pool), cut along a line
+    /// at `0` or `±2^k` that splits free space evenly and glued along it: the same bounds
+    /// hold everywhere, and the result does not depend on the number of cores.
     ///
     /// Meshing works in the domain's unit coordinates (see [`Frame`](crate::Frame)); the mesh
     /// and the report are in the scene's.
@@ -871,8 +871,8 @@ impl Domain {
         ))
     }
 
-    /// Meshes free space as two halves (on two threads of rayon's pool) (see [`mesh_halves`]) if it is large
-    /// enough and neither graded nor prefilled: the most even cut; if refinement moved
+    /// Meshes free space as two halves on two threads of rayon's pool ([`mesh_halves`]) if it
+    /// is large enough and neither graded nor prefilled: the most even cut; if refinement moved
     /// points of a cut that cannot exchange them, the best one that can. Returns the two
     /// parts, the number of input vertices and the seam; `None` for one piece.
     fn mesh_in_halves(
