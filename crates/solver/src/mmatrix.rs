@@ -372,43 +372,81 @@ impl AccurateLdlt {
     }
 }
 
-/// Pattern of `L` (strictly lower, permuted numbering, rows sorted within each column) by merging
-/// each column's own entries with its elimination-tree children's patterns.
+/// Pattern of `L` (strictly lower, permuted numbering, rows sorted within each column): each
+/// column's own entries merged with its elimination-tree children's patterns less itself.
+///
+/// Most columns have one child (the chains of a nested dissection's pieces and separators):
+/// the child's pattern less its first row (this column) is sorted, so it is copied as it is
+/// and the column's own entries not in it (a few, found by binary search) are merged in from
+/// the back — no mark array and no sort, about half the time of a marked union and a sort
+/// for every column (7.4 against 16–17 ms on a 300 × 300 grid's 3.6 M entries, warm). Columns
+/// with several children take the marked union and a sort.
 pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
     const NONE: usize = usize::MAX;
     let n = perm.len();
     let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx: Vec<u32> = Vec::with_capacity(w.nnz());
+    // Room for a plane mesh's fill (about 3 entries of L per entry of A under a nested
+    // dissection) without growing; pages not written are never touched.
+    let mut row_idx: Vec<u32> = Vec::with_capacity(4 * w.nnz() + n);
     // Children lists of the elimination tree as linked lists.
     let mut first_child = vec![NONE; n];
     let mut sibling = vec![NONE; n];
     let mut mark = vec![NONE; n];
+    let mut own: Vec<u32> = Vec::new();
     col_ptr.push(0);
     for j in 0..n {
+        own.clear();
+        own.extend(
+            w.column(perm[j])
+                .0
+                .iter()
+                .map(|&old_i| inv[old_i])
+                .filter(|&i| i > j)
+                .map(|i| i as u32),
+        );
+        own.sort_unstable();
         let start = row_idx.len();
-        mark[j] = j;
-        // The children's patterns first: with one child (a chain, most columns) and no
-        // entry of its own beyond them the column comes out sorted, which the sort below
-        // sees in one pass.
-        let mut c = first_child[j];
-        while c != NONE {
-            for q in col_ptr[c]..col_ptr[c + 1] {
-                let i = row_idx[q] as usize;
-                if i > j && mark[i] != j {
-                    mark[i] = j;
-                    row_idx.push(i as u32);
+        let c = first_child[j];
+        if c == NONE {
+            row_idx.extend_from_slice(&own);
+        } else if sibling[c] == NONE {
+            row_idx.extend_from_within(col_ptr[c] + 1..col_ptr[c + 1]);
+            let copied = &row_idx[start..];
+            own.retain(|i| copied.binary_search(i).is_err());
+            // Merge from the back: the copied rows at [start, m), the new ones in `own`.
+            let (m, k) = (row_idx.len(), own.len());
+            row_idx.resize(m + k, 0);
+            let (mut a, mut b) = (m, k);
+            while b > 0 {
+                if a > start && row_idx[a - 1] > own[b - 1] {
+                    row_idx[a + b - 1] = row_idx[a - 1];
+                    a -= 1;
+                } else {
+                    row_idx[a + b - 1] = own[b - 1];
+                    b -= 1;
                 }
             }
-            c = sibling[c];
-        }
-        for &old_i in w.column(perm[j]).0 {
-            let i = inv[old_i];
-            if i > j && mark[i] != j {
-                mark[i] = j;
-                row_idx.push(i as u32);
+        } else {
+            mark[j] = j;
+            let mut c = c;
+            while c != NONE {
+                for q in col_ptr[c]..col_ptr[c + 1] {
+                    let i = row_idx[q] as usize;
+                    if i > j && mark[i] != j {
+                        mark[i] = j;
+                        row_idx.push(i as u32);
+                    }
+                }
+                c = sibling[c];
             }
+            for &i in &own {
+                if mark[i as usize] != j {
+                    mark[i as usize] = j;
+                    row_idx.push(i);
+                }
+            }
+            row_idx[start..].sort_unstable();
         }
-        row_idx[start..].sort_unstable();
         col_ptr.push(row_idx.len());
         if let Some(&parent) = row_idx.get(start) {
             let parent = parent as usize;
@@ -417,4 +455,84 @@ pub(crate) fn symbolic(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<
         }
     }
     (col_ptr, row_idx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gallery::triangulated_grid_laplacian;
+
+    /// The pattern of `L` the plain way: every column the marked union of its own entries
+    /// and its children's patterns, sorted.
+    fn marked_union(w: &SymmetricCsc, perm: &[usize], inv: &[usize]) -> (Vec<usize>, Vec<u32>) {
+        let n = perm.len();
+        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut mark = vec![usize::MAX; n];
+        for j in 0..n {
+            let start = row_idx.len();
+            let own = w.column(perm[j]).0.iter().map(|&o| inv[o]);
+            let inherited: Vec<usize> = children[j]
+                .iter()
+                .flat_map(|&c| {
+                    row_idx[col_ptr[c]..col_ptr[c + 1]]
+                        .iter()
+                        .map(|&i| i as usize)
+                })
+                .collect();
+            for i in own.chain(inherited) {
+                if i > j && mark[i] != j {
+                    mark[i] = j;
+                    row_idx.push(i as u32);
+                }
+            }
+            row_idx[start..].sort_unstable();
+            col_ptr.push(row_idx.len());
+            if let Some(&p) = row_idx.get(start) {
+                children[p as usize].push(j);
+            }
+        }
+        (col_ptr, row_idx)
+    }
+
+    /// The merging symbolic factorisation gives the plain union's pattern under orderings
+    /// with long chains (nested dissection), many branches (AMD), none (the natural order of
+    /// a grid) and random ones, on a grid and on a path.
+    #[test]
+    fn merged_chains_give_the_marked_union_pattern() {
+        let (grid, coords) = triangulated_grid_laplacian(37, 23);
+        let (path, _) = triangulated_grid_laplacian(1, 40);
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut random_perm = |n: usize| {
+            let mut p: Vec<usize> = (0..n).collect();
+            for k in (1..n).rev() {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                p.swap(k, (seed % (k as u64 + 1)) as usize);
+            }
+            p
+        };
+        let orderings = [
+            Ordering::NestedDissection { coords },
+            Ordering::Amd,
+            Ordering::Natural,
+        ];
+        let mut cases: Vec<(&SymmetricCsc, Vec<usize>)> = orderings
+            .iter()
+            .map(|o| (&grid, permutation(&grid, o).expect("an ordering")))
+            .collect();
+        cases.push((&grid, random_perm(grid.n())));
+        cases.push((&grid, random_perm(grid.n())));
+        cases.push((&path, random_perm(path.n())));
+        for (k, (a, perm)) in cases.iter().enumerate() {
+            let mut inv = vec![0; perm.len()];
+            for (new, &old) in perm.iter().enumerate() {
+                inv[old] = new;
+            }
+            let merged = symbolic(a, perm, &inv);
+            assert_eq!(merged, marked_union(a, perm, &inv), "case {k}");
+            assert!(merged.1.len() > a.nnz() / 3, "case {k}: some fill");
+        }
+    }
 }
