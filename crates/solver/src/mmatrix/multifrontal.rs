@@ -304,19 +304,17 @@ impl<T: Magnitude> Updates<T> {
     }
 
     /// The update on top, removed.
-    fn pop(&mut self) -> Option<(usize, Vec<T>)> {
+    fn pop(&mut self) -> Option<Update<T>> {
         let (s, start) = self.tops.pop()?;
         Some((s, self.data.split_off(start)))
     }
 }
 
-/// The columns a subtree factored (postorder of its supernodes, each supernode's columns of
-/// `L` and pivots in a row) and its root's update matrix.
-struct Factored<T> {
-    l: Vec<T>,
-    d: Vec<T>,
-    update: Option<(usize, Vec<T>)>,
-}
+/// A supernode to factor and where its columns of L and its pivots go.
+type Front<'a, T> = (usize, &'a mut [T], &'a mut [T]);
+
+/// A subtree root's update matrix: (supernode, `r × r` entries).
+type Update<T> = (usize, Vec<T>);
 
 /// Per-thread scratch: the front and the map from rows to front positions.
 struct Scratch<T> {
@@ -369,9 +367,39 @@ pub(crate) fn numeric<T: Magnitude>(
     let slots: Vec<std::sync::Mutex<Option<Scratch<T>>>> = (0..rayon::current_num_threads())
         .map(|_| std::sync::Mutex::new(None))
         .collect();
-    let factored: Vec<Result<Factored<T>, SolverError>> = tasks
-        .par_iter()
+    // Each supernode's columns of L and pivots, as disjoint slices of the outputs (the
+    // supernodes are numbered in column order), handed to the task that factors it: every
+    // front writes its columns in place (copied from buffers of the tasks' own, they were
+    // faulted and written twice).
+    let mut parts: Vec<Option<(&mut [T], &mut [T])>> = Vec::with_capacity(tree.post.len());
+    let (mut l_rest, mut d_rest) = (&mut l[..], &mut d[..]);
+    for s in 0..tree.post.len() {
+        let (cols, entries) = tree.columns(s, col_ptr);
+        let (l_part, l_after) = std::mem::take(&mut l_rest).split_at_mut(entries.len());
+        let (d_part, d_after) = std::mem::take(&mut d_rest).split_at_mut(cols.len());
+        (l_rest, d_rest) = (l_after, d_after);
+        parts.push(Some((l_part, d_part)));
+    }
+    let mut take = |s: usize| {
+        parts[s]
+            .take()
+            .expect("each supernode is factored once, by one task or after them")
+    };
+    let work: Vec<Vec<Front<'_, T>>> = tasks
+        .iter()
         .map(|&root| {
+            tree.range(root)
+                .map(|p| {
+                    let s = tree.post[p];
+                    let (l_part, d_part) = take(s);
+                    (s, l_part, d_part)
+                })
+                .collect()
+        })
+        .collect();
+    let updates: Vec<Result<Option<Update<T>>, SolverError>> = work
+        .into_par_iter()
+        .map(|fronts| {
             let mut slot = rayon::current_thread_index()
                 .and_then(|i| slots.get(i))
                 .and_then(|m| m.try_lock().ok());
@@ -380,77 +408,32 @@ pub(crate) fn numeric<T: Magnitude>(
                 Some(kept) => kept.get_or_insert_with(|| Scratch::new(n)),
                 None => own.insert(Scratch::new(n)),
             };
-            // The subtree's columns of L and pivots, sized once (grown front by front they
-            // were copied at every doubling, into freshly faulted pages).
-            let (mut l_len, mut d_len) = (0, 0);
-            for p in tree.range(root) {
-                let (cols, entries) = tree.columns(tree.post[p], col_ptr);
-                l_len += entries.len();
-                d_len += cols.len();
-            }
-            let mut out = Factored {
-                l: Vec::with_capacity(l_len),
-                d: Vec::with_capacity(d_len),
-                update: None,
-            };
             let mut stack = Updates::new();
-            for p in tree.range(root) {
-                let s = tree.post[p];
-                let (cols, entries) = tree.columns(s, col_ptr);
-                let (lo, dl) = (out.l.len(), out.d.len());
-                out.l.resize(lo + entries.len(), T::ZERO);
-                out.d.resize(dl + cols.len(), T::ZERO);
-                front(
-                    &input,
-                    &tree,
-                    s,
-                    &mut stack,
-                    scratch,
-                    &mut out.l[lo..],
-                    &mut out.d[dl..],
-                )?;
+            for (s, l_part, d_part) in fronts {
+                front(&input, &tree, s, &mut stack, scratch, l_part, d_part)?;
             }
-            out.update = stack.pop();
-            Ok(out)
+            Ok(stack.pop())
         })
         .collect();
     let mut task_at = vec![NONE; tree.post.len()];
     for (t, &root) in tasks.iter().enumerate() {
         task_at[tree.range(root).start] = t;
     }
-    let mut factored = factored.into_iter();
+    let mut updates = updates.into_iter();
     let mut scratch = Scratch::new(n);
     let mut stack = Updates::new();
     let mut p = 0;
     while p < tree.post.len() {
         if task_at[p] != NONE {
-            let done = factored.next().expect("one result per task")?;
-            let range = tree.range(tasks[task_at[p]]);
-            let (mut lo, mut dl) = (0, 0);
-            for q in range.clone() {
-                let (cols, entries) = tree.columns(tree.post[q], col_ptr);
-                l[entries.clone()].copy_from_slice(&done.l[lo..lo + entries.len()]);
-                d[cols.clone()].copy_from_slice(&done.d[dl..dl + cols.len()]);
-                lo += entries.len();
-                dl += cols.len();
+            if let Some((s, u)) = updates.next().expect("one result per task")? {
+                stack.push(s, &u);
             }
-            if let Some((s, u)) = &done.update {
-                stack.push(*s, u);
-            }
-            p = range.end;
+            p = tree.range(tasks[task_at[p]]).end;
             continue;
         }
         let s = tree.post[p];
-        let (cols, entries) = tree.columns(s, col_ptr);
-        front(
-            &input,
-            &tree,
-            s,
-            &mut stack,
-            &mut scratch,
-            &mut l[entries],
-            &mut d[cols],
-        )?;
+        let (l_part, d_part) = take(s);
+        front(&input, &tree, s, &mut stack, &mut scratch, l_part, d_part)?;
         p += 1;
     }
     Ok((l, d))
