@@ -69,15 +69,15 @@ impl Meshed {
         t: Instant,
     ) -> Result<Meshed, PlanError> {
         let (mesh, report) = domain.mesh(mesh_options)?;
-        Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
+        Ok(Meshed::of_parts(domain, Arc::new(mesh), report, millis(t)))
     }
 
     /// A domain and its mesh, the domain's bounding box giving the scale.
-    fn of_parts(domain: Domain, mesh: Mesh, report: MeshReport, ms: f64) -> Meshed {
+    fn of_parts(domain: Domain, mesh: Arc<Mesh>, report: MeshReport, ms: f64) -> Meshed {
         let (lo, hi) = domain.bounding_box();
         Meshed {
             domain: Arc::new(domain),
-            mesh: Arc::new(mesh),
+            mesh,
             report,
             quality: Arc::new(OnceLock::new()),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
@@ -89,6 +89,11 @@ impl Meshed {
     /// A mesh made elsewhere, as it is: its domain from its boundary loops
     /// ([`Domain::of_mesh`]).
     pub(crate) fn of_mesh(mesh: Mesh) -> Result<Meshed, PlanError> {
+        Meshed::of_shared_mesh(Arc::new(mesh))
+    }
+
+    /// [`Meshed::of_mesh`] of a mesh already shared (with a solve running beside).
+    pub(crate) fn of_shared_mesh(mesh: Arc<Mesh>) -> Result<Meshed, PlanError> {
         let t = Instant::now();
         // The domain (boundary loops and their index) and the one pass over the triangles
         // below read the mesh only: side by side on the pool.
@@ -109,8 +114,7 @@ impl Meshed {
             bridges_remaining: 0,
             seam_refinements: Default::default(),
         };
-        let m = Meshed::of_parts(domain, mesh, report, millis(t));
-        Ok(m)
+        Ok(Meshed::of_parts(domain, mesh, report, millis(t)))
     }
 }
 

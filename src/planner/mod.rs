@@ -318,14 +318,50 @@ impl Planner {
     }
 
     /// [`Planner::from_mesh`] with a map's [`Entry`].
+    ///
+    /// The mesh's domain (its boundary loops, their index for the clearance queries) is
+    /// built beside the assembly and the solve, which need only the mesh.
     pub(crate) fn entered_mesh(
         mesh: Mesh,
         options: &PlannerOptions,
         entry: Option<Entry>,
     ) -> Result<Planner, PlanError> {
-        Planner::built(options, entry, |_| {
-            Ok((Meshed::of_mesh(mesh)?, BoundaryConditions::default(), None))
-        })
+        crate::threads::build_in(
+            options,
+            |e| e,
+            |options| {
+                options.stage(Stage::Meshing)?;
+                if options.multigrid.unwrap_or(0) > 0 {
+                    return Err(PlanError::MultigridUnsupported {
+                        what: "a map, a validated domain or a mesh made elsewhere",
+                    });
+                }
+                let mesh = Arc::new(mesh);
+                let bcs = BoundaryConditions::default();
+                options.stage(Stage::Assembling)?;
+                let (meshed, solved) = rayon::join(
+                    || -> Result<Meshed, PlanError> {
+                        let meshed = Meshed::of_shared_mesh(Arc::clone(&mesh))?;
+                        meshed.domain.prepare_queries();
+                        Ok(meshed)
+                    },
+                    || Planner::directly_solved(&mesh, &bcs, options),
+                );
+                let (meshed, (potential, assemble_ms, started, by)) = (meshed?, solved?);
+                let solved = Solved {
+                    by,
+                    // The domain was built beside the other stages: the mesh was ready
+                    // when the entry's meshing ended.
+                    mesh_ms: entry.as_ref().map_or(meshed.ms, |e| e.mesh_ms),
+                    assemble_ms,
+                    solve_ms_before: 0.0,
+                    started,
+                };
+                let planner = Planner::assembled(&meshed, potential, solved, None, entry.as_ref())?;
+                options.stage(Stage::Done)?;
+                Ok(planner)
+            },
+        )
     }
 
     /// The frame of every constructor above: in the pool of [`PlannerOptions::threads`]
@@ -401,32 +437,7 @@ impl Planner {
             // The domain's point and clearance queries (a map mesh's boundary R-tree) are
             // built beside the assembly and solve: tracing needs them, the solve does not.
             let (solved, ()) = rayon::join(
-                || -> Result<_, PlanError> {
-                    let mut assembler =
-                        Assembler::new(Arc::clone(&mesh), bcs, AssemblyOptions::default())?;
-                    if let Some(k) = &options.conductivity {
-                        assembler = assembler.with_conductivity(at_centroids(&mesh, &**k))?;
-                    }
-                    if let Some(sigma) = &options.absorption {
-                        assembler = assembler.with_absorption(at_centroids(&mesh, &**sigma))?;
-                    }
-                    let system = assembler.assemble(bcs)?;
-                    let assemble_ms = millis(t);
-
-                    stage(Stage::Solving)?;
-                    let t = Instant::now();
-                    // Geometric nested dissection (about half AMD's factorisation time at
-                    // 1M triangles), the natural order for small systems.
-                    let solver = Solver::with_parallelism(
-                        &system,
-                        assembler.ordering(),
-                        options.solve,
-                        options.parallelism,
-                    )?;
-                    let (potential, report) =
-                        solver.potential_with_report(Arc::clone(&mesh), &system)?;
-                    Ok((potential, assemble_ms, t, solved_by(&report, false)))
-                },
+                || Planner::directly_solved(&mesh, bcs, options),
                 || meshed.domain.prepare_queries(),
             );
             solved?
@@ -441,6 +452,39 @@ impl Planner {
         let planner = Planner::assembled(&meshed, potential, solved, None, entry.as_ref())?;
         stage(Stage::Done)?;
         Ok(planner)
+    }
+
+    /// Assembles on `mesh` under `bcs` (with the options' conductivity and absorption) and
+    /// solves by a direct method: the potential, the assembly's time, when the solve began
+    /// and what solved it.
+    fn directly_solved(
+        mesh: &Arc<Mesh>,
+        bcs: &BoundaryConditions,
+        options: &PlannerOptions,
+    ) -> Result<(Potential, f64, Instant, &'static str), PlanError> {
+        let t = Instant::now();
+        let mut assembler = Assembler::new(Arc::clone(mesh), bcs, AssemblyOptions::default())?;
+        if let Some(k) = &options.conductivity {
+            assembler = assembler.with_conductivity(at_centroids(mesh, &**k))?;
+        }
+        if let Some(sigma) = &options.absorption {
+            assembler = assembler.with_absorption(at_centroids(mesh, &**sigma))?;
+        }
+        let system = assembler.assemble(bcs)?;
+        let assemble_ms = millis(t);
+
+        options.stage(Stage::Solving)?;
+        let t = Instant::now();
+        // Geometric nested dissection (about half AMD's factorisation time at 1M
+        // triangles), the natural order for small systems.
+        let solver = Solver::with_parallelism(
+            &system,
+            assembler.ordering(),
+            options.solve,
+            options.parallelism,
+        )?;
+        let (potential, report) = solver.potential_with_report(Arc::clone(mesh), &system)?;
+        Ok((potential, assemble_ms, t, solved_by(&report, false)))
     }
 
     /// The one constructor every way of building a planner ends in (a scene, a domain, a
