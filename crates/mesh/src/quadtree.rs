@@ -283,6 +283,19 @@ fn eligible(grid: &BlockGrid, pyramid: &Pyramid, n: Node, interior_vertices: boo
     if !pyramid.all_free(n.k, n.i as usize, n.j as usize) {
         return false;
     }
+    on_open_floor(pyramid, n) || eligible_by_its_blocks(grid, n, interior_vertices)
+}
+
+/// Whether the eight nodes of `n`'s level around it are all free: then every strip outside
+/// its sides is free, no goal block is near and each of its corners touches free blocks
+/// only, so a free `n` is eligible without looking at its blocks one by one.
+fn on_open_floor(pyramid: &Pyramid, n: Node) -> bool {
+    let (i, j) = (n.i as usize, n.j as usize);
+    i > 0 && j > 0 && (j - 1..=j + 1).all(|y| (i - 1..=i + 1).all(|x| pyramid.all_free(n.k, x, y)))
+}
+
+/// [`eligible`] for a free node, from the blocks along its sides and at its corners.
+fn eligible_by_its_blocks(grid: &BlockGrid, n: Node, interior_vertices: bool) -> bool {
     let uniform = strips(n).into_iter().all(|mut strip| {
         let (x, y) = strip.next().expect("a strip has at least one block");
         let first = grid.outside(x, y);
@@ -644,6 +657,45 @@ pub fn quadtree_mesh(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The open-floor shortcut only ever says what the blocks say: on seeded grids (whole
+    /// and halved, with goal blocks), every free node it accepts is eligible block by block.
+    #[test]
+    fn open_floor_nodes_are_eligible_by_their_blocks() {
+        for (seed, one_in) in [(3u64, 7u64), (5, 30), (9, 200)] {
+            let mut cells = seeded_cells(70, 45, seed, one_in);
+            cells[17 * 70 + 33] = Block::Goal;
+            for grid in [
+                BlockGrid::new(70, 45, cells.clone()).expect("sizes match"),
+                BlockGrid::halved(70, 45, cells).expect("sizes match"),
+            ] {
+                let pyramid = Pyramid::new(&grid, 4);
+                let mut shortcuts = 0;
+                for k in 0..=4u8 {
+                    for j in 0..(grid.height >> k) as u32 {
+                        for i in 0..(grid.width >> k) as u32 {
+                            let n = Node { k, i, j };
+                            if pyramid.all_free(k, i as usize, j as usize)
+                                && on_open_floor(&pyramid, n)
+                            {
+                                shortcuts += 1;
+                                for interior in [false, true] {
+                                    assert!(
+                                        eligible_by_its_blocks(&grid, n, interior),
+                                        "seed {seed}: {n:?}"
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+                assert!(
+                    shortcuts > 10,
+                    "seed {seed}: the shortcut was taken {shortcuts} times"
+                );
+            }
+        }
+    }
 
     fn room(w: usize, h: usize, blocked: &[(usize, usize)], goal: (usize, usize)) -> BlockGrid {
         let mut blocks = vec![Block::Free; w * h];
