@@ -48,21 +48,21 @@ impl OccupancyMap {
         let clear_bits = known
             .exact
             .unwrap_or_else(|| bits::clear_cells(&blocked, robot_radius / res));
-        let clear = clear_bits.to_bools();
         let too_close = || self.goal_too_close(goal, robot_radius, 0.0, &clear_bits, &blocked);
         // The 4-connected component of `cells` holding the goal's cell.
         let fill = |cells: &[bool]| {
             bits::component(&BitGrid::from_slice(w, h, cells, |c| c), gc, gr).to_bools()
         };
-        if !clear[gr * w + gc] {
+        if !clear_bits.get(gc as isize, gr as isize) {
             return Err(too_close());
         }
         let goal_cell = gr * w + gc;
-        let exact = || fill(&clear);
+        // The component of the clear cells themselves, found on their bits.
+        let exact = || bits::component(&clear_bits, gc, gr).to_bools();
         let (component, block) = match opts.snap {
             Snap::Off => (exact(), 1),
             Snap::Blocks(b) => {
-                let free = cells::snapped(&clear, w, h, b);
+                let free = cells::snapped(&clear_bits.to_bools(), w, h, b);
                 if !free[goal_cell] {
                     return Err(too_close());
                 }
@@ -74,7 +74,8 @@ impl OccupancyMap {
                     b *= 2;
                 }
                 let square = ((4.0 * robot_radius / (b as f64 * res)).ceil() as usize).max(4);
-                let free = (b > 1).then(|| cells::snapped_on_open_floor(&clear, w, h, b, square));
+                let free = (b > 1)
+                    .then(|| cells::snapped_on_open_floor(&clear_bits.to_bools(), w, h, b, square));
                 match free.filter(|f| f[goal_cell]) {
                     None => (exact(), 1),
                     Some(free) => {
