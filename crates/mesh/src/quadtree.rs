@@ -436,7 +436,8 @@ impl<'a> Leaves<'a> {
             let (x, y) = n.origin();
             self.level[y * w + x] == n.k
         });
-        made.sort_unstable_by_key(|n| {
+        // No two leaves share a first block: the order is the same on any number of threads.
+        made.par_sort_unstable_by_key(|n| {
             let (x, y) = n.origin();
             (y, x)
         });
