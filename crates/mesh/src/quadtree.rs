@@ -208,7 +208,7 @@ struct Pyramid {
 impl Pyramid {
     fn new(grid: &BlockGrid, max_level: u8) -> Pyramid {
         let first = grid.shift as u8;
-        let free: Vec<bool> = grid.blocks.iter().map(|&b| b == Block::Free).collect();
+        let free: Vec<bool> = grid.blocks.par_iter().map(|&b| b == Block::Free).collect();
         let mut levels = vec![(grid.width >> first, grid.height >> first, free, Vec::new())];
         for _ in first..max_level.max(first) {
             let (pw, ph, all, any) = levels.last().expect("the first level is there");
@@ -218,18 +218,23 @@ impl Pyramid {
             let mut next_all = vec![false; nw * nh];
             let mut next_any = vec![false; nw * nh];
             let at = |e: &[bool], i: usize, j: usize| i < pw && j < ph && e[j * pw + i];
-            for j in 0..nh {
-                for i in 0..nw {
-                    let kids = [
-                        (2 * i, 2 * j),
-                        (2 * i + 1, 2 * j),
-                        (2 * i, 2 * j + 1),
-                        (2 * i + 1, 2 * j + 1),
-                    ];
-                    next_all[j * nw + i] = kids.iter().all(|&(x, y)| at(all, x, y));
-                    next_any[j * nw + i] = kids.iter().any(|&(x, y)| at(any, x, y));
-                }
-            }
+            // Row by row on rayon's pool (each row of the level reads two rows below it).
+            next_all
+                .par_chunks_mut(nw)
+                .zip(next_any.par_chunks_mut(nw))
+                .enumerate()
+                .for_each(|(j, (row_all, row_any))| {
+                    for i in 0..nw {
+                        let kids = [
+                            (2 * i, 2 * j),
+                            (2 * i + 1, 2 * j),
+                            (2 * i, 2 * j + 1),
+                            (2 * i + 1, 2 * j + 1),
+                        ];
+                        row_all[i] = kids.iter().all(|&(x, y)| at(all, x, y));
+                        row_any[i] = kids.iter().any(|&(x, y)| at(any, x, y));
+                    }
+                });
             levels.push((nw, nh, next_all, next_any));
         }
         Pyramid { first, levels }
