@@ -2,6 +2,8 @@
 //! (`cells.rs`) and meshed by a balanced quadtree (`harmonic_mesh::quadtree`), complete on
 //! every grid.
 
+use rayon::prelude::*;
+
 use super::*;
 
 impl OccupancyMap {
@@ -106,7 +108,7 @@ impl OccupancyMap {
         // The goal's cell is a hole of the mesh (its sides the goal boundary); the rest of the
         // component is meshed.
         let labels: Vec<Block> = component
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(k, &c)| match (k == goal_cell, c) {
                 (true, _) => Block::Goal,
