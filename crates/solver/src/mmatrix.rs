@@ -502,14 +502,11 @@ mod tests {
     fn merged_chains_give_the_marked_union_pattern() {
         let (grid, coords) = triangulated_grid_laplacian(37, 23);
         let (path, _) = triangulated_grid_laplacian(1, 40);
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rng = harmonic_fixtures::Rng(0x9e37_79b9_7f4a_7c15);
         let mut random_perm = |n: usize| {
             let mut p: Vec<usize> = (0..n).collect();
             for k in (1..n).rev() {
-                seed ^= seed << 13;
-                seed ^= seed >> 7;
-                seed ^= seed << 17;
-                p.swap(k, (seed % (k as u64 + 1)) as usize);
+                p.swap(k, rng.below(k + 1));
             }
             p
         };
