@@ -350,8 +350,8 @@ fn paint(rows: &mut [u8], first_row: usize, w: usize, height: usize, n: Node, k:
     }
 }
 
-/// The leaves: the level of the leaf holding each block ([`NOT_FREE`] for blocks that are
-/// not free).
+/// The leaves: the level of the leaf holding each block ([`Leaves::at`] says [`NOT_FREE`]
+/// for blocks that are not free).
 struct Leaves<'a> {
     grid: &'a BlockGrid,
     /// One plus the level of the leaf holding each block, 0 for a block that is not free:
