@@ -213,6 +213,17 @@ fn at_centroids(mesh: &Mesh, f: &(dyn Fn(Point) -> f64 + Send + Sync)) -> Vec<f6
         .collect()
 }
 
+/// Refuses [`PlannerOptions::multigrid`] on a mesh with no coarser levels (a map, a validated
+/// domain, a mesh made elsewhere).
+fn no_multigrid_without_levels(options: &PlannerOptions) -> Result<(), PlanError> {
+    match options.multigrid.unwrap_or(0) {
+        0 => Ok(()),
+        _ => Err(PlanError::MultigridUnsupported {
+            what: "a map, a validated domain or a mesh made elsewhere",
+        }),
+    }
+}
+
 fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -331,11 +342,7 @@ impl Planner {
             |e| e,
             |options| {
                 options.stage(Stage::Meshing)?;
-                if options.multigrid.unwrap_or(0) > 0 {
-                    return Err(PlanError::MultigridUnsupported {
-                        what: "a map, a validated domain or a mesh made elsewhere",
-                    });
-                }
+                no_multigrid_without_levels(options)?;
                 let mesh = Arc::new(mesh);
                 let bcs = BoundaryConditions::default();
                 options.stage(Stage::Assembling)?;
@@ -398,10 +405,8 @@ impl Planner {
     ) -> Result<Planner, PlanError> {
         let stage = |s: Stage| options.stage(s);
         let mesh = Arc::clone(&meshed.mesh);
-        if options.multigrid.unwrap_or(0) > 0 && meshed.hierarchy.is_none() {
-            return Err(PlanError::MultigridUnsupported {
-                what: "a map, a validated domain or a mesh made elsewhere",
-            });
+        if meshed.hierarchy.is_none() {
+            no_multigrid_without_levels(options)?;
         }
         if (options.conductivity.is_some() || options.absorption.is_some())
             && (meshed.hierarchy.is_some() || blend.is_some())
