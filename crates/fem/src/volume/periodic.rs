@@ -18,7 +18,7 @@ use harmonic_types::{SEAM_PART, TetMesh};
 use super::FemError;
 use super::assemble::{NegativeWeights, VolumeAssembler, VolumeAssemblyOptions, VolumeSystem};
 use super::potential::VolumePotential;
-use super::solve::{VolumeSolveReport, planning_solve};
+use super::solve::{VolumeSolveReport, solve_clamped_for_planning};
 use crate::bc::{BoundaryCondition, BoundaryConditions};
 
 /// `bcs` with the slab's end faces (`Obstacle(SEAM_PART)`) under the natural condition.
@@ -48,6 +48,9 @@ struct Fold {
     slab_pattern: SymmetricCsc,
     /// Where each stored entry of the slab's matrix is added in the folded one.
     slot: Vec<u32>,
+    /// Per stored entry of the folded matrix below its diagonal: (the entry, its mirror
+    /// above the diagonal).
+    mirror: Vec<(u32, u32)>,
     images: Arc<Vec<u32>>,
 }
 
@@ -144,12 +147,14 @@ impl Fold {
         let nnz = row_idx.len();
         let template =
             SymmetricCsc::try_from_symmetric_pattern(n, col_ptr, row_idx, vec![0.0; nnz])?;
+        let mirror = mirrors(&template);
         Ok(Fold {
             free: Arc::new(free),
             fold,
             template,
             slab_pattern: SymmetricCsc::zeros_like(a),
             slot,
+            mirror,
             images: Arc::new(images.to_vec()),
         })
     }
@@ -170,6 +175,12 @@ impl Fold {
         let values = matrix.values_mut();
         for (&k, &x) in self.slot.iter().zip(a.values()) {
             values[k as usize] += x;
+        }
+        // An entry and its mirror sum the same slab entries in different orders, which can
+        // round apart: the matrix is made symmetric to the bit (the accurate elimination
+        // refuses anything else).
+        for &(lower, upper) in &self.mirror {
+            values[upper as usize] = values[lower as usize];
         }
         let mut rhs = vec![0.0; n];
         let mut excess = vec![0.0; n];
@@ -192,6 +203,28 @@ impl Fold {
     }
 }
 
+/// Per stored entry of `a` below the diagonal, (the entry, its mirror above the diagonal),
+/// for a pattern symmetric by construction: columns in increasing order meet the entries of
+/// column `i` above its diagonal in increasing row order too, so a cursor per column finds
+/// each mirror without a search.
+fn mirrors(a: &SymmetricCsc) -> Vec<(u32, u32)> {
+    let (ptr, rows) = (a.col_ptr(), a.row_idx());
+    let mut cursor: Vec<usize> = ptr[..a.n()].to_vec();
+    let mut out = Vec::with_capacity(rows.len() / 2);
+    for j in 0..a.n() {
+        for k in ptr[j]..ptr[j + 1] {
+            let i = rows[k];
+            if i > j {
+                let m = cursor[i];
+                debug_assert_eq!(rows[m], j, "the pattern is symmetric");
+                cursor[i] += 1;
+                out.push((k as u32, m as u32));
+            }
+        }
+    }
+    out
+}
+
 /// What [`solve_periodic_for_planning`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PeriodicSolveReport {
@@ -199,49 +232,49 @@ pub struct PeriodicSolveReport {
     pub solve: VolumeSolveReport,
     /// Whether the clamped (M-matrix) stiffness was used.
     pub clamped: bool,
-    /// Edges clamped (0 when the Galerkin field was kept).
+    /// Edges clamped: those whose Galerkin weight was negative beyond round-off.
     pub clamped_edges: usize,
-    /// Positive off-diagonals of the Galerkin slab matrix.
+    /// Positive off-diagonals the Galerkin slab matrix would have: the clamped edges (the
+    /// Galerkin matrix itself is not assembled, see [`solve_periodic_for_planning`]).
     pub positive_offdiagonals: usize,
     /// Unknowns of the folded system.
     pub unknowns: usize,
 }
 
-/// The planning solve of [`super::solve_assembled_for_planning`] on a periodic slab: assemble
-/// (ends natural), fold by `images`, solve; redo with the clamped M-matrix where the field
-/// has an interior extremum or is too flat for a Cholesky solve.
+/// The planning solve of a configuration space on its periodic slab: assemble with the
+/// clamped stiffness ([`NegativeWeights::Clamp`], ends natural), fold by `images`, and solve
+/// as the clamped redo of [`super::solve_assembled_for_planning`] does (the accurate
+/// elimination up to its size, else IC(0)-PCG checked for interior extrema).
+///
+/// No Galerkin try comes first, as it does for a volume: a slab's stuffed and graded
+/// tetrahedra have obtuse dihedral angles by the tens of thousands, and on every configuration
+/// space measured (the contract's polygon robot and arms, the bundled robots, seeded 3-link
+/// arms) the Galerkin field had interior extrema and the clamped field was the one kept. The
+/// try cost a second assembly on the way and a core for its solve.
 pub fn solve_periodic_for_planning(
     slab: Arc<TetMesh>,
     images: &[u32],
     bcs: &BoundaryConditions,
 ) -> Result<(VolumePotential, PeriodicSolveReport), FemError> {
     let bcs = periodic_conditions(bcs);
-    let shared = Arc::new(images.to_vec());
     let assembler = VolumeAssembler::with_identified(
         Arc::clone(&slab),
         &bcs,
         VolumeAssemblyOptions::default(),
-        Arc::clone(&shared),
+        Arc::new(images.to_vec()),
     )?;
-    let a = assembler.assemble(&bcs)?;
-    let folding = Fold::of(&a, images)?;
-    let system = folding.apply(&a)?;
-    let positive_offdiagonals = system.positive_offdiagonals();
-    let unknowns = system.matrix().n();
-    let (potential, solve, clamped_edges) = planning_solve(
-        &slab,
-        &system,
-        super::solve::AUTO_MULTIGRID_MIN_UNKNOWNS,
-        || folding.apply(&assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?),
-    )?;
+    let a = assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?;
+    let system = Fold::of(&a, images)?.apply(&a)?;
+    let (potential, solve) = solve_clamped_for_planning(&slab, &system)?;
+    let clamped_edges = system.clamped_edges();
     Ok((
         potential,
         PeriodicSolveReport {
             solve,
-            clamped: clamped_edges.is_some(),
-            clamped_edges: clamped_edges.unwrap_or(0),
-            positive_offdiagonals,
-            unknowns,
+            clamped: clamped_edges > 0,
+            clamped_edges,
+            positive_offdiagonals: clamped_edges,
+            unknowns: system.matrix().n(),
         },
     ))
 }
@@ -373,6 +406,10 @@ mod tests {
                         (x - want).abs() <= 1e-14 * want.abs().max(1.0),
                         "({i}, {j})"
                     );
+                    // Symmetric to the bit, whatever order the two sums were taken in.
+                    let (mirror_rows, mirror_values) = m.column(i);
+                    let at = mirror_rows.binary_search(&j).expect("a symmetric pattern");
+                    assert_eq!(mirror_values[at].to_bits(), x.to_bits(), "({i}, {j})");
                     stored += 1;
                 }
             }

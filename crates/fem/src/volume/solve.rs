@@ -420,12 +420,9 @@ pub fn solve_assembled_for_planning(
     bcs: &BoundaryConditions,
     system: &VolumeSystem,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
-    planning_solve(
-        assembler.mesh(),
-        system,
-        VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS,
-        || assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp),
-    )
+    planning_solve(assembler.mesh(), system, || {
+        assembler.assemble_weighted(bcs, None, NegativeWeights::Clamp)
+    })
 }
 
 /// From this many unknowns a volume's Galerkin try is solved by the multigrid (below, by
@@ -433,22 +430,20 @@ pub fn solve_assembled_for_planning(
 /// either way). A volume's Galerkin field often passes the check, and where ψ falls many
 /// orders of magnitude only IC(0)'s does: the 3D maze at 1 M tetrahedra (147 k unknowns, ψ
 /// down to 1e-66) built in 1.89 s on one thread with IC(0) and 2.45 s with the multigrid,
-/// whose field failed the check on both systems. A configuration space's Galerkin field
-/// seldom passes (its slab's obtuse angles), so there the multigrid starts at
-/// [`AUTO_MULTIGRID_MIN_UNKNOWNS`]. Above this size no clamped try runs beside the Galerkin
-/// one, and IC(0) is far slower than the multigrid (me766: 6.2 s against 1.9 s).
+/// whose field failed the check on both systems. (A configuration space makes no Galerkin
+/// try: see `solve_periodic_for_planning`.) Above this size no clamped try runs beside the
+/// Galerkin one, and IC(0) is far slower than the multigrid (me766: 6.2 s against 1.9 s).
 pub const VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS: usize = SPECULATIVE_MAX_UNKNOWNS;
 
-/// The planning solve on `mesh` (a slab for a periodic `system`): the Galerkin `system` first;
+/// The planning solve on `mesh`: the Galerkin `system` first;
 /// when its field is flat or has an interior extremum, `clamped()` assembles the M-matrix and
 /// [`solve_clamped_for_planning`] solves it. Returns the clamped edges when the redo ran.
-pub(super) fn planning_solve(
+fn planning_solve(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-    galerkin_multigrid_from: usize,
     clamped: impl FnOnce() -> Result<VolumeSystem, FemError> + Send,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
-    let galerkin = || galerkin_checked(mesh, system, galerkin_multigrid_from);
+    let galerkin = || galerkin_checked(mesh, system, VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS);
     // A large system's clamped try runs on another core while the Galerkin one is solved (the
     // graded meshes of small goals almost always need it); it is dropped if the Galerkin field
     // passes. Either way the result is the one the sequential order gives.
