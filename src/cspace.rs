@@ -121,6 +121,9 @@ pub struct ConfigMeshSummary {
     pub margin: f64,
     /// Edges clamped by the planning solve.
     pub clamped_edges: usize,
+    /// Configurations the mesh was graded finer around, where a motion from a start met an
+    /// obstacle whose image was thinner than the mesh before (0: one build sufficed).
+    pub refined_near: usize,
 }
 
 /// The report of `hplan plan` on a configuration-space scene (`configuration`: `"pose"` or
@@ -176,7 +179,13 @@ pub struct ConfigPlanner {
     timings: Timings,
     scale: f64,
     size: f64,
+    /// Configurations the mesh was graded finer around ([`ConfigPlanner::new`]).
+    refined_near: usize,
 }
+
+/// At most this many second builds of [`ConfigPlanner::new`], each graded finer around the
+/// configurations where the build before let a motion through an obstacle's thin image.
+pub const THIN_IMAGE_REBUILDS: usize = 2;
 
 fn millis(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
@@ -266,9 +275,41 @@ const ANTIGOAL_SPACINGS: f64 = 1.5;
 
 impl ConfigPlanner {
     /// Builds the planner: validates the scene, meshes its configuration space, solves.
+    ///
+    /// Where a path from one of the scene's starts reaches the goal but its motion meets an
+    /// obstacle whose configuration-space image is thinner than the mesh (the tip of an arm
+    /// at full reach grazing a small obstacle: a blade of collision between lattice
+    /// vertices), the space is meshed and solved again, graded finer around every such
+    /// configuration ([`ConfigSpace::with_refinement_near`]), at most
+    /// [`THIN_IMAGE_REBUILDS`] times; a build that fails keeps the one before.
     pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, PlanError> {
+        let mut planner = Self::build(scene, scene.build()?)?;
+        for _ in 0..THIN_IMAGE_REBUILDS {
+            let t = Instant::now();
+            let thin: Vec<Vec<f64>> = scene
+                .starts
+                .par_iter()
+                .filter_map(|s| planner.plan_checked(s).1)
+                .collect();
+            if thin.is_empty() {
+                break;
+            }
+            let checked_ms = millis(t);
+            let space = planner.space.clone().with_refinement_near(&thin);
+            let Ok(mut finer) = Self::build(scene, space) else {
+                break;
+            };
+            finer.timings.mesh += planner.timings.mesh + checked_ms;
+            finer.timings.solve += planner.timings.solve;
+            finer.refined_near = planner.refined_near + thin.len();
+            planner = finer;
+        }
+        Ok(planner)
+    }
+
+    /// Meshes `space` (the scene's, or one graded finer) and solves.
+    fn build(scene: &ConfigScene, space: ConfigSpace) -> Result<ConfigPlanner, PlanError> {
         let t = Instant::now();
-        let space = scene.build()?;
         let budget = scene.mesh.max_tetrahedra.unwrap_or(DEFAULT_MAX_TETRAHEDRA);
         let (mut mesh, mut report) = space.mesh(budget)?;
         let space = match free_everywhere(&space, &mut mesh, report.spacing)? {
@@ -337,6 +378,7 @@ impl ConfigPlanner {
             },
             scale: (hi - lo).max(),
             size,
+            refined_near: 0,
         })
     }
 
@@ -385,13 +427,19 @@ impl ConfigPlanner {
     /// exact clearance, until the margin is kept; a start that overlaps one is
     /// `start_in_obstacle`.
     pub fn plan(&self, start: &[f64]) -> ConfigPlannedPath {
+        self.plan_checked(start).0
+    }
+
+    /// [`ConfigPlanner::plan`], and the configuration where the path reached the goal but
+    /// its motion met an obstacle whose image is thinner than the mesh.
+    fn plan_checked(&self, start: &[f64]) -> (ConfigPlannedPath, Option<Vec<f64>>) {
         let Some(lead) = self.lead_out(start) else {
             return self.trace_from(start);
         };
         let Some(from) = lead.last() else {
             return self.trace_from(start);
         };
-        let mut out = self.trace_from(from);
+        let (mut out, thin) = self.trace_from(from);
         let scale = self.space.scale();
         let mut length = 0.0;
         let mut clearance = f64::INFINITY;
@@ -418,7 +466,7 @@ impl ConfigPlanner {
             all.append(joints);
             *joints = all;
         }
-        out
+        (out, thin)
     }
 
     /// The way out of the anti-goal's ball ([`ConfigSpace::out_of_anti_goal`]), or out of
@@ -482,11 +530,12 @@ impl ConfigPlanner {
         None
     }
 
-    /// Traces from `start` as it is.
-    fn trace_from(&self, start: &[f64]) -> ConfigPlannedPath {
+    /// Traces from `start` as it is; also returns where a path that reached the goal met an
+    /// obstacle thinner than the mesh.
+    fn trace_from(&self, start: &[f64]) -> (ConfigPlannedPath, Option<Vec<f64>>) {
         let dof = self.space.dof();
         if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
-            return self.planned(start, None, Tracer::Exact);
+            return (self.planned(start, None, Tracer::Exact), None);
         }
         let (p, shift) = self.space.to_mesh(start);
         let classify = |q: &Point| match self.space.classify(&self.space.config(q)) {
@@ -496,7 +545,7 @@ impl ConfigPlanner {
             ConfigClass::OutsideLimits => Locate::OutsideWorkspace,
         };
         let Ok(field) = P1VolumeField::from_parts(&self.covering, Arc::clone(&self.field)) else {
-            return self.planned(start, None, Tracer::Exact);
+            return (self.planned(start, None, Tracer::Exact), None);
         };
         let field = field.with_outside(&classify);
         let to_configs = |path: &Path<Point>| -> Vec<Vec<f64>> {
@@ -553,16 +602,17 @@ impl ConfigPlanner {
             out.status = TraceStatus::ReachedGoal(0);
         }
         // A path that reached the goal but touches an obstacle on the way is not reached.
-        if let Some(q) = collision.filter(|_| out.status.reached_goal()) {
+        let thin = collision.filter(|_| out.status.reached_goal());
+        if let Some(q) = &thin {
             out.status = TraceStatus::Collision { at: None };
             out.blocked_by = Some(format!(
                 "{} at {q:.4?}, where its image in configuration space is thinner than the \
                  mesh; a smaller mesh.spacing resolves it",
-                self.space.nearest_name(&q)
+                self.space.nearest_name(q)
             ));
             out.min_clearance = 0.0;
         }
-        out
+        (out, thin)
     }
 
     /// The first configuration along the path's motions where the robot touches an obstacle,
@@ -680,6 +730,7 @@ impl ConfigPlanner {
                 graded: self.report.graded,
                 margin: self.space.margin(),
                 clamped_edges: self.clamped_edges,
+                refined_near: self.refined_near,
             },
             timings_ms: timings,
             potential: crate::volume::volume_potential_summary(

@@ -113,37 +113,74 @@ fn a_sliver_of_collision_thinner_than_the_lattice_is_graded_and_avoided() {
 
 /// A circle of radius 0.01 on the arc a two-link arm's tip sweeps at full reach, under a
 /// lattice of spacing 1: its image in configuration space is a sliver thinner than the
-/// finest grading (a quarter spacing). The straight start's motion passes through it; the
-/// planner checks every reached path against the exact geometry, so that start is
-/// `collision`, naming the circle, never `reached_goal`; the bent starts go around it.
+/// finest grading (a quarter spacing), and the straight start's motion passes through it.
+/// The planner checks every reached path against the exact geometry. Built for a scene whose
+/// starts include the straight one, it sees that motion meet the circle and meshes again,
+/// graded finer around where it did: every start is then reached without touching
+/// anything. Built for a scene without it, a later plan from the straight start is
+/// `collision`, naming the circle, never `reached_goal`.
 #[test]
-fn a_motion_through_an_unresolved_obstacle_is_a_collision_not_a_reach() {
-    let json = r#"{"workspace": [[-5, -5], [5, -5], [5, 5], [-5, 5]],
-        "robot": {"arm": {"base": [0.0, 0.0], "links": [2.0, 1.0], "width": 0.02}},
-        "obstacles": [{"circle": {"center": [2.4760068, 1.6939274], "radius": 0.01}},
-                      {"circle": {"center": [-2.2, -1.5], "radius": 0.5}}],
-        "goal": {"joints": [1.2, 0.0], "tolerance": 0.05},
-        "starts": [[0.0, 0.0], [0.0, 0.3], [0.0, -0.3]],
-        "mesh": {"spacing": 1.0, "margin": 0.01}}"#;
-    let scene = match AnyScene::from_json(json) {
+fn a_motion_through_an_unresolved_obstacle_is_meshed_again_or_a_collision() {
+    let scene = |starts: &str| {
+        let json = format!(
+            r#"{{"workspace": [[-5, -5], [5, -5], [5, 5], [-5, 5]],
+            "robot": {{"arm": {{"base": [0.0, 0.0], "links": [2.0, 1.0], "width": 0.02}}}},
+            "obstacles": [{{"circle": {{"center": [2.4760068, 1.6939274], "radius": 0.01}}}},
+                          {{"circle": {{"center": [-2.2, -1.5], "radius": 0.5}}}}],
+            "goal": {{"joints": [1.2, 0.0], "tolerance": 0.05}},
+            "starts": {starts},
+            "mesh": {{"spacing": 1.0, "margin": 0.01}}}}"#
+        );
+        match AnyScene::from_json(&json) {
+            Ok(AnyScene::Config(s)) => s,
+            other => panic!("{:?}", other.err()),
+        }
+    };
+    let starts = [[0.0, 0.0], [0.0, 0.3], [0.0, -0.3]];
+    let statuses = |planner: &ConfigPlanner| -> Vec<String> {
+        let space = planner.space();
+        starts
+            .iter()
+            .map(|start| {
+                let p = planner.plan(start);
+                let motion = check_path(space.robot(), space.world(), &p.configurations(), 1e-3);
+                if p.status.reached_goal() {
+                    assert!(motion.min_clearance > 0.0, "{start:?}: {motion:?}");
+                } else {
+                    let why = p.blocked_by.clone().unwrap_or_default();
+                    assert!(why.contains("obstacle 0"), "{start:?}: {why}");
+                }
+                p.status.as_str().to_string()
+            })
+            .collect()
+    };
+    let once = ConfigPlanner::new(&scene("[[0.0, 0.3]]")).expect("planner");
+    assert_eq!(once.plan_report(&[]).mesh.refined_near, 0);
+    assert_eq!(
+        statuses(&once),
+        ["collision", "reached_goal", "reached_goal"]
+    );
+    let again =
+        ConfigPlanner::new(&scene("[[0.0, 0.0], [0.0, 0.3], [0.0, -0.3]]")).expect("planner");
+    assert!(again.plan_report(&[]).mesh.refined_near >= 1);
+    assert_eq!(statuses(&again), ["reached_goal"; 3]);
+}
+
+/// Seed 707 of the held-out sweep (`examples/cspace_reach.rs`): a 3-link arm whose tip, at
+/// full reach, grazes a circle of radius 0.23; two starts' motions crossed the blade of
+/// collision that leaves in configuration space between lattice vertices (`collision` on
+/// the first build). Meshed again, graded finer around where they met it, every connected
+/// start reaches the goal collision-free.
+#[test]
+fn a_blade_of_collision_met_by_a_motion_is_meshed_again_finer() {
+    let case = ConfigCase::arm(707, 3, true, 8);
+    check(&case, "3-link tip 707");
+    let scene = match AnyScene::from_json(&case.json) {
         Ok(AnyScene::Config(s)) => s,
         other => panic!("{:?}", other.err()),
     };
-    let planner = ConfigPlanner::new(&scene).expect("planner");
-    let space = planner.space();
-    let statuses: Vec<String> = [[0.0, 0.0], [0.0, 0.3], [0.0, -0.3]]
-        .iter()
-        .map(|start| {
-            let p = planner.plan(start);
-            let motion = check_path(space.robot(), space.world(), &p.configurations(), 1e-3);
-            if p.status.reached_goal() {
-                assert!(motion.min_clearance > 0.0, "{start:?}: {motion:?}");
-            } else {
-                let why = p.blocked_by.clone().unwrap_or_default();
-                assert!(why.contains("obstacle 0"), "{start:?}: {why}");
-            }
-            p.status.as_str().to_string()
-        })
-        .collect();
-    assert_eq!(statuses, ["collision", "reached_goal", "reached_goal"]);
+    let report = ConfigPlanner::new(&scene)
+        .expect("planner")
+        .plan_report(&[]);
+    assert!(report.mesh.refined_near >= 1, "{:?}", report.mesh);
 }

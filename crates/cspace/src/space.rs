@@ -51,6 +51,14 @@ pub const ANTIGOAL_PART: u32 = u32::MAX - 2;
 /// The default tetrahedron budget of a configuration-space lattice.
 pub const DEFAULT_MAX_TETRAHEDRA: u64 = 3_000_000;
 
+/// [`ConfigSpace::with_refinement_near`] grades the lattice within this many spacings of
+/// each configuration it is given...
+pub const REFINE_NEAR_RADIUS: f64 = 1.0;
+
+/// ... down to edges of this fraction of the spacing (the grading elsewhere stops at a
+/// quarter).
+pub const REFINE_NEAR_FLOOR: f64 = 0.125;
+
 /// A goal in configuration space.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ConfigGoal {
@@ -135,6 +143,9 @@ pub struct ConfigSpace {
     /// A ball (mesh coordinates: centre, radius) left out of the mesh as if it collided
     /// ([`ConfigSpace::with_anti_goal`]).
     anti_goal: Option<(Point, f64)>,
+    /// Configurations (mesh coordinates) around which the lattice is graded finer
+    /// ([`ConfigSpace::with_refinement_near`]).
+    refine_near: Vec<Point>,
 }
 
 /// What meshing the configuration space did.
@@ -287,6 +298,7 @@ impl ConfigSpace {
             origin: [0.0; 3],
             cells,
             anti_goal: None,
+            refine_near: Vec::new(),
         }
         .centred_on_thin_goal())
     }
@@ -518,11 +530,33 @@ impl ConfigSpace {
         self
     }
 
-    /// The offset from the anti-goal's centre to the mesh point `p`, the shortest way round
-    /// along periodic axes, and the ball's radius.
-    fn anti_goal_offset(&self, p: &Point) -> Option<([f64; 3], f64)> {
-        let (c, r) = self.anti_goal?;
-        let d = [0, 1, 2].map(|a| {
+    /// The space with its lattice graded down to [`REFINE_NEAR_FLOOR`] of the spacing within
+    /// [`REFINE_NEAR_RADIUS`] spacings of each configuration of `near`: where a path's motion
+    /// met an obstacle whose image is thinner than the mesh (the planner's second build).
+    pub fn with_refinement_near(mut self, near: &[Vec<f64>]) -> Self {
+        let dof = self.dof();
+        let points: Vec<Point> = near
+            .iter()
+            .filter(|q| q.len() == dof && q.iter().all(|x| x.is_finite()))
+            .map(|q| self.to_mesh(q).0)
+            .collect();
+        self.refine_near.extend(points);
+        self
+    }
+
+    /// Whether the mesh point `p` lies within [`REFINE_NEAR_RADIUS`] spacings of a point of
+    /// [`ConfigSpace::with_refinement_near`].
+    fn near_refinement(&self, p: &Point) -> bool {
+        let r = REFINE_NEAR_RADIUS * self.spacing;
+        self.refine_near.iter().any(|c| {
+            let d = self.periodic_offset(c, p);
+            d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= r * r
+        })
+    }
+
+    /// The offset from `c` to `p` (mesh points), the shortest way round along periodic axes.
+    fn periodic_offset(&self, c: &Point, p: &Point) -> [f64; 3] {
+        [0, 1, 2].map(|a| {
             let x = p[a] - c[a];
             match self.axes[a] {
                 Axis::Periodic => {
@@ -531,8 +565,14 @@ impl ConfigSpace {
                 }
                 _ => x,
             }
-        });
-        Some((d, r))
+        })
+    }
+
+    /// The offset from the anti-goal's centre to the mesh point `p`, the shortest way round
+    /// along periodic axes, and the ball's radius.
+    fn anti_goal_offset(&self, p: &Point) -> Option<([f64; 3], f64)> {
+        let (c, r) = self.anti_goal?;
+        Some((self.periodic_offset(&c, p), r))
     }
 
     /// For a configuration inside the anti-goal's ball ([`ConfigSpace::with_anti_goal`]):
@@ -945,6 +985,15 @@ impl ImplicitDomain for ConfigSpace {
             let term = Arc::clone(&term);
             move |p: &[Point; 4]| -> bool {
                 let longest = longest_edge(p);
+                let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
+                // Around a configuration where a motion met a thinner image: everything,
+                // below the usual floor.
+                if longest > REFINE_NEAR_FLOOR * spacing
+                    && !self.refine_near.is_empty()
+                    && self.near_refinement(&c)
+                {
+                    return true;
+                }
                 if longest <= floor {
                     return false;
                 }
@@ -966,7 +1015,6 @@ impl ImplicitDomain for ConfigSpace {
                                     < -0.05 * (p[a] - p[b]).norm()
                         });
                 }
-                let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
                 // The centroid can collide only if every corner is free by less than the
                 // robot moves from that corner to the centroid.
                 let qc = self.config_array(&c);
