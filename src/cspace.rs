@@ -36,7 +36,9 @@ use harmonic_cspace::{
     ConfigClass, ConfigGoal, ConfigSpace, CspaceMeshReport, DEFAULT_MAX_TETRAHEDRA, EXTRUDE_PART,
     Robot,
 };
-use harmonic_fem::volume::{VolumePotential, solve_periodic_for_planning};
+use harmonic_fem::volume::{
+    VolumePotential, assemble_periodic_for_planning, solve_folded_for_planning,
+};
 use harmonic_trajectory::volume::{
     ExactVolumeOptions, P1VolumeField, VolumeFieldParts, VolumeFieldTopology, trace_exact_volume,
 };
@@ -333,16 +335,19 @@ impl ConfigPlanner {
 
         let t = Instant::now();
         let bcs = scene.boundary_conditions();
-        // The covering's point-location grid (what a first query would build) and what the
-        // field needs of the covering alone (vertex → tetrahedra, components) beside the
-        // solve, whose assembly and two tries leave a core idle at their ends.
-        let (solved, topology) = rayon::join(
-            || solve_periodic_for_planning(Arc::clone(&slab), &images, &bcs),
-            || {
-                covering.prepare_locate();
-                VolumeFieldTopology::of(&covering)
-            },
+        // Beside the assembly, the covering's point-location grid (what a first query would
+        // build); beside the solve, whose IC(0) sweeps keep one core, what the field needs of
+        // the covering alone (vertex → tetrahedra, components).
+        let (system, ()) = rayon::join(
+            || assemble_periodic_for_planning(&slab, &images, &bcs),
+            || covering.prepare_locate(),
         );
+        let system = system?;
+        let (solved, topology) = rayon::join(
+            || solve_folded_for_planning(&slab, &system),
+            || VolumeFieldTopology::of(&covering),
+        );
+        drop(system);
         let (potential, solved) = solved?;
         let psi: Vec<f64> = slab_vertex
             .iter()

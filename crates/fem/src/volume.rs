@@ -51,7 +51,8 @@ pub use assemble::{
     VolumeSystem,
 };
 pub use periodic::{
-    PeriodicSolveReport, identify_periodic, periodic_conditions, solve_periodic_for_planning,
+    PeriodicSolveReport, assemble_periodic_for_planning, identify_periodic, periodic_conditions,
+    solve_folded_for_planning, solve_periodic_for_planning,
 };
 pub use potential::{VolumeEvaluation, VolumePotential};
 pub use solve::{

@@ -463,9 +463,22 @@ fn stuff_quotient(
         .collect();
     keys.par_sort_unstable();
     keys.dedup();
+    // Each class's copies are a run of the sorted keys, a few long: found from the run's
+    // start instead of by a search over all of them.
+    let mut first = vec![0u32; nv + 1];
+    {
+        let mut i = 0usize;
+        for (c, slot) in first.iter_mut().enumerate() {
+            while i < keys.len() && ((keys[i] >> 32) as usize) < c {
+                i += 1;
+            }
+            *slot = i as u32;
+        }
+    }
     let id = |c: u32, w: [i32; 3]| {
-        keys.binary_search(&((c as u64) << 32 | pack(w) as u64))
-            .unwrap_or(0) as u32
+        let k = (c as u64) << 32 | pack(w) as u64;
+        let run = &keys[first[c as usize] as usize..first[c as usize + 1] as usize];
+        first[c as usize] + run.iter().position(|&x| x == k).unwrap_or(0) as u32
     };
     let copies: Vec<(u32, [i32; 3])> = keys
         .iter()

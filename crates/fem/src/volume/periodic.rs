@@ -256,16 +256,35 @@ pub fn solve_periodic_for_planning(
     images: &[u32],
     bcs: &BoundaryConditions,
 ) -> Result<(VolumePotential, PeriodicSolveReport), FemError> {
+    let system = assemble_periodic_for_planning(&slab, images, bcs)?;
+    solve_folded_for_planning(&slab, &system)
+}
+
+/// The first half of [`solve_periodic_for_planning`]: the folded clamped system (a caller
+/// may then solve it beside other work).
+pub fn assemble_periodic_for_planning(
+    slab: &Arc<TetMesh>,
+    images: &[u32],
+    bcs: &BoundaryConditions,
+) -> Result<VolumeSystem, FemError> {
     let bcs = periodic_conditions(bcs);
     let assembler = VolumeAssembler::with_identified(
-        Arc::clone(&slab),
+        Arc::clone(slab),
         &bcs,
         VolumeAssemblyOptions::default(),
         Arc::new(images.to_vec()),
     )?;
     let a = assembler.assemble_weighted(&bcs, None, NegativeWeights::Clamp)?;
-    let system = Fold::of(&a, images)?.apply(&a)?;
-    let (potential, solve) = solve_clamped_for_planning(&slab, &system)?;
+    Fold::of(&a, images)?.apply(&a)
+}
+
+/// The second half of [`solve_periodic_for_planning`]: `system`, folded on `slab` by
+/// [`assemble_periodic_for_planning`], solved.
+pub fn solve_folded_for_planning(
+    slab: &Arc<TetMesh>,
+    system: &VolumeSystem,
+) -> Result<(VolumePotential, PeriodicSolveReport), FemError> {
+    let (potential, solve) = solve_clamped_for_planning(slab, system)?;
     let clamped_edges = system.clamped_edges();
     Ok((
         potential,
