@@ -124,7 +124,7 @@ pub struct ConfigMeshSummary {
     /// Edges clamped by the planning solve.
     pub clamped_edges: usize,
     /// Configurations the mesh was graded finer around, where a motion from a start met an
-    /// obstacle whose image was thinner than the mesh before (0: one build sufficed).
+    /// obstacle's image that the mesh before cut across (0: one build sufficed).
     pub refined_near: usize,
 }
 
@@ -186,7 +186,7 @@ pub struct ConfigPlanner {
 }
 
 /// At most this many second builds of [`ConfigPlanner::new`], each graded finer around the
-/// configurations where the build before let a motion through an obstacle's thin image.
+/// configurations where the build before let a motion into an obstacle's image.
 pub const THIN_IMAGE_REBUILDS: usize = 2;
 
 fn millis(t: Instant) -> f64 {
@@ -279,9 +279,10 @@ impl ConfigPlanner {
     /// Builds the planner: validates the scene, meshes its configuration space, solves.
     ///
     /// Where a path from one of the scene's starts reaches the goal but its motion meets an
-    /// obstacle whose configuration-space image is thinner than the mesh (the tip of an arm
-    /// at full reach grazing a small obstacle: a blade of collision between lattice
-    /// vertices), the space is meshed and solved again, graded finer around every such
+    /// obstacle — the mesh's faces cut across the obstacle's configuration-space image by
+    /// more than the safety margin (a sliver thinner than the lattice, or an edge of the
+    /// image sharper than it resolves: an arm's tip at full reach grazing a small circle) —
+    /// the space is meshed and solved again, graded finer around every such
     /// configuration ([`ConfigSpace::with_refinement_near`]), at most
     /// [`THIN_IMAGE_REBUILDS`] times; a build that fails keeps the one before.
     pub fn new(scene: &ConfigScene) -> Result<ConfigPlanner, PlanError> {
@@ -436,7 +437,7 @@ impl ConfigPlanner {
     }
 
     /// [`ConfigPlanner::plan`], and the configuration where the path reached the goal but
-    /// its motion met an obstacle whose image is thinner than the mesh.
+    /// its motion met an obstacle (an image the mesh cut across).
     fn plan_checked(&self, start: &[f64]) -> (ConfigPlannedPath, Option<Vec<f64>>) {
         let Some(lead) = self.lead_out(start) else {
             return self.trace_from(start);
@@ -536,7 +537,7 @@ impl ConfigPlanner {
     }
 
     /// Traces from `start` as it is; also returns where a path that reached the goal met an
-    /// obstacle thinner than the mesh.
+    /// obstacle.
     fn trace_from(&self, start: &[f64]) -> (ConfigPlannedPath, Option<Vec<f64>>) {
         let dof = self.space.dof();
         if start.len() != dof || !start.iter().all(|c| c.is_finite()) {
@@ -611,8 +612,9 @@ impl ConfigPlanner {
         if let Some(q) = &thin {
             out.status = TraceStatus::Collision { at: None };
             out.blocked_by = Some(format!(
-                "{} at {q:.4?}, where its image in configuration space is thinner than the \
-                 mesh; a smaller mesh.spacing resolves it",
+                "{} at {q:.4?}, where the mesh cuts across its image in configuration space (a \
+                 sliver thinner, or an edge sharper, than the mesh resolves); a smaller \
+                 mesh.spacing resolves it",
                 self.space.nearest_name(q)
             ));
             out.min_clearance = 0.0;

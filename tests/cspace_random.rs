@@ -167,12 +167,13 @@ fn a_motion_through_an_unresolved_obstacle_is_meshed_again_or_a_collision() {
 }
 
 /// Seed 707 of the held-out sweep (`examples/cspace_reach.rs`): a 3-link arm whose tip, at
-/// full reach, grazes a circle of radius 0.23; two starts' motions crossed the blade of
-/// collision that leaves in configuration space between lattice vertices (`collision` on
-/// the first build). Meshed again, graded finer around where they met it, every connected
+/// full reach, grazes a circle of radius 0.23; two starts' motions entered the circle's
+/// image in configuration space where the mesh's faces cut across its edge (collision
+/// within 0.2–0.3 spacings of the point along each axis, the margin's band 0.2 spacings
+/// wide: `collision` on the first build). Meshed again, graded finer around where they met it, every connected
 /// start reaches the goal collision-free.
 #[test]
-fn a_blade_of_collision_met_by_a_motion_is_meshed_again_finer() {
+fn an_image_the_mesh_cuts_across_is_meshed_again_finer() {
     let case = ConfigCase::arm(707, 3, true, 8);
     check(&case, "3-link tip 707");
     let scene = match AnyScene::from_json(&case.json) {

@@ -532,7 +532,7 @@ impl ConfigSpace {
 
     /// The space with its lattice graded down to [`REFINE_NEAR_FLOOR`] of the spacing within
     /// [`REFINE_NEAR_RADIUS`] spacings of each configuration of `near`: where a path's motion
-    /// met an obstacle whose image is thinner than the mesh (the planner's second build).
+    /// met an obstacle's image that the mesh cut across (the planner's second build).
     pub fn with_refinement_near(mut self, near: &[Vec<f64>]) -> Self {
         let dof = self.dof();
         let points: Vec<Point> = near
@@ -986,8 +986,8 @@ impl ImplicitDomain for ConfigSpace {
             move |p: &[Point; 4]| -> bool {
                 let longest = longest_edge(p);
                 let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
-                // Around a configuration where a motion met a thinner image: everything,
-                // below the usual floor.
+                // Around a configuration where a motion met an image the mesh cut across:
+                // everything, below the usual floor.
                 if longest > REFINE_NEAR_FLOOR * spacing
                     && !self.refine_near.is_empty()
                     && self.near_refinement(&c)
