@@ -175,7 +175,6 @@ pub struct ConfigPlanner {
     report: CspaceMeshReport,
     unknowns: usize,
     clamped_edges: usize,
-    positive_offdiagonals: usize,
     /// What produced ψ (`potential.solved_by`).
     solved_by: &'static str,
     timings: Timings,
@@ -374,8 +373,7 @@ impl ConfigPlanner {
             report,
             unknowns: solved.unknowns,
             clamped_edges: solved.clamped_edges,
-            positive_offdiagonals: solved.positive_offdiagonals,
-            solved_by: crate::volume::volume_solved_by(&solved.solve, solved.clamped),
+            solved_by: crate::volume::volume_solved_by(&solved.solve, solved.clamped_edges > 0),
             timings: Timings {
                 mesh: mesh_ms,
                 assemble: 0.0,
@@ -743,7 +741,7 @@ impl ConfigPlanner {
             potential: crate::volume::volume_potential_summary(
                 &self.potential,
                 self.solved_by,
-                self.positive_offdiagonals,
+                self.clamped_edges,
             ),
             paths,
         }

@@ -988,10 +988,7 @@ impl ImplicitDomain for ConfigSpace {
                 let c = Point::from((p[0].coords + p[1].coords + p[2].coords + p[3].coords) / 4.0);
                 // Around a configuration where a motion met an image the mesh cut across:
                 // everything, below the usual floor.
-                if longest > REFINE_NEAR_FLOOR * spacing
-                    && !self.refine_near.is_empty()
-                    && self.near_refinement(&c)
-                {
+                if longest > REFINE_NEAR_FLOOR * spacing && self.near_refinement(&c) {
                     return true;
                 }
                 if longest <= floor {

@@ -35,8 +35,8 @@ pub fn identify_periodic(system: &VolumeSystem, images: &[u32]) -> Result<Volume
     Fold::of(system, images)?.apply(system)
 }
 
-/// The folding of one slab pattern ([`identify_periodic`]), found once and applied to every
-/// system assembled on that pattern (the planning solve's Galerkin and clamped systems).
+/// The folding of one slab pattern ([`identify_periodic`]): found once, it applies to every
+/// system assembled on that pattern (the Galerkin and the clamped one alike).
 struct Fold {
     /// The slab vertex of each folded unknown (those that are their own image).
     free: Arc<Vec<u32>>,
@@ -230,13 +230,10 @@ fn mirrors(a: &SymmetricCsc) -> Vec<(u32, u32)> {
 pub struct PeriodicSolveReport {
     /// The solve that produced ψ.
     pub solve: VolumeSolveReport,
-    /// Whether the clamped (M-matrix) stiffness was used.
-    pub clamped: bool,
-    /// Edges clamped: those whose Galerkin weight was negative beyond round-off.
+    /// Edges clamped: those whose Galerkin weight was negative beyond round-off, the
+    /// positive off-diagonals the Galerkin slab matrix would have had (it is not assembled,
+    /// see [`solve_periodic_for_planning`]).
     pub clamped_edges: usize,
-    /// Positive off-diagonals the Galerkin slab matrix would have: the clamped edges (the
-    /// Galerkin matrix itself is not assembled, see [`solve_periodic_for_planning`]).
-    pub positive_offdiagonals: usize,
     /// Unknowns of the folded system.
     pub unknowns: usize,
 }
@@ -290,9 +287,7 @@ pub fn solve_folded_for_planning(
         potential,
         PeriodicSolveReport {
             solve,
-            clamped: clamped_edges > 0,
             clamped_edges,
-            positive_offdiagonals: clamped_edges,
             unknowns: system.matrix().n(),
         },
     ))

@@ -443,7 +443,7 @@ fn planning_solve(
     system: &VolumeSystem,
     clamped: impl FnOnce() -> Result<VolumeSystem, FemError> + Send,
 ) -> Result<(VolumePotential, VolumeSolveReport, Option<usize>), FemError> {
-    let galerkin = || galerkin_checked(mesh, system, VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS);
+    let galerkin = || galerkin_checked(mesh, system);
     // A large system's clamped try runs on another core while the Galerkin one is solved (the
     // graded meshes of small goals almost always need it); it is dropped if the Galerkin field
     // passes. Either way the result is the one the sequential order gives.
@@ -481,9 +481,9 @@ fn planning_solve(
 fn galerkin_checked(
     mesh: &Arc<TetMesh>,
     system: &VolumeSystem,
-    multigrid_from: usize,
 ) -> Result<(VolumePotential, VolumeSolveReport, bool), FemError> {
-    let (psi, report) = solve_volume(system, auto_method(system, multigrid_from))?;
+    let method = auto_method(system, VOLUME_GALERKIN_MULTIGRID_MIN_UNKNOWNS);
+    let (psi, report) = solve_volume(system, method)?;
     let flat = {
         let free = system.free_vertices();
         let (lo, hi) = free.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| {
