@@ -8,8 +8,6 @@ pub(crate) struct Meshed {
     pub(crate) domain: Arc<Domain>,
     pub(crate) mesh: Arc<Mesh>,
     pub(crate) report: MeshReport,
-    /// The mesh's quality report, made when first asked for (a first plan needs none).
-    pub(crate) quality: Arc<OnceLock<QualityReport>>,
     /// The larger side of the domain's bounding box.
     pub(crate) scale: f64,
     /// Validating and meshing, in milliseconds.
@@ -56,7 +54,6 @@ impl Meshed {
         let coarse = Arc::try_unwrap(meshed.mesh).unwrap_or_else(|shared| (*shared).clone());
         let hierarchy = harmonic_mesh::uniform_hierarchy(coarse, refinements)?;
         meshed.mesh = Arc::clone(hierarchy.finest());
-        meshed.quality = Arc::new(OnceLock::new());
         meshed.hierarchy = Some(hierarchy);
         meshed.ms = millis(t);
         Ok(meshed)
@@ -79,7 +76,6 @@ impl Meshed {
             domain: Arc::new(domain),
             mesh,
             report,
-            quality: Arc::new(OnceLock::new()),
             scale: (hi.x - lo.x).max(hi.y - lo.y),
             ms,
             hierarchy: None,
@@ -197,6 +193,8 @@ mod tests {
             let mesh = jittered(12, jitter, seed);
             let (max_area, min_angle) = largest_area_smallest_angle(&mesh);
             let q = mesh.quality();
+            // The report's smallest angle, on every core, is the quality report's bit for bit.
+            assert_eq!(mesh.min_angle_deg().to_bits(), q.min_angle_deg.to_bits());
             assert!(
                 (max_area - q.max_triangle_area).abs() <= 1e-12,
                 "jitter {jitter}"

@@ -1,7 +1,7 @@
 //! The planner: build the mesh, the system and its factorisation once, then answer many
 //! queries (point robots, car-like robots) from the same harmonic potential.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 use std::time::Instant;
 
 use harmonic_fem::{
@@ -11,7 +11,6 @@ use harmonic_fem::{
 };
 use harmonic_mesh::{
     BoundaryTag, Domain, DomainSpec, Mesh, MeshHierarchy, MeshOptions, MeshReport, Point,
-    QualityReport,
 };
 use harmonic_trajectory::{
     CarOptions, CarPath, Collision, ExactOptions, Footprint, Path, PathPoint, SmoothOptions,
@@ -52,7 +51,6 @@ pub struct Planner {
     pub(crate) domain: Arc<Domain>,
     pub(crate) mesh: Arc<Mesh>,
     pub(crate) mesh_report: MeshReport,
-    pub(crate) quality: Arc<OnceLock<QualityReport>>,
     pub(crate) potential: Potential,
     pub(crate) nodal_gradients: Vec<harmonic_mesh::Vector>,
     pub(crate) timings: Timings,
@@ -510,7 +508,6 @@ impl Planner {
             domain: Arc::clone(&meshed.domain),
             mesh,
             mesh_report: meshed.report.clone(),
-            quality: Arc::clone(&meshed.quality),
             potential,
             nodal_gradients,
             timings: Timings {
@@ -540,10 +537,6 @@ impl Planner {
         &self.mesh
     }
 
-    /// The mesh's quality report (angles, areas, Delaunay checks), made at the first call.
-    pub(crate) fn quality(&self) -> &QualityReport {
-        self.quality.get_or_init(|| self.mesh.quality())
-    }
     /// The harmonic potential (ψ = φ_wall − φ at every vertex).
     pub fn potential(&self) -> &Potential {
         &self.potential

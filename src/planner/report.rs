@@ -331,9 +331,9 @@ impl Planner {
         }
         (
             MeshSummary {
-                vertices: self.quality().vertices,
-                triangles: self.quality().triangles,
-                min_angle_deg: self.quality().min_angle_deg,
+                vertices: self.mesh.vertices().len(),
+                triangles: self.mesh.triangles().len(),
+                min_angle_deg: self.mesh.min_angle_deg(),
                 refinement_complete: self.mesh_report.refinement_complete,
             },
             PotentialSummary {

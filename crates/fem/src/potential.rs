@@ -3,6 +3,8 @@
 
 use std::sync::{Arc, OnceLock};
 
+use rayon::prelude::*;
+
 use harmonic_types::{Mesh, NO_NEIGHBOR, Point, Vector, geom::twice_signed_area};
 
 use crate::FemError;
@@ -368,7 +370,7 @@ pub fn interior_local_extrema(mesh: &Mesh, psi: &[f64]) -> LocalExtrema {
 pub fn interior_local_extrema_except(
     mesh: &Mesh,
     psi: &[f64],
-    excluded: impl Fn(u32) -> bool,
+    excluded: impl Fn(u32) -> bool + Sync,
 ) -> LocalExtrema {
     extrema_of(mesh, psi, excluded)
 }
@@ -392,7 +394,7 @@ pub enum Unsound {
 /// negative value, no zero beside a positive one, no interior local extremum.
 pub(crate) fn unsound(mesh: &Mesh, psi: &[f64], free_vertices: &[u32]) -> Option<Unsound> {
     if free_vertices
-        .iter()
+        .par_iter()
         .any(|&v| psi[v as usize].is_nan() || psi[v as usize] < 0.0)
     {
         return Some(Unsound::Negative);
@@ -401,7 +403,7 @@ pub(crate) fn unsound(mesh: &Mesh, psi: &[f64], free_vertices: &[u32]) -> Option
     for &v in free_vertices {
         held[v as usize] = false;
     }
-    let underflow = mesh.triangles().iter().any(|t| {
+    let underflow = mesh.triangles().par_iter().any(|t| {
         let zero = t
             .iter()
             .any(|&v| !held[v as usize] && psi[v as usize] == 0.0);
@@ -414,47 +416,60 @@ pub(crate) fn unsound(mesh: &Mesh, psi: &[f64], free_vertices: &[u32]) -> Option
     (e.minima + e.maxima > 0).then_some(Unsound::InteriorExtremum)
 }
 
-/// [`interior_local_extrema_except`] over any ordered values (floats or [`Wide`] numbers).
-fn extrema_of<T: PartialOrd + Copy>(
+/// [`interior_local_extrema_except`] over any ordered values (floats or [`Wide`] numbers),
+/// on every core: each edge of each triangle marks, at both its ends, whether the other end
+/// is not below it and whether it is not above it; a vertex with neighbours and no mark of
+/// one kind is a strict extremum (a neighbour that does not compare, a NaN, marks both).
+fn extrema_of<T: PartialOrd + Copy + Sync>(
     mesh: &Mesh,
     psi: &[T],
-    excluded: impl Fn(u32) -> bool,
+    excluded: impl Fn(u32) -> bool + Sync,
 ) -> LocalExtrema {
+    use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
+    const HAS_NEIGHBOUR: u8 = 1;
+    const NOT_ABOVE_ALL: u8 = 2;
+    const NOT_BELOW_ALL: u8 = 4;
     let nv = mesh.vertices().len().min(psi.len());
-    // Per vertex: the smallest and largest ψ among its neighbours.
-    let mut lo: Vec<Option<T>> = vec![None; nv];
-    let mut hi: Vec<Option<T>> = vec![None; nv];
-    let lower = |slot: &mut Option<T>, v: T| {
-        if slot.is_none_or(|s| v < s) {
-            *slot = Some(v);
+    let marks: Vec<AtomicU8> = (0..nv).map(|_| AtomicU8::new(0)).collect();
+    // Most vertices carry every mark after a few of their edges: look before writing.
+    let mark = |v: usize, other: usize| {
+        let order = psi[v].partial_cmp(&psi[other]);
+        let mut m = HAS_NEIGHBOUR;
+        if order != Some(std::cmp::Ordering::Greater) {
+            m |= NOT_ABOVE_ALL;
+        }
+        if order != Some(std::cmp::Ordering::Less) {
+            m |= NOT_BELOW_ALL;
+        }
+        if marks[v].load(Relaxed) & m != m {
+            marks[v].fetch_or(m, Relaxed);
         }
     };
-    let higher = |slot: &mut Option<T>, v: T| {
-        if slot.is_none_or(|s| v > s) {
-            *slot = Some(v);
-        }
-    };
-    for tri in mesh.triangles() {
+    mesh.triangles().par_iter().for_each(|tri| {
         for k in 0..3 {
             let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-            if a >= nv || b >= nv {
-                continue;
+            if a < nv && b < nv {
+                mark(a, b);
+                mark(b, a);
             }
-            lower(&mut lo[a], psi[b]);
-            higher(&mut hi[a], psi[b]);
-            lower(&mut lo[b], psi[a]);
-            higher(&mut hi[b], psi[a]);
         }
-    }
+    });
     let tags = mesh.vertex_tags();
-    let mut e = LocalExtrema::default();
-    for v in (0..nv).filter(|&v| tags[v].is_none() && !excluded(v as u32)) {
-        if let (Some(l), Some(h)) = (lo[v], hi[v]) {
-            e.minima += usize::from(psi[v] > h);
-            e.maxima += usize::from(psi[v] < l);
-        }
-    }
-    e
+    (0..nv)
+        .into_par_iter()
+        .filter(|&v| tags[v].is_none() && !excluded(v as u32))
+        .map(|v| {
+            let m = marks[v].load(Relaxed);
+            let has = m & HAS_NEIGHBOUR != 0;
+            LocalExtrema {
+                minima: usize::from(has && m & NOT_ABOVE_ALL == 0),
+                maxima: usize::from(has && m & NOT_BELOW_ALL == 0),
+            }
+        })
+        .reduce(LocalExtrema::default, |a, b| LocalExtrema {
+            minima: a.minima + b.minima,
+            maxima: a.maxima + b.maxima,
+        })
 }
 
 /// The blended field of the ME766 paper: φ = k·φ_a + (1−k)·φ_b, e.g. `a` from a Dirichlet
