@@ -11,6 +11,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use harmonic_solver::{
     Multigrid, MultigridOptions, Ordering, Parallelism, PcgReport, Prolongation, SolverError,
     SymbolicCholesky,
@@ -98,25 +100,20 @@ impl MultilevelSystem {
     /// interpolations between the levels' unknowns built from the vertices' parents
     /// (unknowns at Dirichlet vertices are left out: their correction is zero).
     pub fn multigrid(&self, opts: MultigridOptions) -> Result<Multigrid, FemError> {
-        let coarse = self.systems[0].matrix();
-        let (factor, interpolations) = rayon::join(
-            || SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse),
-            || {
-                self.parents
-                    .iter()
-                    .enumerate()
-                    .map(|(l, parents)| {
-                        interpolation(&self.systems[l], &self.systems[l + 1], parents)
-                    })
-                    .collect::<Result<Vec<_>, _>>()
-            },
-        );
+        let interpolations = self
+            .parents
+            .par_iter()
+            .enumerate()
+            .map(|(l, parents)| interpolation(&self.systems[l], &self.systems[l + 1], parents))
+            .collect::<Result<Vec<_>, _>>()?;
         let levels = self.systems[1..]
             .iter()
             .map(LinearSystem::matrix)
-            .zip(interpolations?)
+            .zip(interpolations)
             .collect();
-        Ok(Multigrid::new(factor?, levels, opts)?)
+        let coarse = self.systems[0].matrix();
+        let factor = || SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse);
+        Ok(Multigrid::with_coarsest_from(factor, levels, opts)?)
     }
 
     /// ψ on the finest mesh by conjugate gradients preconditioned with `multigrid` (built by

@@ -20,6 +20,8 @@
 //! Each fine vertex remembers the coarse edge it is the midpoint of (or the coarse vertex it
 //! is), which is what a geometric multigrid needs to move functions between the levels.
 
+use rayon::prelude::*;
+
 use crate::{BoundaryTag, MeshError};
 use crate::{Mesh, MeshHierarchy, NO_NEIGHBOR, Point};
 
@@ -75,7 +77,7 @@ impl RefineUniformly for Mesh {
         let (mut triangles, mut neighbors) = children(self, &numbering);
         let vertices: Vec<Point> = numbering
             .parents
-            .iter()
+            .par_iter()
             .map(|&[a, b]| {
                 let (p, q) = (self.vertices()[a as usize], self.vertices()[b as usize]);
                 if a == b {
@@ -157,8 +159,8 @@ fn local_edge(tri: [u32; 3], a: u32, b: u32) -> Option<usize> {
 /// `[m0, m1, m2]` (the parent turned half a turn, so counter-clockwise too).
 fn children(mesh: &Mesh, numbering: &Numbering) -> (Vec<[u32; 3]>, Vec<[u32; 3]>) {
     let (tris, nbrs) = (mesh.triangles(), mesh.neighbors());
-    let mut triangles = Vec::with_capacity(4 * tris.len());
-    let mut neighbors = Vec::with_capacity(4 * tris.len());
+    let mut triangles = vec![[0; 3]; 4 * tris.len()];
+    let mut neighbors = vec![[0; 3]; 4 * tris.len()];
     // The corner child of coarse triangle `u` at coarse vertex `v`.
     let corner = |u: u32, v: u32| -> u32 {
         if u == NO_NEIGHBOR {
@@ -167,28 +169,34 @@ fn children(mesh: &Mesh, numbering: &Numbering) -> (Vec<[u32; 3]>, Vec<[u32; 3]>
         let at = tris[u as usize].iter().position(|&w| w == v).unwrap_or(0);
         4 * u + at as u32
     };
-    for (t, &tri) in tris.iter().enumerate() {
-        let c = tri.map(|v| numbering.vertex[v as usize]);
-        let m = numbering.midpoint[t];
-        for i in 0..3 {
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            let mut child = [0; 3];
-            child[i] = c[i];
-            child[i1] = m[i2];
-            child[i2] = m[i1];
-            let mut across = [0; 3];
-            across[i] = 4 * t as u32 + 3;
-            // The edge opposite position i1 runs m_{i1} -> c_i along the parent's edge i1,
-            // the one opposite i2 runs c_i -> m_{i2} along the parent's edge i2.
-            across[i1] = corner(nbrs[t][i1], tri[i]);
-            across[i2] = corner(nbrs[t][i2], tri[i]);
-            triangles.push(child);
-            neighbors.push(across);
-        }
-        let base = 4 * t as u32;
-        triangles.push(m);
-        neighbors.push([base, base + 1, base + 2]);
-    }
+    // Each coarse triangle writes its own four children: on every core.
+    triangles
+        .par_chunks_mut(4)
+        .zip(neighbors.par_chunks_mut(4))
+        .enumerate()
+        .for_each(|(t, (kids, across_kids))| {
+            let tri = tris[t];
+            let c = tri.map(|v| numbering.vertex[v as usize]);
+            let m = numbering.midpoint[t];
+            for i in 0..3 {
+                let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+                let mut child = [0; 3];
+                child[i] = c[i];
+                child[i1] = m[i2];
+                child[i2] = m[i1];
+                let mut across = [0; 3];
+                across[i] = 4 * t as u32 + 3;
+                // The edge opposite position i1 runs m_{i1} -> c_i along the parent's edge
+                // i1, the one opposite i2 runs c_i -> m_{i2} along the parent's edge i2.
+                across[i1] = corner(nbrs[t][i1], tri[i]);
+                across[i2] = corner(nbrs[t][i2], tri[i]);
+                kids[i] = child;
+                across_kids[i] = across;
+            }
+            let base = 4 * t as u32;
+            kids[3] = m;
+            across_kids[3] = [base, base + 1, base + 2];
+        });
     (triangles, neighbors)
 }
 
@@ -217,19 +225,20 @@ fn flip_to_delaunay(
     triangles: &mut [[u32; 3]],
     neighbors: &mut [[u32; 3]],
 ) {
-    let mut stack: Vec<(u32, usize)> = Vec::new();
-    for t in 0..coarse.triangles().len() {
-        let corners = coarse.triangle_points(t as u32);
-        for i in 0..3 {
-            let (u, v) = (
-                corners[(i + 1) % 3] - corners[i],
-                corners[(i + 2) % 3] - corners[i],
-            );
-            if u.dot(&v) < 0.0 {
-                stack.push((4 * t as u32 + i as u32, i));
-            }
-        }
-    }
+    // The corners found on every core, kept in triangle order (the flips' order).
+    let mut stack: Vec<(u32, usize)> = (0..coarse.triangles().len())
+        .into_par_iter()
+        .flat_map_iter(|t| {
+            let corners = coarse.triangle_points(t as u32);
+            (0..3).filter_map(move |i| {
+                let (u, v) = (
+                    corners[(i + 1) % 3] - corners[i],
+                    corners[(i + 2) % 3] - corners[i],
+                );
+                (u.dot(&v) < 0.0).then_some((4 * t as u32 + i as u32, i))
+            })
+        })
+        .collect();
     while let Some((t, k)) = stack.pop() {
         let u = neighbors[t as usize][k];
         if u == NO_NEIGHBOR {

@@ -484,15 +484,19 @@ impl Multigrid {
         levels: Vec<(&SymmetricCsc, Prolongation)>,
         opts: MultigridOptions,
     ) -> Result<Self, SolverError> {
-        let mut below = coarsest.symbolic().n();
+        Self::with_coarsest_from(|| Ok(coarsest), levels, opts)
+    }
+
+    /// [`Multigrid::new`] with the coarsest level's factor made by `factor` beside the
+    /// levels' row copies (on rayon's pool): the factorisation and the finest level's copy
+    /// are each a few tens of milliseconds on a million unknowns, and neither needs the
+    /// other.
+    pub fn with_coarsest_from(
+        factor: impl FnOnce() -> Result<Cholesky, SolverError> + Send,
+        levels: Vec<(&SymmetricCsc, Prolongation)>,
+        opts: MultigridOptions,
+    ) -> Result<Self, SolverError> {
         for (a, from_below) in &levels {
-            if from_below.coarse_len() != below {
-                return Err(SolverError::DimensionMismatch {
-                    what: "prolongation columns (unknowns of the level below)",
-                    expected: below,
-                    found: from_below.coarse_len(),
-                });
-            }
             if from_below.fine_len() != a.n() {
                 return Err(SolverError::DimensionMismatch {
                     what: "prolongation rows (unknowns of the level)",
@@ -500,11 +504,10 @@ impl Multigrid {
                     found: from_below.fine_len(),
                 });
             }
-            below = a.n();
         }
-        // The row copies are independent: on rayon's pool (the finest is most of the work).
-        let built = {
+        let (coarsest, built) = rayon::join(factor, || {
             use rayon::prelude::*;
+            // The row copies are independent (the finest is most of the work).
             levels
                 .into_par_iter()
                 .map(|(a, from_below)| {
@@ -514,8 +517,20 @@ impl Multigrid {
                         from_below,
                     })
                 })
-                .collect::<Result<Vec<_>, SolverError>>()?
-        };
+                .collect::<Result<Vec<_>, SolverError>>()
+        });
+        let (coarsest, built) = (coarsest?, built?);
+        let mut below = coarsest.symbolic().n();
+        for level in &built {
+            if level.from_below.coarse_len() != below {
+                return Err(SolverError::DimensionMismatch {
+                    what: "prolongation columns (unknowns of the level below)",
+                    expected: below,
+                    found: level.from_below.coarse_len(),
+                });
+            }
+            below = level.a.n();
+        }
         Ok(Self {
             coarsest,
             levels: built,
