@@ -252,44 +252,92 @@ impl Rows {
                 found: a.nnz(),
             });
         }
+        use rayon::prelude::*;
         let n = a.n();
+        // Per row, its entries off the diagonal; the rows' places from their running sum.
+        let off: Vec<u32> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let (cols, _) = a.column(i);
+                (cols.len() - cols.iter().filter(|&&j| j == i).count()) as u32
+            })
+            .collect();
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        row_ptr.push(0u32);
+        for &k in &off {
+            row_ptr.push(row_ptr[row_ptr.len() - 1] + k);
+        }
+        let total = row_ptr[n] as usize;
         let mut rows = Rows {
-            row_ptr: Vec::with_capacity(n + 1),
-            lower_end: Vec::with_capacity(n),
+            row_ptr,
+            lower_end: vec![0; n],
             smoothing: Vec::new(),
-            columns: Vec::with_capacity(a.nnz() - n.min(a.nnz())),
-            values: Vec::with_capacity(a.nnz() - n.min(a.nnz())),
+            columns: vec![0; total],
+            values: vec![0.0; total],
             diagonal: vec![0.0; n],
             inv_diagonal: vec![0.0; n],
         };
-        rows.row_ptr.push(0);
-        for i in 0..n {
-            let (cols, vals) = a.column(i);
-            for (&j, &v) in cols.iter().zip(vals) {
-                if j == i {
-                    rows.diagonal[i] = v;
-                    rows.lower_end.push(rows.columns.len() as u32);
-                } else {
-                    rows.columns.push(j as u32);
-                    rows.values.push(v);
-                }
+        // Runs of rows, each with its own part of every array, copied on every core; the
+        // first row (in order) that fails is the error.
+        const RUN: usize = 4096;
+        let mut runs = Vec::with_capacity(n.div_ceil(RUN));
+        {
+            let (mut columns, mut values) = (&mut rows.columns[..], &mut rows.values[..]);
+            let mut lower_end = &mut rows.lower_end[..];
+            let (mut diagonal, mut inv) = (&mut rows.diagonal[..], &mut rows.inv_diagonal[..]);
+            let mut first = 0;
+            while first < n {
+                let last = (first + RUN).min(n);
+                let len = (rows.row_ptr[last] - rows.row_ptr[first]) as usize;
+                let (c, rest_c) = columns.split_at_mut(len);
+                let (v, rest_v) = values.split_at_mut(len);
+                let (l, rest_l) = lower_end.split_at_mut(last - first);
+                let (d, rest_d) = diagonal.split_at_mut(last - first);
+                let (w, rest_w) = inv.split_at_mut(last - first);
+                runs.push((first, c, v, l, d, w));
+                (columns, values, lower_end, diagonal, inv) =
+                    (rest_c, rest_v, rest_l, rest_d, rest_w);
+                first = last;
             }
-            rows.row_ptr.push(rows.columns.len() as u32);
-            if rows.lower_end.len() == i {
-                // No stored diagonal: a zero one, refused just below.
-                rows.lower_end.push(rows.columns.len() as u32);
-            }
-            let d = rows.diagonal[i];
-            if d <= 0.0 {
-                return Err(if d == 0.0 {
-                    SolverError::Singular { column: i }
-                } else {
-                    SolverError::NotPositiveDefinite { column: i }
-                });
-            }
-            rows.inv_diagonal[i] = 1.0 / d;
         }
-        rows.smoothing = rows.values.iter().map(|&v| v as f32).collect();
+        let row_ptr = &rows.row_ptr;
+        let failed = runs
+            .into_par_iter()
+            .filter_map(|(first, columns, values, lower_end, diagonal, inv)| {
+                let base = row_ptr[first] as usize;
+                for r in 0..diagonal.len() {
+                    let i = first + r;
+                    let mut at = row_ptr[i] as usize - base;
+                    lower_end[r] = row_ptr[i + 1];
+                    let (cols, vals) = a.column(i);
+                    for (&j, &v) in cols.iter().zip(vals) {
+                        if j == i {
+                            diagonal[r] = v;
+                            lower_end[r] = (base + at) as u32;
+                        } else {
+                            columns[at] = j as u32;
+                            values[at] = v;
+                            at += 1;
+                        }
+                    }
+                    // No stored diagonal is a zero one, refused here.
+                    let d = diagonal[r];
+                    if d <= 0.0 {
+                        return Some(if d == 0.0 {
+                            SolverError::Singular { column: i }
+                        } else {
+                            SolverError::NotPositiveDefinite { column: i }
+                        });
+                    }
+                    inv[r] = 1.0 / d;
+                }
+                None
+            })
+            .find_first(|_| true);
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        rows.smoothing = rows.values.par_iter().map(|&v| v as f32).collect();
         Ok(rows)
     }
 
