@@ -14,8 +14,8 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use harmonic_solver::{
-    Multigrid, MultigridOptions, Ordering, Parallelism, PcgReport, Prolongation, SolverError,
-    SymbolicCholesky,
+    Cholesky, Multigrid, MultigridOptions, Ordering, Parallelism, PcgReport, Prolongation,
+    SolverError, SymbolicCholesky,
 };
 use harmonic_types::{Mesh, MeshHierarchy};
 
@@ -40,6 +40,10 @@ pub struct MultilevelSystem {
     systems: Vec<LinearSystem>,
     /// The coarsest level's assembler (for its fill-reducing ordering).
     coarsest: Assembler,
+    /// The coarsest level's factor, made while the finest level was assembled (taken by the
+    /// first [`MultilevelSystem::multigrid`]; `None` for a hierarchy of one level, or where
+    /// it failed: the cycle then factors, and reports the failure).
+    coarsest_factor: std::sync::Mutex<Option<Cholesky>>,
 }
 
 impl MultilevelSystem {
@@ -59,11 +63,24 @@ impl MultilevelSystem {
             expected: 1,
             got: 0,
         })?;
+        // The coarser side then factors the coarsest level, which the cycle needs first.
         let (finest, coarser) = rayon::join(
             || assemble(finest),
-            || coarser.iter().map(assemble).collect::<Result<Vec<_>, _>>(),
+            || -> Result<_, FemError> {
+                let levels = coarser
+                    .iter()
+                    .map(assemble)
+                    .collect::<Result<Vec<_>, _>>()?;
+                let factor = levels.first().and_then(|(assembler, system)| {
+                    let coarse = system.matrix();
+                    SymbolicCholesky::analyze(coarse, assembler.ordering())
+                        .and_then(|s| s.factor(coarse))
+                        .ok()
+                });
+                Ok((levels, factor))
+            },
         );
-        let mut levels = coarser?;
+        let (mut levels, coarsest_factor) = coarser?;
         levels.push(finest?);
         let mut coarsest = None;
         let mut systems = Vec::with_capacity(levels.len());
@@ -78,6 +95,7 @@ impl MultilevelSystem {
             meshes,
             parents,
             systems,
+            coarsest_factor: std::sync::Mutex::new(coarsest_factor),
             coarsest: coarsest.ok_or(FemError::LengthMismatch {
                 what: "levels of the hierarchy",
                 expected: 1,
@@ -112,7 +130,11 @@ impl MultilevelSystem {
             .zip(interpolations)
             .collect();
         let coarse = self.systems[0].matrix();
-        let factor = || SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse);
+        let made = self.coarsest_factor.lock().ok().and_then(|mut f| f.take());
+        let factor = || match made {
+            Some(f) => Ok(f),
+            None => SymbolicCholesky::analyze(coarse, self.coarsest.ordering())?.factor(coarse),
+        };
         Ok(Multigrid::with_coarsest_from(factor, levels, opts)?)
     }
 
