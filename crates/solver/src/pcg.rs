@@ -189,13 +189,11 @@ pub(crate) fn iterate_with<A: Fn(&[f64], &mut [f64]), P: Precondition + ?Sized>(
                 return Err(SolverError::NotPositiveDefinite { column });
             }
             let alpha = rz / pap;
-            let mut rr = 0.0;
             for i in 0..n {
                 x[i] += alpha * p[i];
                 r[i] -= alpha * ap[i];
-                rr += r[i] * r[i];
             }
-            if rr.sqrt() <= tol {
+            if norm(&r) <= tol {
                 break;
             }
             precond.precondition(&r, &mut z);
@@ -209,8 +207,27 @@ pub(crate) fn iterate_with<A: Fn(&[f64], &mut [f64]), P: Precondition + ?Sized>(
     }
 }
 
+/// Lanes of [`dot`]'s partial sums.
+const LANES: usize = 8;
+
+/// `a · b` in [`LANES`] partial sums (entry i into lane i mod 8) added pairwise at the end:
+/// one running sum waits on each addition before the next (four cycles an entry), eight are
+/// independent and fill the vector units. The order is fixed, so the result does not depend
+/// on the machine or the thread count.
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+    let mut lanes = [0.0; LANES];
+    let (a_rest, b_rest) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
+    let tail = a_rest.remainder().iter().zip(b_rest.remainder());
+    for (x, y) in a_rest.zip(b_rest) {
+        for k in 0..LANES {
+            lanes[k] += x[k] * y[k];
+        }
+    }
+    for (k, (x, y)) in tail.enumerate() {
+        lanes[k] += x * y;
+    }
+    let [l0, l1, l2, l3, l4, l5, l6, l7] = lanes;
+    ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7))
 }
 
 fn norm(a: &[f64]) -> f64 {
