@@ -90,8 +90,22 @@ impl RefineUniformly for Mesh {
         flip_to_delaunay(self, &vertices, &mut triangles, &mut neighbors);
         let boundary = split_boundary(self, &numbering);
         // The adjacency is right by construction (the tests compare it with the one
-        // `Mesh::from_parts` computes), so it is not checked again here.
-        let mesh = Mesh::with_adjacency(vertices, triangles, neighbors, &boundary)?;
+        // `Mesh::from_parts` computes), so it is not checked again here. Each child lies in
+        // its parent's component, and a flip joins two triangles of one component, so the
+        // components (numbered by their smallest triangles, whose children come first) are
+        // the parents'.
+        let parent_component = self.triangle_components();
+        let components = (0..triangles.len())
+            .into_par_iter()
+            .map(|c| parent_component[c / 4])
+            .collect();
+        let mesh = Mesh::with_adjacency_and_components(
+            vertices,
+            triangles,
+            neighbors,
+            &boundary,
+            Some((components, self.component_count())),
+        )?;
         Ok(Refinement {
             mesh,
             parents: numbering.parents,

@@ -28,6 +28,9 @@ fn refine_and_check(coarse: &Mesh) -> Mesh {
     .expect("refined triangles form a mesh");
     assert_eq!(computed.neighbors(), fine.neighbors());
     assert_eq!(computed.boundary_edges(), fine.boundary_edges());
+    // So are the components, which refinement takes from the parents.
+    assert_eq!(computed.triangle_components(), fine.triangle_components());
+    assert_eq!(computed.component_count(), fine.component_count());
     let q = fine.quality();
     assert_eq!(q.triangles, 4 * q0.triangles);
     assert_eq!(
@@ -114,6 +117,38 @@ fn curved_goal_and_two_halves_refine() {
         .and_then(|d| d.mesh(&opts))
         .expect("reference disc scene meshes");
     refine_and_check(&coarse);
+}
+
+#[test]
+fn separate_pieces_keep_their_components() {
+    // Two squares apart, listed so that the second piece's first triangle comes before the
+    // first piece's last one: the components are numbered by their smallest triangles.
+    let square = |x: f64| {
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(a, b)| Point::new(a + x, b))
+    };
+    let vertices: Vec<Point> = square(0.0).into_iter().chain(square(3.0)).collect();
+    let triangles = vec![[0, 1, 2], [4, 5, 6], [0, 2, 3], [4, 6, 7]];
+    let walls: Vec<_> = [
+        [0, 1],
+        [1, 2],
+        [2, 3],
+        [3, 0],
+        [4, 5],
+        [5, 6],
+        [6, 7],
+        [7, 4],
+    ]
+    .map(|[a, b]| (a, b, harmonic_mesh::BoundaryTag::Wall))
+    .to_vec();
+    let coarse = Mesh::from_parts(vertices, triangles, &walls).expect("two squares");
+    assert_eq!(coarse.component_count(), 2);
+    let twice = refine_and_check(&refine_and_check(&coarse));
+    assert_eq!(twice.component_count(), 2);
+    // Sixteen grandchildren per coarse triangle, each in its grandparent's piece.
+    let pieces: Vec<u32> = (0..4)
+        .map(|t| twice.triangle_components()[16 * t])
+        .collect();
+    assert_eq!(pieces, [0, 1, 0, 1]);
 }
 
 #[test]

@@ -382,6 +382,20 @@ impl Mesh {
         neighbors: Vec<[u32; 3]>,
         boundary: &[(u32, u32, BoundaryTag)],
     ) -> Result<Self, MeshDataError> {
+        Self::with_adjacency_and_components(vertices, triangles, neighbors, boundary, None)
+    }
+
+    /// [`Mesh::with_adjacency`] with each triangle's component already known (numbered in
+    /// order of each component's smallest triangle, as the mesh numbers them: a refinement
+    /// knows its children's from their parents'); `None` finds them. Components of the
+    /// wrong length are found again.
+    pub fn with_adjacency_and_components(
+        vertices: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+        neighbors: Vec<[u32; 3]>,
+        boundary: &[(u32, u32, BoundaryTag)],
+        known: Option<(Vec<u32>, u32)>,
+    ) -> Result<Self, MeshDataError> {
         let nv = vertices.len();
         // Tags by undirected edge, sorted for binary search (the last of duplicates wins).
         let key = |a: u32, b: u32| (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
@@ -436,7 +450,10 @@ impl Mesh {
                 });
             }
         }
-        let (triangle_component, component_count) = components(&neighbors);
+        let (triangle_component, component_count) = match known {
+            Some((c, count)) if c.len() == triangles.len() => (c, count),
+            _ => components(&neighbors),
+        };
         Ok(Mesh {
             vertices,
             triangles,
