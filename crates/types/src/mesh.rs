@@ -556,18 +556,9 @@ impl Mesh {
     pub fn quality(&self) -> QualityReport {
         use std::f64::consts::{FRAC_PI_2, PI};
         let tol = 1e-9;
-        // Per triangle: twice its area and each corner's dot product, the arctangent's
-        // arguments (|u × v|, u · v) at each corner, u and v its two edges.
-        let corners: Vec<(f64, [f64; 3])> = self
-            .triangles
-            .iter()
-            .map(|t| {
-                let p = t.map(|v| self.vertices[v as usize]);
-                let e = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
-                let cross = (e[0].x * e[1].y - e[0].y * e[1].x).abs();
-                // Corner k lies between edge k (out of it) and edge k + 2 (into it).
-                (cross, [0, 1, 2].map(|k| -e[k].dot(&e[(k + 2) % 3])))
-            })
+        // Per triangle, the arctangent's arguments at its corners.
+        let corners: Vec<(f64, [f64; 3])> = (0..self.triangles.len())
+            .map(|t| self.corner_arguments(t))
             .collect();
         let angle = |t: usize, k: usize| {
             let (y, x) = corners[t];
@@ -645,6 +636,16 @@ impl Mesh {
         }
     }
 
+    /// The arctangent's arguments of triangle `t`'s corners, (|u × v|, [u · v per corner]),
+    /// u and v the two edges at a corner: twice the area is the same at every corner.
+    fn corner_arguments(&self, t: usize) -> (f64, [f64; 3]) {
+        let p = self.triangles[t].map(|v| self.vertices[v as usize]);
+        let e = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
+        let cross = (e[0].x * e[1].y - e[0].y * e[1].x).abs();
+        // Corner k lies between edge k (out of it) and edge k + 2 (into it).
+        (cross, [0, 1, 2].map(|k| -e[k].dot(&e[(k + 2) % 3])))
+    }
+
     /// The smallest interior angle in degrees, exactly as [`Mesh::quality`] reports it
     /// (`min_angle_deg`), in one pass on every core with nothing allocated: what a report
     /// that needs no more of the quality report asks for.
@@ -652,12 +653,9 @@ impl Mesh {
         // The first corner (by triangle, then corner) of the smallest pseudo angle, as
         // `quality`'s loop finds it; NaN angles skipped.
         let corner = |t: usize| -> Option<(f64, usize, f64, f64)> {
-            let p = self.triangles[t].map(|v| self.vertices[v as usize]);
-            let e = [p[1] - p[0], p[2] - p[1], p[0] - p[2]];
-            let y = (e[0].x * e[1].y - e[0].y * e[1].x).abs();
+            let (y, dots) = self.corner_arguments(t);
             let mut best: Option<(f64, usize, f64, f64)> = None;
-            for k in 0..3 {
-                let x = -e[k].dot(&e[(k + 2) % 3]);
+            for x in dots {
                 let key = pseudo_angle(y, x);
                 if !key.is_nan() && best.is_none_or(|(m, ..)| key < m) {
                     best = Some((key, t, y, x));
