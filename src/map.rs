@@ -109,9 +109,10 @@ pub enum MapMesher {
     /// The traced mesher where its tracing margin changes nothing a path needs (the goal's
     /// cell keeps the margin, every clear cell connected to the goal is within a lead-in of
     /// the traced region, and the margin closes no loop of the free space: the same Euler
-    /// number), else the quadtree. A map with graded costs (free cells of cost > 0) is
-    /// always meshed by the quadtree, at every [`MapOptions::cost_weight`], 0 included, so
-    /// that two weights give two fields on one mesh. The default.
+    /// number) at [`MapOptions::simplify_cells`] or, failing that, with no simplification
+    /// (a quarter-cell margin), else the quadtree. A map with graded costs (free cells of
+    /// cost > 0) is always meshed by the quadtree, at every [`MapOptions::cost_weight`], 0
+    /// included, so that two weights give two fields on one mesh. The default.
     #[default]
     Auto,
     /// The robot's free configuration space on the map's own grid: the cells whose square
@@ -742,16 +743,21 @@ impl OccupancyMap {
             planner
         };
         let checked = std::time::Instant::now();
+        // The simplification the traced mesher runs at, or `None` for the quadtree.
         let (traced, known) = match opts.mesher {
-            _ if graded => (false, Known::default()),
-            MapMesher::Traced => (true, Known::default()),
-            MapMesher::Quadtree => (false, Known::default()),
-            MapMesher::Auto if has_costs => (false, Known::default()),
+            _ if graded => (None, Known::default()),
+            MapMesher::Traced => (Some(opts.simplify_cells), Known::default()),
+            MapMesher::Quadtree => (None, Known::default()),
+            MapMesher::Auto if has_costs => (None, Known::default()),
             MapMesher::Auto => self.traced_is_complete(goal, robot_radius, opts)?,
         };
         let check_ms = checked.elapsed().as_secs_f64() * 1e3;
         match traced {
-            true => {
+            Some(simplify_cells) => {
+                let opts = &MapOptions {
+                    simplify_cells,
+                    ..*opts
+                };
                 let t = std::time::Instant::now();
                 let goal_shape = harmonic_mesh::GoalShape::Point(Point::new(goal[0], goal[1]));
                 let (domain, mesh_options, entry) =
@@ -765,7 +771,7 @@ impl OccupancyMap {
                 Planner::entered_domain(domain, &mesh_options, planner, Some(entry))
                     .map_err(plan_error)
             }
-            false => {
+            None => {
                 let t = std::time::Instant::now();
                 let (mesh, entry) = self.cell_space(goal, robot_radius, opts, known)?;
                 let ms = t.elapsed().as_secs_f64() * 1e3;

@@ -1094,3 +1094,70 @@ proptest::proptest! {
         proptest::prop_assert_eq!(format!("{a:?}"), format!("{b:?}"));
     }
 }
+
+/// A pillar five cells off a wall, a robot of one cell's radius: the default tracing margin
+/// (1¼ cells) closes the three clear rows of that gap, and with them a loop of the free
+/// space, but a quarter-cell margin (no simplification) keeps the middle row. `auto` then
+/// meshes the unsimplified traced rings (fewer triangles than the quadtree), and starts in
+/// the gap, on its outer clear rows included, reach the goal keeping the radius.
+#[test]
+fn auto_traces_unsimplified_where_the_default_margin_closes_a_loop() {
+    let (w, h, res, radius) = (30, 20, 0.1, 0.1);
+    let cells: Vec<Cell> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let wall = i == 0 || j == 0 || i == w - 1 || j == h - 1;
+            let pillar = (10..20).contains(&i) && (6..12).contains(&j);
+            if wall || pillar {
+                Cell::Occupied
+            } else {
+                Cell::Free
+            }
+        })
+        .collect();
+    let map = OccupancyMap::from_cells(w, h, res, [0.0, 0.0, 0.0], cells).expect("map");
+    let goal = map.cell_center(25, 15);
+    let with = |mesher, simplify_cells| {
+        let opts = MapOptions {
+            mesher,
+            simplify_cells,
+            ..MapOptions::default()
+        };
+        map.planner(goal, radius, &opts, &PlannerOptions::default())
+            .expect("planner")
+    };
+    let triangles = |p: &Planner| p.mesh().triangles().len();
+    let auto = with(MapMesher::Auto, 1.0);
+    let unsimplified = with(MapMesher::Traced, 0.0);
+    let quadtree = with(MapMesher::Quadtree, 1.0);
+    assert_eq!(triangles(&auto), triangles(&unsimplified));
+    assert!(
+        triangles(&auto) < triangles(&quadtree),
+        "{} vs {}",
+        triangles(&auto),
+        triangles(&quadtree)
+    );
+    // The default margin closes the gap: the scene traced at the default simplification
+    // leaves its middle row out.
+    let scene = map
+        .to_scene(goal, radius, &MapOptions::default())
+        .expect("scene");
+    let gap = map.cell_center(15, 3);
+    assert_eq!(
+        Planner::new(&scene)
+            .expect("planner")
+            .plan(gap)
+            .status
+            .as_str(),
+        "outside_workspace"
+    );
+    for (i, j) in [(15, 3), (15, 2), (15, 4), (11, 2), (3, 3)] {
+        let start = map.cell_center(i, j);
+        let path = auto.plan(start);
+        assert_eq!(path.status.as_str(), "reached_goal", "from cell ({i}, {j})");
+        let clearance = path_clearance(&map, &path.points, radius);
+        assert!(clearance >= radius - 1e-9, "({i}, {j}): {clearance}");
+        let end = path.points.last().expect("a point");
+        assert!((end[0] - goal[0]).hypot(end[1] - goal[1]) < 1e-9);
+    }
+}
