@@ -486,17 +486,39 @@ fn nearest_clear(g: [f64; 2], clear: &BitGrid) -> Option<(usize, usize, f64)> {
     nearest
 }
 
-/// A grid's place in the world: cells of `resolution` from `origin` `[x, y, yaw]`.
+/// A grid's place in the world: cells of `resolution` from `origin` `[x, y, yaw]`; a grid
+/// cut from a map ([`OccupancyMap::cropped`]) starts `offset` cells into the map, whose
+/// `extent` (columns, rows) it keeps, so that points are placed as on the whole map.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct GridFrame {
     resolution: f64,
     origin: [f64; 3],
+    offset: [f64; 2],
+    extent: [usize; 2],
 }
 
 impl GridFrame {
+    /// The frame of the whole map this grid was cut from (the same for a whole map).
+    fn whole(self) -> GridFrame {
+        GridFrame {
+            offset: [0.0, 0.0],
+            ..self
+        }
+    }
+
+    /// Whether a world point lies on the whole map (not only on this grid).
+    fn on_map(&self, p: [f64; 2]) -> bool {
+        let g = self.world_to_grid(p);
+        let (x, y) = (g[0] + self.offset[0], g[1] + self.offset[1]);
+        x >= 0.0 && y >= 0.0 && x < self.extent[0] as f64 && y < self.extent[1] as f64
+    }
+
     fn grid_to_world(&self, g: [f64; 2]) -> [f64; 2] {
         let (s, c) = self.origin[2].sin_cos();
-        let (x, y) = (g[0] * self.resolution, g[1] * self.resolution);
+        let (x, y) = (
+            (g[0] + self.offset[0]) * self.resolution,
+            (g[1] + self.offset[1]) * self.resolution,
+        );
         [
             self.origin[0] + c * x - s * y,
             self.origin[1] + s * x + c * y,
@@ -507,8 +529,8 @@ impl GridFrame {
         let (s, c) = self.origin[2].sin_cos();
         let (dx, dy) = (p[0] - self.origin[0], p[1] - self.origin[1]);
         [
-            (c * dx + s * dy) / self.resolution,
-            (-s * dx + c * dy) / self.resolution,
+            (c * dx + s * dy) / self.resolution - self.offset[0],
+            (-s * dx + c * dy) / self.resolution - self.offset[1],
         ]
     }
 }
@@ -532,6 +554,10 @@ pub struct OccupancyMap {
     /// them ([`OccupancyMap::with_costs`], a `scale` or `raw` map).
     costs: Option<Arc<Vec<u8>>>,
     source: String,
+    /// Where this grid's cell (0, 0) lies in the map it was cut from, and that map's size
+    /// (columns, rows); `[0, 0]` and its own size for a whole map.
+    offset: [usize; 2],
+    extent: [usize; 2],
 }
 
 /// The robot's free configuration space on a map, traced: the region a disc robot's centre
@@ -638,6 +664,8 @@ impl OccupancyMap {
         GridFrame {
             resolution: self.resolution,
             origin: self.origin,
+            offset: self.offset.map(|o| o as f64),
+            extent: self.extent,
         }
     }
 
@@ -686,10 +714,12 @@ impl OccupancyMap {
     /// A planner towards `goal` (world coordinates) for a disc robot of `robot_radius`,
     /// meshed as [`MapOptions::mesher`] says: the robot's free configuration space on the
     /// grid, meshed by a quadtree ([`OccupancyMap::cell_mesh`]), or the scene of
-    /// [`OccupancyMap::to_scene`] ([`MapMesher::Traced`], the default). A start on a clear
-    /// cell outside the quadtree's mesh is led in over clear cells. Either way a path
-    /// keeps at least `robot_radius` from every occupied cell (and unknown cell, unless
-    /// [`MapOptions::unknown`] says they are free).
+    /// [`OccupancyMap::to_scene`] ([`MapMesher::Traced`]), or whichever of them plans every
+    /// start ([`MapMesher::Auto`], the default). A start on a clear cell outside the mesh is
+    /// led in over clear cells. Either way a path keeps at least `robot_radius` from every
+    /// occupied cell (and unknown cell, unless [`MapOptions::unknown`] says they are free).
+    /// A mostly blocked map (a small arena in a large unknown map) is planned on the part
+    /// that holds its free cells, with the same result.
     pub fn planner(
         &self,
         goal: [f64; 2],
@@ -707,6 +737,68 @@ impl OccupancyMap {
                 self.planner(goal, robot_radius, opts, inner)
             });
         }
+        // A map mostly blocked (a small arena in a large unknown map, as SLAM leaves them)
+        // is planned on the part that holds its free cells ([`OccupancyMap::cropped`]): the
+        // same planner for a fraction of the grid work. Whatever that part refuses is asked
+        // of the whole map again, so that the refusal names the map's own cells.
+        let started = std::time::Instant::now();
+        if let Some(part) = self.cropped(opts.unknown)
+            && let Ok(built) = part.planner_from(started, goal, robot_radius, opts, planner)
+        {
+            return Ok(built);
+        }
+        self.planner_from(started, goal, robot_radius, opts, planner)
+    }
+
+    /// This map cut down to the part a planner can use, where that is at most half of it:
+    /// every cell not blocked under `unknown`, with at least two blocked cells around them
+    /// (a clear cell's nearest blocked cell is then inside the part), cut on multiples of 64
+    /// cells (the quadtree's blocks and the traced outline's jitter fall as on the whole
+    /// map). Every cell outside the part is blocked. Its frame places points as the whole
+    /// map's does. `None` where the part would be more than half the map or nothing is free.
+    fn cropped(&self, unknown: UnknownCells) -> Option<OccupancyMap> {
+        if self.offset != [0, 0] || self.extent != [self.width, self.height] {
+            return None;
+        }
+        let [i0, i1, j0, j1] = self.blocked(unknown).unset_bounds()?;
+        let down = |x: usize| x.saturating_sub(2) / 64 * 64;
+        let up = |x: usize, n: usize| ((x + 2).div_ceil(64) * 64).min(n);
+        let (i0, i1, j0, j1) = (down(i0), up(i1, self.width), down(j0), up(j1, self.height));
+        let (w, h) = (i1 - i0, j1 - j0);
+        if 2 * w * h > self.width * self.height {
+            return None;
+        }
+        let rows = |j: usize| j * self.width + i0..j * self.width + i1;
+        let cells = (j0..j1).flat_map(|j| self.cells[rows(j)].iter().copied());
+        let costs = self
+            .costs
+            .as_ref()
+            .map(|c| Arc::new((j0..j1).flat_map(|j| c[rows(j)].iter().copied()).collect()));
+        let (x0, y0) = (i0 as isize, j0 as isize);
+        Some(OccupancyMap {
+            width: w,
+            height: h,
+            resolution: self.resolution,
+            origin: self.origin,
+            cells: cells.collect(),
+            occupied: self.occupied.window(x0, y0, w, h, false),
+            unknown: self.unknown.window(x0, y0, w, h, false),
+            costs,
+            source: self.source.clone(),
+            offset: [i0, j0],
+            extent: self.extent,
+        })
+    }
+
+    /// [`OccupancyMap::planner`] on this grid, the build's time counted from `started`.
+    fn planner_from(
+        &self,
+        started: std::time::Instant,
+        goal: [f64; 2],
+        robot_radius: f64,
+        opts: &MapOptions,
+        planner: &PlannerOptions,
+    ) -> Result<Planner, MapError> {
         let plan_error = |source| MapError::Plan {
             file: self.source.clone(),
             source,
@@ -742,7 +834,8 @@ impl OccupancyMap {
         } else {
             planner
         };
-        let checked = std::time::Instant::now();
+        // The build's time from `started`: the cut, the mesher's choice and the mesh.
+        let checked = started;
         // The simplification the traced mesher runs at, or `None` for the quadtree.
         let (traced, known) = match opts.mesher {
             _ if graded => (None, Known::default()),

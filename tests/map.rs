@@ -1161,3 +1161,102 @@ fn auto_traces_unsimplified_where_the_default_margin_closes_a_loop() {
         assert!((end[0] - goal[0]).hypot(end[1] - goal[1]) < 1e-9);
     }
 }
+
+/// A small arena in a large map of unknown cells, as SLAM leaves them, is planned on the part
+/// of the map that holds it: the same statuses and paths (to 1e-9) as on the whole map (whose
+/// planner is made here by opening one enclosed cell at a far corner, which keeps the part
+/// from being cut; the map is rotated, so the part's cells must be placed as the map's).
+/// Starts on the unknown cells outside the part are `start_in_obstacle`, starts off the map
+/// `outside_workspace`, and a goal there is refused naming the map's own cell.
+#[test]
+fn a_small_arena_in_a_large_unknown_map_plans_as_the_whole_map() {
+    let (w, h, res, radius) = (400, 300, 0.05, 0.1);
+    let arena = |i: usize, j: usize| -> Option<Cell> {
+        let (x, y) = (i.checked_sub(150)?, j.checked_sub(90)?);
+        if x >= 60 || y >= 50 {
+            return None;
+        }
+        let wall = x == 0 || y == 0 || x == 59 || y == 49;
+        let pillar = (20..24).contains(&x) && (10..40).contains(&y);
+        let shelf = (40..44).contains(&x) && (0..30).contains(&y);
+        Some(if wall || pillar || shelf {
+            Cell::Occupied
+        } else {
+            Cell::Free
+        })
+    };
+    let cells = |corner: bool| -> Vec<Cell> {
+        (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j)| match arena(i, j) {
+                Some(c) => c,
+                None if corner && (i, j) == (w - 3, h - 3) => Cell::Free,
+                None => Cell::Unknown,
+            })
+            .collect()
+    };
+    let origin = [-3.0, -2.0, 0.3];
+    let part = OccupancyMap::from_cells(w, h, res, origin, cells(false)).expect("map");
+    let whole = OccupancyMap::from_cells(w, h, res, origin, cells(true)).expect("map");
+    let goal = part.cell_center(200, 130);
+    let starts = [
+        part.cell_center(160, 100),
+        part.cell_center(180, 130),
+        part.cell_center(205, 100),
+        part.cell_center(20, 20),
+        part.grid_to_world([-5.0, 10.0]),
+    ];
+    for mesher in [MapMesher::Auto, MapMesher::Quadtree] {
+        let opts = MapOptions {
+            mesher,
+            ..MapOptions::default()
+        };
+        let build = |map: &OccupancyMap| {
+            map.planner(goal, radius, &opts, &PlannerOptions::default())
+                .expect("planner")
+        };
+        let (a, b) = (build(&part), build(&whole));
+        let statuses: Vec<String> = starts
+            .iter()
+            .map(|&s| {
+                let (p, q) = (a.plan(s), b.plan(s));
+                assert_eq!(
+                    p.status.as_str(),
+                    q.status.as_str(),
+                    "{mesher:?} from {s:?}"
+                );
+                assert!(
+                    (p.length - q.length).abs() <= 1e-9,
+                    "{mesher:?} from {s:?}: {} vs {}",
+                    p.length,
+                    q.length
+                );
+                for (u, v) in p.points.iter().zip(&q.points) {
+                    assert!((u[0] - v[0]).hypot(u[1] - v[1]) <= 1e-9, "{mesher:?}");
+                }
+                p.status.as_str().to_string()
+            })
+            .collect();
+        assert_eq!(
+            statuses,
+            [
+                "reached_goal",
+                "reached_goal",
+                "reached_goal",
+                "start_in_obstacle",
+                "outside_workspace"
+            ],
+            "{mesher:?}"
+        );
+    }
+    let refused = match part.planner(
+        part.cell_center(20, 20),
+        radius,
+        &MapOptions::default(),
+        &PlannerOptions::default(),
+    ) {
+        Ok(_) => panic!("a goal in an unknown cell is refused"),
+        Err(e) => e.to_string(),
+    };
+    assert!(refused.contains("column 20, row 20"), "{refused}");
+}

@@ -142,6 +142,23 @@ impl BitGrid {
     /// The cells `[i0, i0 + w) × [j0, j0 + h)` as a grid of their own; cells of the window
     /// off this grid are set to `off`.
     pub(crate) fn window(&self, i0: isize, j0: isize, w: usize, h: usize, off: bool) -> BitGrid {
+        let inside =
+            i0 >= 0 && j0 >= 0 && i0 as usize + w <= self.width && j0 as usize + h <= self.height;
+        if inside && i0 % 64 == 0 {
+            // Whole words, row by row.
+            let (k0, j0) = (i0 as usize / 64, j0 as usize);
+            let mut out = BitGrid::new(w, h);
+            let mask = out.last_mask();
+            let stride = out.stride;
+            for j in 0..h {
+                let dst = out.row_mut(j);
+                dst.copy_from_slice(&self.row(j0 + j)[k0..k0 + stride]);
+                if let Some(last) = dst.last_mut() {
+                    *last &= mask;
+                }
+            }
+            return out;
+        }
         BitGrid::from_fn(w, h, |i, j| {
             let (x, y) = (i0 + i as isize, j0 + j as isize);
             let on = x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height;
@@ -166,6 +183,26 @@ impl BitGrid {
             }
         }
         (j1 > 0).then_some((j0, j1, w0, w1))
+    }
+
+    /// The smallest box holding every unset cell, `[i0, i1, j0, j1]` (half-open columns and
+    /// rows), or `None` when every cell is set.
+    pub(crate) fn unset_bounds(&self) -> Option<[usize; 4]> {
+        let (j0, j1, w0, w1) = self.unset_span()?;
+        let mask = self.last_mask();
+        let (mut i0, mut i1) = (usize::MAX, 0);
+        for j in j0..j1 {
+            let row = self.row(j);
+            for (k, &word) in row.iter().enumerate().take(w1).skip(w0) {
+                let full = if k + 1 == self.stride { mask } else { u64::MAX };
+                let unset = !word & full;
+                if unset != 0 {
+                    i0 = i0.min(64 * k + unset.trailing_zeros() as usize);
+                    i1 = i1.max(64 * k + 64 - unset.leading_zeros() as usize);
+                }
+            }
+        }
+        Some([i0, i1, j0, j1])
     }
 
     /// Whether every cell is set.

@@ -282,7 +282,12 @@ impl crate::planner::StartEntry for CellEntry {
     fn refusal(&self, start: harmonic_mesh::Point) -> harmonic_trajectory::TraceStatus {
         use harmonic_trajectory::TraceStatus;
         let Some((i, j)) = self.cell_of(start) else {
-            return TraceStatus::OutsideWorkspace;
+            // Off this grid but on the map it was cut from: a blocked cell.
+            return if self.frame.on_map([start.x, start.y]) {
+                TraceStatus::StartInObstacle
+            } else {
+                TraceStatus::OutsideWorkspace
+            };
         };
         if self.blocked.get(i as isize, j as isize) {
             return TraceStatus::StartInObstacle;

@@ -293,6 +293,8 @@ impl OccupancyMap {
             cells,
             costs: None,
             source: "map".into(),
+            offset: [0, 0],
+            extent: [width, height],
         })
     }
 
@@ -333,10 +335,7 @@ impl OccupancyMap {
     /// The graded cost of the cell under a point (0 off the map and on cells without cost).
     fn cost_under(&self) -> impl Fn(Point) -> u8 + Send + Sync + 'static {
         let costs = self.costs.clone().unwrap_or_default();
-        let frame = GridFrame {
-            resolution: self.resolution,
-            origin: self.origin,
-        };
+        let frame = self.frame();
         let (w, h) = (self.width, self.height);
         move |p: Point| {
             let g = frame.world_to_grid([p.x, p.y]);

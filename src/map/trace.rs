@@ -79,24 +79,31 @@ pub(super) struct Refused {
 }
 
 /// Traces the 4-connected component of `clear` holding cell `(i, j)` (which must be set) and
-/// simplifies its rings to `eps` cells, keeping their topology and keeping `goal` (grid
-/// coordinates, in cell `(i, j)`) inside, at least [`GOAL_ROOM`] cells from every ring: rings
+/// simplifies its rings to `eps` cells, keeping their topology and keeping `goal` (in cell
+/// `(i, j)`) inside, at least [`GOAL_ROOM`] cells from every ring: rings
 /// whose simplification would take that room, or that `check` refuses, are kept as traced.
 /// `check` sees every candidate set of rings (grid coordinates, in the order of
 /// [`Traced::rings`]) and makes what the caller builds of them; it is called until it accepts
 /// one. `Ok(None)` when even the traced rings leave the goal less room (it lies in a corner of
 /// its cell at the component's edge); an error when `check` refuses rings it cannot blame
-/// on simplification.
+/// on simplification. The rings and `goal` are in the cells of the whole map `clear` was cut
+/// from, whose cell `(0, 0)` is `clear`'s `-offset` (`[0, 0]` for a whole map).
 pub(super) fn trace<T>(
     clear: &BitGrid,
-    i: usize,
-    j: usize,
+    (i, j): (usize, usize),
+    offset: [f64; 2],
     eps: f64,
     goal: [f64; 2],
     check: impl FnMut(&Traced) -> Result<T, Refused>,
 ) -> Result<Option<(Traced, T)>, MeshError> {
     let component = bits::component(clear, i, j);
     let mut traced = bits::contours(&component);
+    // In the whole map's cells (exactly: quarter cells plus whole ones), so that a planner
+    // built on a part of a map traces, jitters and simplifies as one built on all of it.
+    for p in traced.iter_mut().flatten() {
+        p[0] += offset[0];
+        p[1] += offset[1];
+    }
     jitter(&mut traced);
     simplified(traced, eps, goal, check)
 }

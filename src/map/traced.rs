@@ -75,13 +75,19 @@ impl OccupancyMap {
                 Err(error) => Err(refused(rings, error)),
             }
         };
-        let (_, (polygons, domain, mesh_options)) =
-            trace::trace(&clear, gc, gr, eps, self.world_to_grid(goal), check)
-                .map_err(|e| MapError::Plan {
-                    file: self.source.clone(),
-                    source: e.into(),
-                })?
-                .ok_or_else(too_close)?;
+        let (_, (polygons, domain, mesh_options)) = trace::trace(
+            &clear,
+            (gc, gr),
+            self.frame().offset,
+            eps,
+            self.frame().whole().world_to_grid(goal),
+            check,
+        )
+        .map_err(|e| MapError::Plan {
+            file: self.source.clone(),
+            source: e.into(),
+        })?
+        .ok_or_else(too_close)?;
         Ok(TracedDomain {
             polygons,
             blocked,
@@ -90,18 +96,19 @@ impl OccupancyMap {
         })
     }
 
-    /// Traced rings (grid coordinates) in world coordinates: the outer ring the workspace,
-    /// the holes its obstacles.
+    /// Traced rings (in the whole map's cells, as [`trace::trace`] gives them) in world
+    /// coordinates: the outer ring the workspace, the holes its obstacles.
     pub(super) fn world_polygons(
         &self,
         rings: &trace::Traced,
         margin: f64,
         eps: f64,
     ) -> MapPolygons {
+        let frame = self.frame().whole();
         let world = |k: usize| -> Vec<[f64; 2]> {
             rings.rings[k]
                 .iter()
-                .map(|&g| self.grid_to_world(g))
+                .map(|&g| frame.grid_to_world(g))
                 .collect()
         };
         MapPolygons {
