@@ -7,7 +7,8 @@
 //! without the maps). The `grids` group needs nothing: generated maps of every family a
 //! grid-search user brings (a 255² maze of one-cell corridors, 256² rooms joined by one-cell
 //! doors, 256² streets, 30 % random blocks, the 400-cell one-cell spiral, an office at 5 cm
-//! for a 0.22 m robot), a point robot (the office: 0.22 m) between two far cells.
+//! for a 0.22 m robot, and that office inside a 2048² map of unknown cells, as SLAM leaves
+//! a map), a point robot (the office: 0.22 m) between two far cells.
 
 use std::hint::black_box;
 
@@ -35,6 +36,12 @@ fn grids(c: &mut Criterion) {
         (
             "office_5cm",
             occupancy::office(11),
+            occupancy::OFFICE_RESOLUTION,
+            occupancy::OFFICE_ROBOT_RADIUS,
+        ),
+        (
+            "office_5cm_in_2048_unknown",
+            in_unknown(&occupancy::office(11), 2048, [900, 700]),
             occupancy::OFFICE_RESOLUTION,
             occupancy::OFFICE_ROBOT_RADIUS,
         ),
@@ -74,6 +81,17 @@ fn grids(c: &mut Criterion) {
         });
     }
     group.finish();
+}
+
+/// `grid` put into a `size`² grid of unknown cells, its cell (0, 0) at `at`.
+fn in_unknown(grid: &OccGrid, size: usize, at: [usize; 2]) -> OccGrid {
+    let mut big = OccGrid::new(size, size, Occ::Unknown);
+    for j in 0..grid.height {
+        for i in 0..grid.width {
+            big.set(at[0] + i, at[1] + j, grid.cells[j * grid.width + i]);
+        }
+    }
+    big
 }
 
 fn map_of(grid: &OccGrid, resolution: f64) -> OccupancyMap {
