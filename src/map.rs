@@ -834,8 +834,6 @@ impl OccupancyMap {
         } else {
             planner
         };
-        // The build's time from `started`: the cut, the mesher's choice and the mesh.
-        let checked = started;
         // The simplification the traced mesher runs at, or `None` for the quadtree.
         let (traced, known) = match opts.mesher {
             _ if graded => (None, Known::default()),
@@ -844,7 +842,8 @@ impl OccupancyMap {
             MapMesher::Auto if has_costs => (None, Known::default()),
             MapMesher::Auto => self.traced_is_complete(goal, robot_radius, opts)?,
         };
-        let check_ms = checked.elapsed().as_secs_f64() * 1e3;
+        // From `started`: the cut, the planner's checks and the mesher's choice.
+        let check_ms = started.elapsed().as_secs_f64() * 1e3;
         match traced {
             Some(simplify_cells) => {
                 let opts = &MapOptions {

@@ -82,12 +82,12 @@ pub(super) struct Refused {
 /// simplifies its rings to `eps` cells, keeping their topology and keeping `goal` (in cell
 /// `(i, j)`) inside, at least [`GOAL_ROOM`] cells from every ring: rings
 /// whose simplification would take that room, or that `check` refuses, are kept as traced.
-/// `check` sees every candidate set of rings (grid coordinates, in the order of
-/// [`Traced::rings`]) and makes what the caller builds of them; it is called until it accepts
-/// one. `Ok(None)` when even the traced rings leave the goal less room (it lies in a corner of
-/// its cell at the component's edge); an error when `check` refuses rings it cannot blame
-/// on simplification. The rings and `goal` are in the cells of the whole map `clear` was cut
-/// from, whose cell `(0, 0)` is `clear`'s `-offset` (`[0, 0]` for a whole map).
+/// `check` sees every candidate set of rings (in the order of [`Traced::rings`]) and makes
+/// what the caller builds of them; it is called until it accepts one. `Ok(None)` when even
+/// the traced rings leave the goal less room (it lies in a corner of its cell at the
+/// component's edge); an error when `check` refuses rings it cannot blame on
+/// simplification. The rings and `goal` are in the cells of the whole map `clear` was cut
+/// from: `clear`'s cell `(0, 0)` is the map's cell `offset` (`[0, 0]` for a whole map).
 pub(super) fn trace<T>(
     clear: &BitGrid,
     (i, j): (usize, usize),
