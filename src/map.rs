@@ -508,8 +508,7 @@ impl GridFrame {
 
     /// Whether a world point lies on the whole map (not only on this grid).
     fn on_map(&self, p: [f64; 2]) -> bool {
-        let g = self.world_to_grid(p);
-        let (x, y) = (g[0] + self.offset[0], g[1] + self.offset[1]);
+        let [x, y] = self.whole().world_to_grid(p);
         x >= 0.0 && y >= 0.0 && x < self.extent[0] as f64 && y < self.extent[1] as f64
     }
 
